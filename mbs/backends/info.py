@@ -1,0 +1,85 @@
+"""Plain-data description of a built model (JSON), so compiled code runs without CasADi."""
+from __future__ import annotations
+
+import json
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+
+@dataclass
+class ModelInfo:
+    """Names, sizes, defaults and body data of a model; everything a run-time needs."""
+
+    name: str
+    q_names: list[str]
+    v_names: list[str]
+    parameters: list[dict]
+    bodies: list[dict]
+    x0: list[float]
+    gravity: list[float]
+    methods: dict[str, int] = field(default_factory=dict)  # fixed-step method -> rhs calls per step
+    extra: dict = field(default_factory=dict)
+
+    @property
+    def nq(self) -> int:
+        return len(self.q_names)
+
+    @property
+    def nv(self) -> int:
+        return len(self.v_names)
+
+    @property
+    def nx(self) -> int:
+        return self.nq + self.nv
+
+    @property
+    def state_names(self) -> list[str]:
+        return self.q_names + self.v_names
+
+    @property
+    def param_names(self) -> list[str]:
+        return [p["name"] for p in self.parameters]
+
+    @property
+    def body_names(self) -> list[str]:
+        return [b["name"] for b in self.bodies]
+
+    def to_json(self) -> str:
+        return json.dumps(asdict(self), indent=1)
+
+    @classmethod
+    def from_json(cls, text: str) -> "ModelInfo":
+        return cls(**json.loads(text))
+
+    @classmethod
+    def load(cls, path: Path) -> "ModelInfo":
+        return cls.from_json(Path(path).read_text())
+
+
+def info_of(symbolic, methods: dict[str, int]) -> ModelInfo:
+    """Describe ``symbolic`` (a :class:`mbs.dynamics.Symbolic`)."""
+    model, lay = symbolic.model, symbolic.layout
+    bodies = [dict(name=b.name, parent=b.parent, joint=type(b.joint).__name__, mass=b.mass,
+                   com=b.com.tolist(), inertia=b.inertia.tolist(), at=b.at.tolist(),
+                   frame=b.frame.tolist(), shape=b.shape,
+                   q_names=[f"{b.name}.{n}" for n in b.joint.q_names],
+                   v_names=[f"{b.name}.{n}" for n in b.joint.v_names]) for b in lay.bodies]
+    params = [dict(name=p.name, default=p.default, unit=p.unit, description=p.description)
+              for p in model.parameters.values()]
+    return ModelInfo(model.name, lay.q_names, lay.v_names, params, bodies,
+                     initial_state(symbolic).tolist(), model.gravity.tolist(), methods)
+
+
+def initial_state(symbolic) -> np.ndarray:
+    """Default state: joint defaults (unit quaternions, zero angles) plus ``model.initial``."""
+    lay, model = symbolic.layout, symbolic.model
+    s = np.concatenate([b.joint.q_default() for b in lay.bodies] + [np.zeros(0)])
+    x = np.concatenate([s, np.zeros(lay.nv)])
+    names = lay.q_names + lay.v_names
+    for name, value in model.initial.items():
+        if name not in names:
+            raise ValueError(f"initial value for unknown coordinate {name!r}")
+        x[names.index(name)] = value
+    return x

@@ -1,0 +1,181 @@
+"""Equations of motion in minimal coordinates with forward-mode AD (the paper's method).
+
+State ``x = (s, u)``: ``s`` (nq,) joint positions, ``u`` (nv,) joint rates. Body states
+``V`` stack, per body, the centre-of-mass velocity (world components, m/s) and the
+angular velocity (body components, rad/s), so that ``M = blockdiag(m I, J_c)``.
+
+* ``J_u = dV/du`` from ``nv`` forward directional derivatives (one per rate);
+* ``H = dV/ds F + dV/dt`` from ONE forward directional derivative along ``(F, 1)``
+  (it carries the rates and accelerations of driven joints: they are functions of t);
+* ``Mt = J_uᵀ M J_u``, ``ht = J_uᵀ (h - M H) + Q``; ``u' = Mt⁻¹ ht`` by sparse LDL;
+  ``s' = F(s, u)``.
+
+No Jacobian is written by hand: each joint states only its relative kinematics.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import casadi as ca
+import numpy as np
+
+from mbs import tree as _tree
+from mbs.forces import Loads, State
+from mbs.joints import Params, Relative, compose
+
+
+@dataclass
+class Layout:
+    """Where each body's coordinates live in ``s`` and ``u``; numeric data only."""
+
+    bodies: list
+    q_slices: dict[str, slice] = field(default_factory=dict)
+    v_slices: dict[str, slice] = field(default_factory=dict)
+    q_names: list[str] = field(default_factory=list)
+    v_names: list[str] = field(default_factory=list)
+
+    @classmethod
+    def of(cls, model: _tree.Model) -> "Layout":
+        lay = cls(model.order())
+        for b in lay.bodies:
+            lay.q_slices[b.name] = slice(len(lay.q_names), len(lay.q_names) + b.joint.nq)
+            lay.v_slices[b.name] = slice(len(lay.v_names), len(lay.v_names) + b.joint.nv)
+            lay.q_names += [f"{b.name}.{n}" for n in b.joint.q_names]
+            lay.v_names += [f"{b.name}.{n}" for n in b.joint.v_names]
+        return lay
+
+    @property
+    def nq(self) -> int:
+        return len(self.q_names)
+
+    @property
+    def nv(self) -> int:
+        return len(self.v_names)
+
+
+def _placement(body) -> Relative:
+    z = ca.SX.zeros(3)
+    return Relative(ca.DM(body.at), ca.DM(body.frame), z, z)
+
+
+def traverse(lay: Layout, s, u, t, p: Params) -> dict[str, Relative]:
+    """Absolute motion of every body frame, root to leaves (the paper's traversal)."""
+    z = ca.SX.zeros(3)
+    world = Relative(z, ca.SX.eye(3), z, z)
+    motions: dict[str, Relative] = {}
+    for b in lay.bodies:
+        parent = motions.get(b.parent, world)
+        rel = b.joint.relative(s[lay.q_slices[b.name]], u[lay.v_slices[b.name]], t, p)
+        motions[b.name] = compose(compose(parent, _placement(b)), rel)
+    return motions
+
+
+def body_states(lay: Layout, motions) -> ca.SX:
+    """``V``: per body (centre-of-mass velocity in world, angular velocity in body), (6 nb,)."""
+    parts = []
+    for b in lay.bodies:
+        m = motions[b.name]
+        parts += [m.velocity + ca.mtimes(m.rotation, ca.cross(m.omega, ca.DM(b.com))), m.omega]
+    return ca.vertcat(*parts)
+
+
+@dataclass
+class Symbolic:
+    """The model's CasADi functions (all inputs dense column vectors).
+
+    ``parts(x, t, p) -> (s', Mt, ht)``, ``rhs(x, t, p) -> x'``, ``kin(x, t, p) -> (V, J_u, H)``,
+    ``energy(x, t, p) -> (T_trans, T_rot, V_grav, V_spring, E)`` in J,
+    ``poses(x, t, p) -> (nb*12,)``: per body origin (3, m) and rotation matrix (9, row major),
+    ``project(x) -> x`` back onto the manifold (unit quaternions).
+    """
+
+    model: _tree.Model
+    layout: Layout
+    functions: dict[str, ca.Function]
+
+    def __getitem__(self, name: str) -> ca.Function:
+        return self.functions[name]
+
+
+def _state_view(lay, model, s, u, t, p, motions) -> State:
+    coords = {n: s[i] for i, n in enumerate(lay.q_names)}
+    rates = {n: u[i] for i, n in enumerate(lay.v_names)}
+    v_index = {n: i for i, n in enumerate(lay.v_names)}
+    return State(t, p, motions, coords, rates, v_index)
+
+
+def _applied_h(lay, model, state: State) -> tuple[ca.SX, ca.SX]:
+    """Applied body loads ``h`` (6 nb,) including gyroscopic terms, and generalized ``Q`` (nv,)."""
+    loads = Loads(lay.bodies, lay.nv, state.v_index)
+    for element in model.forces:
+        element.apply(state, loads)
+    parts = []
+    g = ca.DM(model.gravity)
+    for b in lay.bodies:
+        w, j = state.body(b.name).omega, ca.DM(b.inertia)
+        parts += [loads.force[b.name] + b.mass * g, loads.torque[b.name] - ca.cross(w, ca.mtimes(j, w))]
+    return ca.vertcat(*parts), loads.generalized
+
+
+def _mass_times(lay, a: ca.SX) -> ca.SX:
+    """``M a`` for the block-diagonal body mass matrix; ``a`` has 6 nb rows."""
+    rows = []
+    for i, b in enumerate(lay.bodies):
+        rows += [b.mass * a[6 * i:6 * i + 3, :], ca.mtimes(ca.DM(b.inertia), a[6 * i + 3:6 * i + 6, :])]
+    return ca.vertcat(*rows)
+
+
+def _energy(lay, model, state: State, V) -> ca.SX:
+    t_tr = t_rot = v_grav = 0
+    for i, b in enumerate(lay.bodies):
+        vc, w = V[6 * i:6 * i + 3], V[6 * i + 3:6 * i + 6]
+        t_tr += 0.5 * b.mass * ca.dot(vc, vc)
+        t_rot += 0.5 * ca.dot(w, ca.mtimes(ca.DM(b.inertia), w))
+        v_grav -= b.mass * ca.dot(ca.DM(model.gravity), state.point_position(b.name, b.com))
+    v_spring = sum((f.potential(state) for f in model.forces), ca.SX(0))
+    return ca.vertcat(t_tr, t_rot, v_grav, v_spring, t_tr + t_rot + v_grav + v_spring)
+
+
+def _poses(lay, motions) -> ca.SX:
+    return ca.vertcat(*[ca.vertcat(motions[b.name].position, ca.reshape(motions[b.name].rotation.T, 9, 1))
+                        for b in lay.bodies])
+
+
+def symbolic(model: _tree.Model) -> Symbolic:
+    """Build the symbolic equations of motion of ``model`` (the one orchestrating function)."""
+    lay = Layout.of(model)
+    x = ca.SX.sym("x", lay.nq + lay.nv)
+    t = ca.SX.sym("t")
+    p = ca.SX.sym("p", len(model.parameters))
+    s, u = x[:lay.nq], x[lay.nq:]
+    params = Params(list(model.parameters), p)
+    motions = traverse(lay, s, u, t, params)
+    V = body_states(lay, motions)
+    F = ca.vertcat(*[b.joint.qdot(s[lay.q_slices[b.name]], u[lay.v_slices[b.name]]) for b in lay.bodies],
+                   ca.SX(0, 1))
+    Ju = ca.jtimes(V, u, ca.SX.eye(lay.nv))
+    H = ca.jtimes(V, ca.vertcat(s, t), ca.vertcat(F, 1))
+    state = _state_view(lay, model, s, u, t, params, motions)
+    h, Q = _applied_h(lay, model, state)
+    MJu = _mass_times(lay, Ju)
+    Mt = ca.sparsify(ca.mtimes(Ju.T, MJu))
+    ht = ca.mtimes(Ju.T, h - _mass_times(lay, H)) + Q
+    project = ca.vertcat(*[b.joint.project(s[lay.q_slices[b.name]]) for b in lay.bodies], ca.SX(0, 1), u)
+    args, names = [x, t, p], ["x", "t", "p"]
+    fns = {
+        "parts": ca.Function("parts", args, [F, Mt, ht], names, ["sdot", "Mt", "ht"]),
+        "kin": ca.Function("kin", args, [V, Ju, H], names, ["V", "Ju", "H"]),
+        "energy": ca.Function("energy", args, [_energy(lay, model, state, V)], names, ["energy"]),
+        "poses": ca.Function("poses", args, [_poses(lay, motions)], names, ["poses"]),
+        "project": ca.Function("project", [x], [project], ["x"], ["x_projected"]),
+    }
+    fns["rhs"] = _rhs(fns["parts"], lay.nq + lay.nv, len(model.parameters))
+    return Symbolic(model, lay, fns)
+
+
+def _rhs(parts: ca.Function, nx: int, np_: int) -> ca.Function:
+    """MX wrapper solving ``Mt u' = ht`` with CasADi's sparse LDL (code-generatable)."""
+    x, t, p = ca.MX.sym("x", nx), ca.MX.sym("t"), ca.MX.sym("p", np_)
+    sd, Mt, ht = parts(x, t, p)
+    return ca.Function("rhs", [x, t, p], [ca.vertcat(sd, ca.solve(Mt, ht, "ldl"))],
+                       ["x", "t", "p"], ["xdot"])

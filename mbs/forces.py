@@ -1,0 +1,137 @@
+"""Force elements.
+
+A force element reads the symbolic motion of the tree (:class:`State`) and adds loads
+(:class:`Loads`): forces at points of bodies, torques on bodies, or generalized forces
+on joint coordinates. Everything is a CasADi expression, so forces that depend on the
+velocities (dampers, aerodynamics) need nothing more than their formula; relative air
+velocities come straight from the body kinematics.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import casadi as ca
+import numpy as np
+
+from mbs.joints import Params, Relative
+
+
+class State:
+    """Symbolic state of the tree as seen by force elements.
+
+    ``t`` time (s); ``p`` parameters; ``body(name)`` the body-frame motion (origin position
+    and velocity in world components, rotation body->world, angular velocity in body
+    components); ``q(name)``/``v(name)`` joint coordinates and rates by full name.
+    """
+
+    def __init__(self, t, p: Params, motions: dict[str, Relative], coords: dict, rates: dict,
+                 v_index: dict[str, int]):
+        self.t, self.p = t, p
+        self._motions, self._coords, self._rates, self.v_index = motions, coords, rates, v_index
+
+    def body(self, name: str) -> Relative:
+        return self._motions[name]
+
+    def q(self, name: str) -> ca.SX:
+        return self._coords[name]
+
+    def v(self, name: str) -> ca.SX:
+        return self._rates[name]
+
+    def point_position(self, body: str, r) -> ca.SX:
+        """World position (m) of the point ``r`` (body frame, m)."""
+        m = self._motions[body]
+        return m.position + ca.mtimes(m.rotation, ca.DM(r) if isinstance(r, (list, tuple, np.ndarray)) else r)
+
+    def point_velocity(self, body: str, r) -> ca.SX:
+        """World velocity (m/s) of the point ``r`` (body frame, m), in world components."""
+        m = self._motions[body]
+        r = ca.DM(r) if isinstance(r, (list, tuple, np.ndarray)) else r
+        return m.velocity + ca.mtimes(m.rotation, ca.cross(m.omega, r))
+
+
+class Loads:
+    """Accumulates loads: per body a force at the centre of mass (world components)
+    and a torque about it (body components), plus generalized forces (one per rate)."""
+
+    def __init__(self, bodies, nv: int, v_index: dict[str, int]):
+        self._com = {b.name: ca.DM(b.com) for b in bodies}
+        self.force = {b.name: ca.SX.zeros(3) for b in bodies}
+        self.torque = {b.name: ca.SX.zeros(3) for b in bodies}
+        self.generalized = ca.SX.zeros(nv)
+        self._rotation: dict = {}
+        self._v_index = v_index
+
+    def add_force(self, body: str, force, point=None, frame: str = "body", rotation=None) -> None:
+        """Force (N) at ``point`` (body frame, m; default the centre of mass).
+
+        ``frame`` says whether ``force`` has body or world components; ``rotation`` is the
+        body's rotation matrix (needed to convert, see :meth:`State.body`).
+        """
+        f_body = force if frame == "body" else ca.mtimes(rotation.T, force)
+        f_world = force if frame == "world" else ca.mtimes(rotation, force)
+        self.force[body] = self.force[body] + f_world
+        if point is not None:
+            lever = (ca.DM(point) if isinstance(point, (list, tuple, np.ndarray)) else point) - self._com[body]
+            self.torque[body] = self.torque[body] + ca.cross(lever, f_body)
+
+    def add_torque(self, body: str, torque) -> None:
+        """Torque (N m), body components."""
+        self.torque[body] = self.torque[body] + torque
+
+    def add_generalized(self, rate_name: str, value) -> None:
+        """Generalized force on the coordinate whose rate is ``rate_name`` (N m or N)."""
+        if rate_name not in self._v_index:
+            raise KeyError(f"unknown joint rate {rate_name!r}")
+        i = self._v_index[rate_name]
+        self.generalized[i] = self.generalized[i] + value
+
+
+class ForceElement:
+    """Base class: ``apply`` adds loads; ``potential`` (J) enters the total energy."""
+
+    name = "force"
+
+    def apply(self, state: State, loads: Loads) -> None:
+        raise NotImplementedError
+
+    def potential(self, state: State):
+        return 0
+
+
+@dataclass
+class SpringDamper(ForceElement):
+    """Linear spring and damper on a hinge coordinate ``coordinate`` (e.g. ``"blade1.lag"``).
+
+    stiffness N m/rad, damping N m s/rad, rest angle rad.
+    """
+
+    coordinate: str
+    stiffness: float = 0.0
+    damping: float = 0.0
+    rest: float = 0.0
+
+    def __post_init__(self):
+        self.name = f"spring-damper {self.coordinate}"
+        for what in ("stiffness", "damping", "rest"):
+            if not np.isfinite(getattr(self, what)):
+                raise ValueError(f"{self.name}: {what} {getattr(self, what)} is not finite")
+
+    def apply(self, state, loads):
+        rate = self.coordinate + "_rate"
+        q, v = state.q(self.coordinate), state.v(rate)
+        loads.add_generalized(rate, -self.stiffness * (q - self.rest) - self.damping * v)
+
+    def potential(self, state):
+        return 0.5 * self.stiffness * (state.q(self.coordinate) - self.rest) ** 2
+
+
+class UserForce(ForceElement):
+    """Any loads written as a function ``fn(state, loads)`` of the symbolic state."""
+
+    def __init__(self, name: str, fn: Callable):
+        self.name, self.fn = name, fn
+
+    def apply(self, state, loads):
+        self.fn(state, loads)

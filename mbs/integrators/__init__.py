@@ -1,0 +1,22 @@
+"""Time integrators. Fixed-step explicit RK methods are data (Butcher tableaux) turned into
+generated code by :func:`mbs.integrators.symbolic_steps`."""
+from __future__ import annotations
+
+import casadi as ca
+
+from mbs.integrators._tableau import ButcherTableau, rk_step
+from mbs.integrators.euler import EULER
+from mbs.integrators.rk4 import RK4
+
+FIXED_STEP: dict[str, ButcherTableau] = {t.name: t for t in (RK4, EULER)}
+
+
+def symbolic_step(rhs: ca.Function, project: ca.Function, tab: ButcherTableau) -> ca.Function:
+    """``step(x, t, h, p) -> x_next``: one step of ``tab``, then projection onto the manifold."""
+    nx, np_ = rhs.size1_in(0), rhs.size1_in(2)
+    x, t, h, p = ca.MX.sym("x", nx), ca.MX.sym("t"), ca.MX.sym("h"), ca.MX.sym("p", np_)
+    xn = project(rk_step(rhs, x, t, h, p, tab))
+    return ca.Function(f"step_{tab.name}", [x, t, h, p], [xn], ["x", "t", "h", "p"], ["x_next"])
+
+
+__all__ = ["ButcherTableau", "FIXED_STEP", "RK4", "EULER", "symbolic_step", "rk_step"]

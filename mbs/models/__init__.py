@@ -1,0 +1,1 @@
+"""Models: generic demonstration trees and the Bo105 helicopter."""
