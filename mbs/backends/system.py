@@ -119,6 +119,10 @@ class System:
             x[self.info.state_names.index(k)] = v
         return x
 
+    def project(self, x) -> np.ndarray:
+        """``x`` with every quaternion normalised (the integrators do this after each step)."""
+        return self._eval("project", self.check_state(x))[0]
+
     def rhs(self, x, t: float = 0.0, p=None) -> np.ndarray:
         """``x' = f(x, t, p)``, shape (nx,)."""
         x, p = self.check_state(x), self.params(p)

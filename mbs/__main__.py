@@ -1,0 +1,5 @@
+import sys
+
+from mbs.cli import main
+
+sys.exit(main())

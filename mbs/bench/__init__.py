@@ -1,0 +1,1 @@
+"""Benchmarks: speed, FMU overhead, work-precision, stability, scaling."""

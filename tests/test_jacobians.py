@@ -1,0 +1,27 @@
+"""J_u and H from forward-mode AD agree with central finite differences of body velocities."""
+import numpy as np
+import pytest
+
+import mbs
+from trees import driven_rotor, random_state, random_tree
+
+
+def _velocities(system, x, t):
+    return system.kinematics(x, t)[0]
+
+
+@pytest.mark.parametrize("make", [driven_rotor, lambda: random_tree(7, 12, True)], ids=["driven-rotor", "random"])
+def test_ju_and_h_match_finite_differences(make):
+    system = mbs.build(make(), "vm")
+    nq, t = system.info.nq, 0.37
+    x = random_state(system, 3, scale=0.3)
+    V, Ju, H = system.kinematics(x, t)
+    d = 1e-4
+    fd_ju = np.column_stack([(_velocities(system, x + d * e, t) - _velocities(system, x - d * e, t)) / (2 * d)
+                             for e in np.eye(system.info.nx)[nq:]])
+    F = np.r_[system.rhs(x, t)[:nq], np.zeros(system.info.nv)]
+    d = 1e-5
+    fd_h = (_velocities(system, x + d * F, t + d) - _velocities(system, x - d * F, t - d)) / (2 * d)
+    assert np.abs(Ju - fd_ju).max() <= 1e-6 * np.abs(Ju).max()
+    assert np.abs(H - fd_h).max() <= 1e-6 * np.abs(H).max()
+    assert np.abs(H).max() > 0.1  # H is not trivially zero
