@@ -86,7 +86,8 @@ class Symbolic:
     ``parts(x, t, p) -> (s', Mt, ht)``, ``rhs(x, t, p) -> x'``, ``kin(x, t, p) -> (V, J_u, H)``,
     ``energy(x, t, p) -> (T_trans, T_rot, V_grav, V_spring, E)`` in J,
     ``poses(x, t, p) -> (nb*12,)``: per body origin (3, m) and rotation matrix (9, row major),
-    ``project(x) -> x`` back onto the manifold (unit quaternions).
+    ``project(x) -> x`` back onto the manifold (unit quaternions),
+    ``outputs(x, t, p) -> (n_outputs,)`` the model's named outputs.
     """
 
     model: _tree.Model
@@ -97,7 +98,7 @@ class Symbolic:
         return self.functions[name]
 
 
-def _state_view(lay, model, s, u, t, p, motions) -> State:
+def _state_view(lay, s, u, t, p, motions) -> State:
     coords = {n: s[i] for i, n in enumerate(lay.q_names)}
     rates = {n: u[i] for i, n in enumerate(lay.v_names)}
     v_index = {n: i for i, n in enumerate(lay.v_names)}
@@ -155,7 +156,8 @@ def symbolic(model: _tree.Model) -> Symbolic:
                    ca.SX(0, 1))
     Ju = ca.jtimes(V, u, ca.SX.eye(lay.nv))
     H = ca.jtimes(V, ca.vertcat(s, t), ca.vertcat(F, 1))
-    state = _state_view(lay, model, s, u, t, params, motions)
+    state = _state_view(lay, s, u, t, params, motions)
+    state.energy = _energy(lay, model, state, V)
     h, Q = _applied_h(lay, model, state)
     MJu = _mass_times(lay, Ju)
     Mt = ca.sparsify(ca.mtimes(Ju.T, MJu))
@@ -165,7 +167,9 @@ def symbolic(model: _tree.Model) -> Symbolic:
     fns = {
         "parts": ca.Function("parts", args, [F, Mt, ht], names, ["sdot", "Mt", "ht"]),
         "kin": ca.Function("kin", args, [V, Ju, H], names, ["V", "Ju", "H"]),
-        "energy": ca.Function("energy", args, [_energy(lay, model, state, V)], names, ["energy"]),
+        "energy": ca.Function("energy", args, [state.energy], names, ["energy"]),
+        "outputs": ca.Function("outputs", args, [ca.vertcat(*[o.fn(state) for o in model.outputs.values()],
+                                                            ca.SX(0, 1))], names, ["y"]),
         "poses": ca.Function("poses", args, [_poses(lay, motions)], names, ["poses"]),
         "project": ca.Function("project", [x], [project], ["x"], ["x_projected"]),
     }

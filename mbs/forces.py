@@ -22,8 +22,11 @@ class State:
 
     ``t`` time (s); ``p`` parameters; ``body(name)`` the body-frame motion (origin position
     and velocity in world components, rotation body->world, angular velocity in body
-    components); ``q(name)``/``v(name)`` joint coordinates and rates by full name.
+    components); ``q(name)``/``v(name)`` joint coordinates and rates by full name;
+    ``energy`` (5,): translational and rotational kinetic, gravity, spring, total (J).
     """
+
+    energy = None
 
     def __init__(self, t, p: Params, motions: dict[str, Relative], coords: dict, rates: dict,
                  v_index: dict[str, int]):

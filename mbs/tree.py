@@ -8,7 +8,7 @@ models use x forward/north, y right/east, z down.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Iterator
+from typing import Callable, Iterator
 
 import numpy as np
 
@@ -40,10 +40,27 @@ class Body:
 
 @dataclass
 class Parameter:
-    """A run-time input of the generated code (changing it needs no recompilation)."""
+    """A run-time input of the generated code (changing it needs no recompilation).
+
+    ``control`` marks inputs a pilot or controller changes during a run (pitch angles);
+    the others are set before a run. Values outside ``[low, high]`` are rejected.
+    """
 
     name: str
     default: float
+    unit: str = ""
+    description: str = ""
+    control: bool = False
+    low: float = -float("inf")
+    high: float = float("inf")
+
+
+@dataclass
+class Output:
+    """A named output: ``fn(state) -> SX`` scalar, evaluated by the generated code."""
+
+    name: str
+    fn: Callable
     unit: str = ""
     description: str = ""
 
@@ -103,15 +120,25 @@ class Model:
         self.bodies: dict[str, Body] = {}
         self.parameters: dict[str, Parameter] = {}
         self.forces: list = []
+        self.outputs: dict[str, Output] = {}
         self.initial: dict[str, float] = {}
 
-    def add_parameter(self, name: str, default: float, unit: str = "", description: str = "") -> None:
+    def add_parameter(self, name: str, default: float, unit: str = "", description: str = "",
+                      control: bool = False, low: float = -np.inf, high: float = np.inf) -> None:
         """Declare a named run-time parameter, readable in joints and forces as ``p[name]``."""
         if name in self.parameters:
             raise ValueError(f"duplicate parameter name {name!r}")
-        if not np.isfinite(default):
-            raise ValueError(f"parameter {name!r}: default {default} is not finite")
-        self.parameters[name] = Parameter(name, float(default), unit, description)
+        if not (np.isfinite(default) and low <= default <= high):
+            raise ValueError(f"parameter {name!r}: default {default} is not finite or outside "
+                             f"[{low}, {high}]")
+        self.parameters[name] = Parameter(name, float(default), unit, description, control,
+                                          float(low), float(high))
+
+    def add_output(self, name: str, fn: Callable, unit: str = "", description: str = "") -> None:
+        """Declare a named output ``fn(state) -> SX`` (see :class:`mbs.forces.State`)."""
+        if name in self.outputs:
+            raise ValueError(f"duplicate output name {name!r}")
+        self.outputs[name] = Output(name, fn, unit, description)
 
     def add_body(self, name: str, parent: str, joint: Joint, mass: float, com=(0, 0, 0),
                  inertia=None, at=(0, 0, 0), frame=None, shape: dict | None = None) -> Body:

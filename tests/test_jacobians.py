@@ -3,7 +3,8 @@ import numpy as np
 import pytest
 
 import mbs
-from trees import driven_rotor, random_state, random_tree
+from mbs.models.demo import driven_rotor
+from trees import random_state, random_tree
 
 
 def _velocities(system, x, t):

@@ -62,27 +62,3 @@ def spring_forces(model: Model, system, x) -> np.ndarray:
 def depth(model: Model) -> int:
     return max(model.depth(n) for n in model.bodies)
 
-
-def driven_rotor() -> Model:
-    """Free fuselage, hub driven at ``omega``, blades with driven cyclic pitch and flap/lag hinges."""
-    import casadi as ca
-
-    from mbs import DrivenHinge
-    m = Model("driven-rotor")
-    m.add_parameter("omega", 44.4, "rad/s")
-    m.add_parameter("theta0", 0.1, "rad")
-    m.add_parameter("theta1s", -0.05, "rad")
-    m.add_body("fuselage", "world", FreeJoint(), mass=2000.0, com=(0.1, 0, 0.3),
-               inertia=[[1400.0, 0, -600], [0, 4900, 0], [-600, 0, 4000]])
-    m.add_body("hub", "fuselage", DrivenHinge((0, 0.05, -1), lambda t, p: p["omega"] * t), mass=30.0,
-               inertia=np.diag([40.0, 40.0, 60.0]), at=(0, 0, -1.5))
-    for k in range(3):
-        psi = 2 * np.pi * k / 3
-        pitch = DrivenHinge((1, 0, 0), lambda t, p, psi=psi: p["theta0"] + p["theta1s"] * ca.sin(p["omega"] * t + psi),
-                            name="pitch")
-        joint = Serial(pitch, Hinge((0, -1, 0), name="flap", stiffness=1e5),
-                       Fixed(at=(0.2, 0, 0)), Hinge((0, 0, 1), name="lag", damping=700.0))
-        m.add_body(f"blade{k + 1}", "hub", joint, mass=28.0, com=(2.4, 0.02, 0), inertia=np.diag([1, 56, 57.0]),
-                   at=(0.3 * np.cos(psi), 0.3 * np.sin(psi), 0),
-                   frame=[[np.cos(psi), -np.sin(psi), 0], [np.sin(psi), np.cos(psi), 0], [0, 0, 1]])
-    return m

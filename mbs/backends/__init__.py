@@ -1,21 +1,22 @@
-"""Evaluators of a model's generated functions and the :func:`build` entry point."""
-from __future__ import annotations
+"""Evaluators of a model's generated functions and the :func:`build` entry point.
 
-from mbs.backends.compiled import CompiledSystem, CompilerNotFound, compile_source, generate
-from mbs.backends.info import ModelInfo, info_of
-from mbs.backends.system import Result, System, Trajectory
-from mbs.backends.vm import VMSystem
+``mbs.backends.compiled`` and ``mbs.backends.system`` need only numpy; building a model
+(``build``) and the virtual machine need CasADi.
+"""
+from __future__ import annotations
 
 BACKENDS = ("compiled", "vm")
 
 
-def build(model, backend: str = "compiled", dtype: str = "float64") -> System:
-    """Build ``model`` (a :class:`mbs.Model`) into a runnable :class:`System`.
+def build(model, backend: str = "compiled", dtype: str = "float64"):
+    """Build ``model`` (a :class:`mbs.Model`) into a runnable :class:`mbs.System`.
 
     backend: ``"compiled"`` (generated C, cached on disk; float64 or float32) or ``"vm"``
-    (CasADi's virtual machine, float64). Raises :class:`CompilerNotFound` if the compiled
+    (CasADi's virtual machine, float64). Raises :class:`mbs.CompilerNotFound` if the compiled
     evaluator is asked for and no C compiler exists.
     """
+    from mbs.backends.compiled import CompiledSystem, compile_source, generate
+    from mbs.backends.vm import VMSystem
     from mbs.dynamics import symbolic
 
     if backend not in BACKENDS:
@@ -27,7 +28,3 @@ def build(model, backend: str = "compiled", dtype: str = "float64") -> System:
         return vm
     folder = compile_source(generate(vm.functions, vm.info, dtype), vm.info)
     return CompiledSystem(folder, dtype)
-
-
-__all__ = ["build", "BACKENDS", "System", "Trajectory", "Result", "ModelInfo", "VMSystem",
-           "CompiledSystem", "CompilerNotFound", "info_of"]

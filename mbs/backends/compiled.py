@@ -96,9 +96,12 @@ def generate(functions: dict, info: ModelInfo, dtype: str) -> str:
 
 
 def compile_source(source: str, info: ModelInfo, directory: Path | None = None) -> Path:
-    """Compile ``source`` into ``<cache>/<hash>/model.so`` unless cached; returns that folder."""
+    """Compile ``source`` into ``<cache>/<name>-<hash>/model.so`` unless cached; returns that folder.
+
+    The hash covers the source, the model description and the compiler command.
+    """
     cc = find_compiler()
-    key = hashlib.sha256("\n".join([source, cc, *CFLAGS]).encode()).hexdigest()[:20]
+    key = hashlib.sha256("\n".join([source, info.to_json(), cc, *CFLAGS]).encode()).hexdigest()[:20]
     folder = (directory or cache_dir()) / f"{info.name}-{key}"
     if (folder / "model.so").exists():
         return folder

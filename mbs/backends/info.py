@@ -20,6 +20,7 @@ class ModelInfo:
     x0: list[float]
     gravity: list[float]
     methods: dict[str, int] = field(default_factory=dict)  # fixed-step method -> rhs calls per step
+    outputs: list[dict] = field(default_factory=list)
     extra: dict = field(default_factory=dict)
 
     @property
@@ -41,6 +42,10 @@ class ModelInfo:
     @property
     def param_names(self) -> list[str]:
         return [p["name"] for p in self.parameters]
+
+    @property
+    def output_names(self) -> list[str]:
+        return [o["name"] for o in self.outputs]
 
     @property
     def body_names(self) -> list[str]:
@@ -66,10 +71,11 @@ def info_of(symbolic, methods: dict[str, int]) -> ModelInfo:
                    frame=b.frame.tolist(), shape=b.shape,
                    q_names=[f"{b.name}.{n}" for n in b.joint.q_names],
                    v_names=[f"{b.name}.{n}" for n in b.joint.v_names]) for b in lay.bodies]
-    params = [dict(name=p.name, default=p.default, unit=p.unit, description=p.description)
-              for p in model.parameters.values()]
+    params = [dict(name=p.name, default=p.default, unit=p.unit, description=p.description,
+                   control=p.control, low=p.low, high=p.high) for p in model.parameters.values()]
+    outputs = [dict(name=o.name, unit=o.unit, description=o.description) for o in model.outputs.values()]
     return ModelInfo(model.name, lay.q_names, lay.v_names, params, bodies,
-                     initial_state(symbolic).tolist(), model.gravity.tolist(), methods)
+                     initial_state(symbolic).tolist(), model.gravity.tolist(), methods, outputs)
 
 
 def initial_state(symbolic) -> np.ndarray:

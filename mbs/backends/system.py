@@ -97,9 +97,12 @@ class System:
             if k not in names:
                 raise ValueError(f"unknown parameter {k!r}; known: {names}")
             out[names.index(k)] = v
-        for name, v in zip(names, out):
+        for q, v in zip(self.info.parameters, out):
             if not np.isfinite(v):
-                raise ValueError(f"parameter {name!r} is {v}, not finite")
+                raise ValueError(f"parameter {q['name']!r} is {v}, not finite")
+            if not q.get("low", -np.inf) <= v <= q.get("high", np.inf):
+                raise ValueError(f"parameter {q['name']!r} = {v} {q['unit']} is outside its range "
+                                 f"[{q['low']}, {q['high']}]")
         return out
 
     @staticmethod
@@ -133,6 +136,15 @@ class System:
     def energy(self, x, t: float = 0.0, p=None) -> np.ndarray:
         """(translational kinetic, rotational kinetic, gravity, spring, total) in J."""
         return self._eval("energy", self.check_state(x), t, self.params(p))[0]
+
+    def outputs(self, x, t: float = 0.0, p=None) -> np.ndarray:
+        """The model's named outputs (``info.output_names``) at ``(x, t)``."""
+        return self._eval("outputs", self.check_state(x), t, self.params(p))[0]
+
+    def history(self, name: str, traj: "Trajectory", p=None) -> np.ndarray:
+        """``energy``/``outputs``/``poses`` evaluated at every recorded row of ``traj``."""
+        p = self.params(p)
+        return np.array([getattr(self, name)(x, t, p) for x, t in zip(traj.x, traj.t)])
 
     def poses(self, x, t: float = 0.0, p=None) -> tuple[np.ndarray, np.ndarray]:
         """Body-frame origins (nb, 3) in m and rotations body->world (nb, 3, 3), world frame."""

@@ -1,0 +1,113 @@
+"""Core subcommands of ``heli``: scenes, simulate, demo, bench speed."""
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from mbs.cli import add_json, emit
+
+
+def cmd_scenes(args) -> int:
+    from mbs import scenes
+    from mbs.dynamics import Layout
+
+    rows, lines = [], []
+    for sc in scenes.all_scenes().values():
+        model = sc.model()
+        lay = Layout.of(model)
+        row = {"scene": sc.name, "description": sc.description, "bodies": [b.name for b in lay.bodies],
+               "dof": lay.nv, "position_coordinates": lay.nq, "conservative": sc.conservative,
+               "forces": [f.name for f in model.forces],
+               "parameters": {p.name: p.default for p in model.parameters.values()}}
+        rows.append(row)
+        lines += [f"{sc.name}: {sc.description}",
+                  f"  {len(lay.bodies)} bodies: {', '.join(row['bodies'])}",
+                  f"  {lay.nv} degrees of freedom: {', '.join(lay.v_names)}",
+                  f"  force elements: {', '.join(row['forces']) or 'none'} (+ gravity)",
+                  f"  {'conservative' if sc.conservative else 'not conservative'}", ""]
+    emit({"scenes": rows}, args.json, lines)
+    return 0
+
+
+def cmd_simulate(args) -> int:
+    from mbs._progress import Progress
+    from mbs.simulate import simulate, write
+
+    sim = simulate(args.scene, args.revs, args.steps_per_rev, args.dtype, args.backend,
+                   every=args.every, progress=Progress(f"simulate {args.scene}", not args.quiet))
+    paths = write(sim, Path(args.out))
+    res = sim.summary()
+    res["files"] = {k: str(v) for k, v in paths.items()}
+    lines = [f"{sim.scene.name}: {sim.revs:g} revolutions, {res['steps']} RK4 steps ({sim.system.dtype}, "
+             f"{sim.system.backend}) in {sim.traj.wall_s:.3f} s, {res['realtime_factor']:.1f}x real time",
+             f"result: {sim.traj.message}"]
+    if "max_rel_energy_error" in res:
+        lines.append(f"max relative energy error: {res['max_rel_energy_error']:.3e}")
+    lines += [f"wrote {p}" for p in paths.values()]
+    emit(res, args.json, lines)
+    return 0 if sim.traj.ok else 1
+
+
+def cmd_demo(args) -> int:
+    from mbs._progress import Progress
+    from mbs.simulate import simulate, write
+
+    sim = simulate("demo-rotor", args.revs, 100, progress=Progress("demo", not args.json))
+    paths = write(sim, Path(args.out))
+    res = {**sim.summary(), "files": {k: str(v) for k, v in paths.items()}}
+    emit(res, args.json, [f"demo-rotor: {args.revs} revolutions, RK4 at 100 steps/rev, {sim.traj.wall_s:.3f} s "
+                          f"wall ({res['realtime_factor']:.0f}x real time)",
+                          f"max relative energy error {sim.max_rel_energy_error:.2e}",
+                          *[f"wrote {p}" for p in paths.values()]])
+    return 0 if sim.traj.ok else 1
+
+
+def cmd_bench_speed(args) -> int:
+    from mbs.bench import speed
+
+    res = speed.run()
+    c = res["conservative_tree"]
+    lines = [f"conservative tree {c['model']} ({c['nv']} DOF):",
+             f"  compiled rhs          {c['compiled_rhs_us']:8.2f} µs (raw ctypes call)",
+             f"  compiled rhs, checked {c['compiled_rhs_checked_us']:8.2f} µs (System.rhs)",
+             f"  compiled RK4 step     {c['compiled_rk4_step_us']:8.2f} µs (one call), "
+             f"{c['compiled_rk4_step_in_run_us']:.2f} µs inside a 1000-step run",
+             f"  virtual machine rhs   {c['vm_rhs_us']:8.2f} µs"]
+    if "pinocchio_aba_us" in c:
+        lines += [f"  pinocchio.aba         {c['pinocchio_aba_us']:8.2f} µs",
+                  f"  ratio rhs / aba       {c['ratio_rhs_to_aba']:8.2f}"]
+    else:
+        lines.append(f"  pinocchio: {c['pinocchio']}")
+    emit(res, args.json, lines)
+    return 0
+
+
+def register(sub, bench) -> None:
+    p = sub.add_parser("scenes", help="list the scenes: bodies, degrees of freedom, force elements")
+    add_json(p)
+    p.set_defaults(fn=cmd_scenes)
+
+    p = sub.add_parser("simulate", help="run a scene and write results.csv, run.json and plots")
+    p.add_argument("scene")
+    p.add_argument("--revs", type=float, default=1.0, help="main-rotor revolutions (default 1)")
+    p.add_argument("--steps-per-rev", type=int, default=None, help="RK4 steps per revolution")
+    p.add_argument("--dtype", choices=["float64", "float32"], default="float64")
+    p.add_argument("--backend", choices=["compiled", "vm"], default="compiled")
+    p.add_argument("--every", type=int, default=1, help="record every N-th step")
+    p.add_argument("--out", default="out/simulate", help="output folder (default out/simulate)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_json(p)
+    p.set_defaults(fn=cmd_simulate)
+
+    p = sub.add_parser("demo", help="the main job: build, run and plot (see README)")
+    p.add_argument("--revs", type=int, default=10)
+    p.add_argument("--out", default="out/demo")
+    add_json(p)
+    p.set_defaults(fn=cmd_demo)
+
+    p = bench.add_parser("speed", help="right-hand side and RK4 step against Pinocchio")
+    add_json(p)
+    p.set_defaults(fn=cmd_bench_speed)
+
+
+__all__ = ["register", "argparse"]
