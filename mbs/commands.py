@@ -1,7 +1,6 @@
-"""Core subcommands of ``heli``: scenes, simulate, demo, bench speed."""
+"""Core subcommands of ``heli``: scenes, simulate, demo."""
 from __future__ import annotations
 
-import argparse
 from pathlib import Path
 
 from mbs.cli import add_json, emit
@@ -62,26 +61,6 @@ def cmd_demo(args) -> int:
     return 0 if sim.traj.ok else 1
 
 
-def cmd_bench_speed(args) -> int:
-    from mbs.bench import speed
-
-    res = speed.run()
-    c = res["conservative_tree"]
-    lines = [f"conservative tree {c['model']} ({c['nv']} DOF):",
-             f"  compiled rhs          {c['compiled_rhs_us']:8.2f} µs (raw ctypes call)",
-             f"  compiled rhs, checked {c['compiled_rhs_checked_us']:8.2f} µs (System.rhs)",
-             f"  compiled RK4 step     {c['compiled_rk4_step_us']:8.2f} µs (one call), "
-             f"{c['compiled_rk4_step_in_run_us']:.2f} µs inside a 1000-step run",
-             f"  virtual machine rhs   {c['vm_rhs_us']:8.2f} µs"]
-    if "pinocchio_aba_us" in c:
-        lines += [f"  pinocchio.aba         {c['pinocchio_aba_us']:8.2f} µs",
-                  f"  ratio rhs / aba       {c['ratio_rhs_to_aba']:8.2f}"]
-    else:
-        lines.append(f"  pinocchio: {c['pinocchio']}")
-    emit(res, args.json, lines)
-    return 0
-
-
 def register(sub, bench) -> None:
     p = sub.add_parser("scenes", help="list the scenes: bodies, degrees of freedom, force elements")
     add_json(p)
@@ -105,9 +84,3 @@ def register(sub, bench) -> None:
     add_json(p)
     p.set_defaults(fn=cmd_demo)
 
-    p = bench.add_parser("speed", help="right-hand side and RK4 step against Pinocchio")
-    add_json(p)
-    p.set_defaults(fn=cmd_bench_speed)
-
-
-__all__ = ["register", "argparse"]
