@@ -1,6 +1,7 @@
 """Equations of motion in minimal coordinates with forward-mode AD (the paper's method).
 
-State ``x = (s, u)``: ``s`` (nq,) joint positions, ``u`` (nv,) joint rates. Body states
+State ``x = (s, u, z)``: ``s`` (nq,) joint positions, ``u`` (nv,) joint rates, ``z`` (nz,)
+extra first-order states of force elements (e.g. induced inflow; usually none). Body states
 ``V`` stack, per body, the centre-of-mass velocity (world components, m/s) and the
 angular velocity (body components, rad/s), so that ``M = blockdiag(m I, J_c)``.
 
@@ -33,6 +34,7 @@ class Layout:
     v_slices: dict[str, slice] = field(default_factory=dict)
     q_names: list[str] = field(default_factory=list)
     v_names: list[str] = field(default_factory=list)
+    z_names: list[str] = field(default_factory=list)
 
     @classmethod
     def of(cls, model: _tree.Model) -> "Layout":
@@ -42,6 +44,7 @@ class Layout:
             lay.v_slices[b.name] = slice(len(lay.v_names), len(lay.v_names) + b.joint.nv)
             lay.q_names += [f"{b.name}.{n}" for n in b.joint.q_names]
             lay.v_names += [f"{b.name}.{n}" for n in b.joint.v_names]
+        lay.z_names = list(model.states)
         return lay
 
     @property
@@ -51,6 +54,10 @@ class Layout:
     @property
     def nv(self) -> int:
         return len(self.v_names)
+
+    @property
+    def nz(self) -> int:
+        return len(self.z_names)
 
 
 def _placement(body) -> Relative:
@@ -98,24 +105,30 @@ class Symbolic:
         return self.functions[name]
 
 
-def _state_view(lay, s, u, t, p, motions) -> State:
+def _state_view(lay, s, u, z, t, p, motions) -> State:
     coords = {n: s[i] for i, n in enumerate(lay.q_names)}
     rates = {n: u[i] for i, n in enumerate(lay.v_names)}
+    extra = {n: z[i] for i, n in enumerate(lay.z_names)}
     v_index = {n: i for i, n in enumerate(lay.v_names)}
-    return State(t, p, motions, coords, rates, v_index)
+    return State(t, p, motions, coords, rates, v_index, extra)
 
 
-def _applied_h(lay, model, state: State) -> tuple[ca.SX, ca.SX]:
-    """Applied body loads ``h`` (6 nb,) including gyroscopic terms, and generalized ``Q`` (nv,)."""
-    loads = Loads(lay.bodies, lay.nv, state.v_index)
+def _applied_h(lay, model, state: State) -> tuple[ca.SX, ca.SX, ca.SX]:
+    """Applied body loads ``h`` (6 nb,) including gyroscopic terms, generalized ``Q`` (nv,)
+    and the rates of the extra states (nz,)."""
+    loads = Loads(lay.bodies, lay.nv, state.v_index, lay.z_names)
     for element in model.forces:
         element.apply(state, loads)
+    missing = [n for n, r in loads.rates.items() if r is None]
+    if missing:
+        raise ValueError(f"no force element sets the rate of extra states {missing}")
     parts = []
     g = ca.DM(model.gravity)
     for b in lay.bodies:
         w, j = state.body(b.name).omega, ca.DM(b.inertia)
         parts += [loads.force[b.name] + b.mass * g, loads.torque[b.name] - ca.cross(w, ca.mtimes(j, w))]
-    return ca.vertcat(*parts), loads.generalized
+    zdot = ca.vertcat(*loads.rates.values(), ca.SX(0, 1))
+    return ca.vertcat(*parts), loads.generalized, zdot
 
 
 def _mass_times(lay, a: ca.SX) -> ca.SX:
@@ -145,10 +158,10 @@ def _poses(lay, motions) -> ca.SX:
 def symbolic(model: _tree.Model) -> Symbolic:
     """Build the symbolic equations of motion of ``model`` (the one orchestrating function)."""
     lay = Layout.of(model)
-    x = ca.SX.sym("x", lay.nq + lay.nv)
+    x = ca.SX.sym("x", lay.nq + lay.nv + lay.nz)
     t = ca.SX.sym("t")
     p = ca.SX.sym("p", len(model.parameters))
-    s, u = x[:lay.nq], x[lay.nq:]
+    s, u, z = x[:lay.nq], x[lay.nq:lay.nq + lay.nv], x[lay.nq + lay.nv:]
     params = Params(list(model.parameters), p)
     motions = traverse(lay, s, u, t, params)
     V = body_states(lay, motions)
@@ -156,16 +169,16 @@ def symbolic(model: _tree.Model) -> Symbolic:
                    ca.SX(0, 1))
     Ju = ca.jtimes(V, u, ca.SX.eye(lay.nv))
     H = ca.jtimes(V, ca.vertcat(s, t), ca.vertcat(F, 1))
-    state = _state_view(lay, s, u, t, params, motions)
+    state = _state_view(lay, s, u, z, t, params, motions)
     state.energy = _energy(lay, model, state, V)
-    h, Q = _applied_h(lay, model, state)
+    h, Q, zdot = _applied_h(lay, model, state)
     MJu = _mass_times(lay, Ju)
     Mt = ca.sparsify(ca.mtimes(Ju.T, MJu))
     ht = ca.mtimes(Ju.T, h - _mass_times(lay, H)) + Q
-    project = ca.vertcat(*[b.joint.project(s[lay.q_slices[b.name]]) for b in lay.bodies], ca.SX(0, 1), u)
+    project = ca.vertcat(*[b.joint.project(s[lay.q_slices[b.name]]) for b in lay.bodies], ca.SX(0, 1), u, z)
     args, names = [x, t, p], ["x", "t", "p"]
     fns = {
-        "parts": ca.Function("parts", args, [F, Mt, ht], names, ["sdot", "Mt", "ht"]),
+        "parts": ca.Function("parts", args, [F, Mt, ht, zdot], names, ["sdot", "Mt", "ht", "zdot"]),
         "kin": ca.Function("kin", args, [V, Ju, H], names, ["V", "Ju", "H"]),
         "energy": ca.Function("energy", args, [state.energy], names, ["energy"]),
         "outputs": ca.Function("outputs", args, [ca.vertcat(*[o.fn(state) for o in model.outputs.values()],
@@ -173,13 +186,13 @@ def symbolic(model: _tree.Model) -> Symbolic:
         "poses": ca.Function("poses", args, [_poses(lay, motions)], names, ["poses"]),
         "project": ca.Function("project", [x], [project], ["x"], ["x_projected"]),
     }
-    fns["rhs"] = _rhs(fns["parts"], lay.nq + lay.nv, len(model.parameters))
+    fns["rhs"] = _rhs(fns["parts"], lay.nq + lay.nv + lay.nz, len(model.parameters))
     return Symbolic(model, lay, fns)
 
 
 def _rhs(parts: ca.Function, nx: int, np_: int) -> ca.Function:
     """MX wrapper solving ``Mt u' = ht`` with CasADi's sparse LDL (code-generatable)."""
     x, t, p = ca.MX.sym("x", nx), ca.MX.sym("t"), ca.MX.sym("p", np_)
-    sd, Mt, ht = parts(x, t, p)
-    return ca.Function("rhs", [x, t, p], [ca.vertcat(sd, ca.solve(Mt, ht, "ldl"))],
+    sd, Mt, ht, zd = parts(x, t, p)
+    return ca.Function("rhs", [x, t, p], [ca.vertcat(sd, ca.solve(Mt, ht, "ldl"), zd)],
                        ["x", "t", "p"], ["xdot"])

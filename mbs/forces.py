@@ -29,9 +29,10 @@ class State:
     energy = None
 
     def __init__(self, t, p: Params, motions: dict[str, Relative], coords: dict, rates: dict,
-                 v_index: dict[str, int]):
+                 v_index: dict[str, int], extra: dict | None = None):
         self.t, self.p = t, p
         self._motions, self._coords, self._rates, self.v_index = motions, coords, rates, v_index
+        self._extra = extra or {}
 
     def body(self, name: str) -> Relative:
         return self._motions[name]
@@ -41,6 +42,12 @@ class State:
 
     def v(self, name: str) -> ca.SX:
         return self._rates[name]
+
+    def z(self, name: str) -> ca.SX:
+        """An extra state (see :meth:`mbs.Model.add_state`)."""
+        if name not in self._extra:
+            raise KeyError(f"unknown extra state {name!r}; known: {sorted(self._extra)}")
+        return self._extra[name]
 
     def point_position(self, body: str, r) -> ca.SX:
         """World position (m) of the point ``r`` (body frame, m)."""
@@ -58,12 +65,12 @@ class Loads:
     """Accumulates loads: per body a force at the centre of mass (world components)
     and a torque about it (body components), plus generalized forces (one per rate)."""
 
-    def __init__(self, bodies, nv: int, v_index: dict[str, int]):
+    def __init__(self, bodies, nv: int, v_index: dict[str, int], extra_names=()):
         self._com = {b.name: ca.DM(b.com) for b in bodies}
         self.force = {b.name: ca.SX.zeros(3) for b in bodies}
         self.torque = {b.name: ca.SX.zeros(3) for b in bodies}
         self.generalized = ca.SX.zeros(nv)
-        self._rotation: dict = {}
+        self.rates = {n: None for n in extra_names}
         self._v_index = v_index
 
     def add_force(self, body: str, force, point=None, frame: str = "body", rotation=None) -> None:
@@ -82,6 +89,14 @@ class Loads:
     def add_torque(self, body: str, torque) -> None:
         """Torque (N m), body components."""
         self.torque[body] = self.torque[body] + torque
+
+    def set_rate(self, state_name: str, value) -> None:
+        """Set the time derivative of an extra state (exactly one element does so)."""
+        if state_name not in self.rates:
+            raise KeyError(f"unknown extra state {state_name!r}")
+        if self.rates[state_name] is not None:
+            raise ValueError(f"the rate of extra state {state_name!r} is set twice")
+        self.rates[state_name] = value
 
     def add_generalized(self, rate_name: str, value) -> None:
         """Generalized force on the coordinate whose rate is ``rate_name`` (N m or N)."""

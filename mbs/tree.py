@@ -56,6 +56,19 @@ class Parameter:
 
 
 @dataclass
+class ExtraState:
+    """A first-order state that is not a joint coordinate (e.g. an induced-inflow velocity).
+
+    Its rate is set by a force element with :meth:`mbs.forces.Loads.set_rate`.
+    """
+
+    name: str
+    initial: float = 0.0
+    unit: str = ""
+    description: str = ""
+
+
+@dataclass
 class Output:
     """A named output: ``fn(state) -> SX`` scalar, evaluated by the generated code."""
 
@@ -121,7 +134,16 @@ class Model:
         self.parameters: dict[str, Parameter] = {}
         self.forces: list = []
         self.outputs: dict[str, Output] = {}
+        self.states: dict[str, ExtraState] = {}
         self.initial: dict[str, float] = {}
+
+    def add_state(self, name: str, initial: float = 0.0, unit: str = "", description: str = "") -> None:
+        """Declare an extra first-order state ``z`` (appended after ``s`` and ``u``)."""
+        if name in self.states:
+            raise ValueError(f"duplicate state name {name!r}")
+        if not np.isfinite(initial):
+            raise ValueError(f"state {name!r}: initial value {initial} is not finite")
+        self.states[name] = ExtraState(name, float(initial), unit, description)
 
     def add_parameter(self, name: str, default: float, unit: str = "", description: str = "",
                       control: bool = False, low: float = -np.inf, high: float = np.inf) -> None:

@@ -90,3 +90,10 @@ def test_missing_compiler_names_the_fallback(monkeypatch):
 def test_vm_refuses_float32():
     with pytest.raises(ValueError, match="float64 only"):
         mbs.build(_model(), "vm", "float32")
+
+
+def test_extra_state_needs_a_rate():
+    m = _model()
+    m.add_state("inflow", 1.0, "m/s")
+    with pytest.raises(ValueError, match=r"no force element sets the rate of extra states \['inflow'\]"):
+        mbs.build(m, "vm")

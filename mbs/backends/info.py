@@ -21,6 +21,7 @@ class ModelInfo:
     gravity: list[float]
     methods: dict[str, int] = field(default_factory=dict)  # fixed-step method -> rhs calls per step
     outputs: list[dict] = field(default_factory=list)
+    z_names: list[str] = field(default_factory=list)
     extra: dict = field(default_factory=dict)
 
     @property
@@ -32,12 +33,16 @@ class ModelInfo:
         return len(self.v_names)
 
     @property
+    def nz(self) -> int:
+        return len(self.z_names)
+
+    @property
     def nx(self) -> int:
-        return self.nq + self.nv
+        return self.nq + self.nv + self.nz
 
     @property
     def state_names(self) -> list[str]:
-        return self.q_names + self.v_names
+        return self.q_names + self.v_names + self.z_names
 
     @property
     def param_names(self) -> list[str]:
@@ -75,15 +80,17 @@ def info_of(symbolic, methods: dict[str, int]) -> ModelInfo:
                    control=p.control, low=p.low, high=p.high) for p in model.parameters.values()]
     outputs = [dict(name=o.name, unit=o.unit, description=o.description) for o in model.outputs.values()]
     return ModelInfo(model.name, lay.q_names, lay.v_names, params, bodies,
-                     initial_state(symbolic).tolist(), model.gravity.tolist(), methods, outputs)
+                     initial_state(symbolic).tolist(), model.gravity.tolist(), methods, outputs,
+                     lay.z_names)
 
 
 def initial_state(symbolic) -> np.ndarray:
     """Default state: joint defaults (unit quaternions, zero angles) plus ``model.initial``."""
     lay, model = symbolic.layout, symbolic.model
     s = np.concatenate([b.joint.q_default() for b in lay.bodies] + [np.zeros(0)])
-    x = np.concatenate([s, np.zeros(lay.nv)])
-    names = lay.q_names + lay.v_names
+    z = np.array([model.states[n].initial for n in lay.z_names])
+    x = np.concatenate([s, np.zeros(lay.nv), z])
+    names = lay.q_names + lay.v_names + lay.z_names
     for name, value in model.initial.items():
         if name not in names:
             raise ValueError(f"initial value for unknown coordinate {name!r}")

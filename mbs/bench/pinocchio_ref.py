@@ -71,6 +71,6 @@ def pinocchio_accelerations(model: Model, x: np.ndarray, tau: np.ndarray | None 
     pm, conv = to_pinocchio(model)
     data = pm.createData()
     nq = pm.nq
-    q, v = conv(x[:nq]), np.asarray(x[nq:], dtype=float)
+    q, v = conv(x[:nq]), np.asarray(x[nq:nq + pm.nv], dtype=float)
     q = q.copy()
     return pin.aba(pm, data, q, v, np.zeros(pm.nv) if tau is None else tau)
