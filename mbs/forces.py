@@ -33,6 +33,7 @@ class State:
         self.t, self.p = t, p
         self._motions, self._coords, self._rates, self.v_index = motions, coords, rates, v_index
         self._extra = extra or {}
+        self.signals: dict = {}  # named intermediate results of force elements (e.g. thrust)
 
     def body(self, name: str) -> Relative:
         return self._motions[name]

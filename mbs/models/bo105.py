@@ -1,0 +1,402 @@
+"""The Bo105 helicopter as an open-loop tree, and its scenes.
+
+Tree (paper, Fig. 1)::
+
+    world -6DOF-> fuselage -driven hinge-> main_hub -flap, lag, pitch-> blade1..4
+                           -driven hinge-> tail_hub -teeter-> seesaw -pitch-> tail_blade1..2
+
+Frames: fuselage body axes at the total centre of gravity (x forward, y starboard, z down);
+world x north, y east, z down. The main-rotor hub frame has z along the shaft (up, tilted
+forward) and x aft at zero azimuth; the rotor turns counter-clockwise seen from above and
+the azimuth ψ is measured from the tail. Blade frames: x along the span, y towards the
+leading edge, z the lift direction at zero pitch. Positive flap is tip up, positive lag is
+lagging (against the rotation), positive pitch is nose up. The tail-rotor hub frame has z
+along the thrust (starboard) and the upper blade moves aft.
+
+All numbers come from ``bo105.toml`` (values with units and sources); this module only
+assembles them. A :class:`Config` says which bodies and forces a scene needs.
+"""
+from __future__ import annotations
+
+import sys
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import casadi as ca
+import numpy as np
+
+from mbs import _rotation as rot
+from mbs.aero import Airfoil, FuselageAero, LiftingSurface, Rotor, RotorAero, momentum_inflow
+from mbs.joints import DrivenHinge, Fixed, FreeJoint, Hinge, Serial
+from mbs.scenes import Scene, register
+from mbs.tree import Model
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+DATA_FILE = Path(__file__).with_name("bo105.toml")
+
+
+class Data(dict):
+    """``data["main_rotor"]["radius"]`` -> value; ``data.meta[...]`` -> unit, source, note."""
+
+    meta: dict
+
+
+def load_data(path: Path = DATA_FILE) -> Data:
+    """Read the parameter file: every entry is ``{value, unit, source, note}``."""
+    raw = tomllib.loads(Path(path).read_text())
+    data = Data({sec: {k: e["value"] for k, e in entries.items()} for sec, entries in raw.items()})
+    data.meta = {sec: {k: {f: e.get(f, "") for f in ("unit", "source", "note")} for k, e in entries.items()}
+                 for sec, entries in raw.items()}
+    return data
+
+
+# -- scene configuration -----------------------------------------------------------------
+
+@dataclass(frozen=True)
+class Config:
+    """What a scene builds.
+
+    fuselage: "free" (6 DOF), "clamped" (fixed to the world) or "none" (hub on the world).
+    rotors: "driven" (hubs at constant speed, swashplate pitch) or "free" (every driven joint
+    replaced by a free hinge; speeds from the initial condition). blades: main-rotor blades
+    built. speed: initial forward speed, m/s.
+    """
+
+    fuselage: str = "free"
+    rotors: str = "driven"
+    blades: int = 4
+    tail_rotor: bool = True
+    rotor_aero: bool = True
+    airframe_aero: bool = True
+    dampers: bool = True
+    shaft_tilt: bool = True
+    pitch_hinge: bool = True
+    speed: float = 10.0
+    elements: int | None = None
+
+
+# -- trim estimate -------------------------------------------------------------------------
+
+@dataclass
+class TrimEstimate:
+    """Controls and attitudes for steady level flight from momentum and blade-element theory.
+
+    Angles in rad: collective (at the root, r = 0), cyclics (Padfield: θ1s > 0 tilts the disc
+    back, θ1c > 0 left), tail collective, fuselage pitch and roll, coning, flapping relative to
+    the shaft; inflow velocities in m/s.
+    """
+
+    speed: float
+    collective: float
+    lateral_cyclic: float
+    longitudinal_cyclic: float
+    tail_collective: float
+    pitch: float
+    roll: float
+    coning: float
+    a1s: float
+    inflow_main: float
+    inflow_tail: float
+    tail_thrust: float
+
+
+def estimate_trim(d: Data, speed: float) -> TrimEstimate:
+    """Classical closed-form estimates (uniform inflow, linear twist, small angles)."""
+    mr, tr, env = d["main_rotor"], d["tail_rotor"], d["environment"]
+    weight = d["aircraft"]["mass"] * env["g"]
+    rho, big_r, omega = env["rho"], mr["radius"], mr["omega"]
+    tip, area = omega * big_r, np.pi * big_r**2
+    sigma = mr["n_blades"] * mr["chord"] / (np.pi * big_r)
+    drag = -d["fuselage_aero"]["X"][0] * (speed / d["fuselage_aero"]["v_ref"]) ** 2
+    tilt = drag / weight
+    ct, mu = weight / (rho * area * tip**2), speed / tip
+    lam_i = momentum_inflow(weight, rho, big_r, speed, speed * tilt) / tip
+    lam = mu * tilt + mr["kappa"] * lam_i
+    theta0 = (2 * ct / (sigma * mr["lift_slope"]) - mr["twist"] / 4 * (1 + mu**2) + lam / 2) / (1 / 3 + mu**2 / 2)
+    lock = rho * mr["lift_slope"] * mr["chord"] * big_r**4 / mr["I_flap"]
+    nu2 = 1 + mr["flap_stiffness"] / (mr["I_flap"] * omega**2)
+    coning = lock / (8 * nu2) * (theta0 * (1 + mu**2) + 0.8 * mr["twist"] * (1 + 5 / 6 * mu**2) - 4 / 3 * lam)
+    blowback = 2 * mu * (4 / 3 * theta0 + mr["twist"] - lam) / (1 - mu**2 / 2)
+    hub_moment_tilt = weight * -mr["hub_x"] / (mr["n_blades"] / 2 * mr["flap_stiffness"] - weight * mr["hub_z"])
+    cl_mean = 6 * ct / sigma
+    delta = mr["cd0"] + mr["cd2"] * (cl_mean / mr["lift_slope"]) ** 2
+    torque = rho * area * tip**2 * big_r * (ct * lam + sigma * delta / 8 * (1 + 3 * mu**2))
+    t_thrust = torque / (mr["hub_x"] - tr["hub_x"])
+    theta_t, v_tail = _tail_collective(d, t_thrust, speed)
+    return TrimEstimate(speed, theta0, 0.0, hub_moment_tilt - blowback, theta_t,
+                        mr["shaft_tilt"] - (tilt + hub_moment_tilt), -t_thrust / weight, coning,
+                        hub_moment_tilt, lam_i * tip, v_tail, t_thrust)
+
+
+def _tail_collective(d: Data, thrust: float, speed: float) -> tuple[float, float]:
+    tr, rho = d["tail_rotor"], d["environment"]["rho"]
+    omega_t = tr["gear_ratio"] * d["main_rotor"]["omega"]
+    tip = omega_t * tr["radius"]
+    sigma = tr["n_blades"] * tr["chord"] / (np.pi * tr["radius"])
+    ct, mu = thrust / (rho * np.pi * tr["radius"] ** 2 * tip**2), speed / tip
+    v = momentum_inflow(thrust, rho, tr["radius"], speed)
+    theta = (2 * ct / (sigma * tr["lift_slope"]) + tr["kappa"] * v / tip / 2) / (1 / 3 + mu**2 / 2)
+    return theta, v
+
+
+# -- the tree ------------------------------------------------------------------------------
+
+def _box_inertia(mass: float, lx: float, ly: float, lz: float) -> np.ndarray:
+    return mass / 12 * np.diag([ly**2 + lz**2, lx**2 + lz**2, lx**2 + ly**2])
+
+
+def _rz(angle: float) -> np.ndarray:
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([[c, -s, 0], [s, c, 0], [0, 0, 1.0]])
+
+
+def shaft_frame(tilt: float) -> np.ndarray:
+    """Main-rotor hub frame in body axes: columns x (aft), y (starboard), z (shaft, up)."""
+    return np.array([[-np.cos(tilt), 0, np.sin(tilt)], [0, 1.0, 0], [-np.sin(tilt), 0, -np.cos(tilt)]])
+
+
+TAIL_FRAME = np.array([[0, -1.0, 0], [0, 0, 1.0], [-1.0, 0, 0]])  # columns x up, y aft, z starboard
+
+
+def main_hub_position(d: Data) -> np.ndarray:
+    return np.array([d["main_rotor"]["hub_x"], 0.0, d["main_rotor"]["hub_z"]])
+
+
+def tail_hub_position(d: Data) -> np.ndarray:
+    tr = d["tail_rotor"]
+    return np.array([tr["hub_x"], tr["hub_y"], tr["hub_z"]])
+
+
+def _add_fuselage(m: Model, d: Data, cfg: Config) -> str:
+    if cfg.fuselage == "none":
+        return "world"
+    a = d["aircraft"]
+    inertia = [[a["Ixx"], 0, -a["Ixz"]], [0, a["Iyy"], 0], [-a["Ixz"], 0, a["Izz"]]]
+    joint = FreeJoint() if cfg.fuselage == "free" else Fixed()
+    mass, com = _fuselage_mass_and_com(d, cfg)
+    m.add_body("fuselage", "world", joint, mass=mass, com=com, inertia=inertia, shape=_fuselage_shape(d))
+    return "fuselage"
+
+
+def _fuselage_mass_and_com(d: Data, cfg: Config) -> tuple[float, np.ndarray]:
+    """Total mass minus the rotors' parts; centre of mass so that the aircraft CG is the origin."""
+    mr, tr = d["main_rotor"], d["tail_rotor"]
+    m_main = mr["hub_mass"] + mr["n_blades"] * mr["blade_mass"]
+    m_tail = tr["hub_mass"] + tr["seesaw_mass"] + tr["n_blades"] * tr["blade_mass"]
+    mass = d["aircraft"]["mass"] - m_main - m_tail
+    com = -(m_main * main_hub_position(d) + m_tail * tail_hub_position(d)) / mass
+    return mass, com
+
+
+def _fuselage_shape(d: Data) -> dict:
+    g, ht, fin = d["geometry"], d["horizontal_tail"], d["vertical_fin"]
+    boom_start = g["cabin_x"] - g["cabin"][0] / 2
+    boom_len = boom_start - d["tail_rotor"]["hub_x"]
+    span = ht["area"] / 0.5
+    return {"parts": [
+        {"kind": "box", "size": g["cabin"], "offset": [g["cabin_x"], 0, 0], "color": "#c8ccd2"},
+        {"kind": "cylinder", "radius": g["boom_radius"], "length": boom_len, "axis": [1, 0, 0],
+         "offset": [boom_start - boom_len / 2, 0, ht["z"]], "color": "#c8ccd2"},
+        {"kind": "box", "size": [0.5, span, 0.05], "offset": [ht["x"], 0, ht["z"]], "color": "#9aa3ad"},
+        {"kind": "box", "size": [0.7, 0.05, fin["area"] / 0.7], "offset": [fin["x"], 0, fin["z"] - 0.3],
+         "color": "#9aa3ad"},
+    ]}
+
+
+def _pitch_law(psi0: float):
+    def angle(t, p):
+        psi = p["omega"] * t + psi0
+        return p["collective"] + p["lateral_cyclic"] * ca.cos(psi) + p["longitudinal_cyclic"] * ca.sin(psi)
+    return angle
+
+
+def _blade_joint(d: Data, cfg: Config, psi0: float):
+    mr = d["main_rotor"]
+    parts = [Hinge((0, -1, 0), name="flap", stiffness=mr["flap_stiffness"]),
+             Hinge((0, 0, -1), name="lag", stiffness=mr["lag_stiffness"],
+                   damping=mr["lag_damping"] if cfg.dampers else 0.0)]
+    if cfg.pitch_hinge:
+        parts.append(DrivenHinge((1, 0, 0), _pitch_law(psi0), name="pitch") if cfg.rotors == "driven"
+                     else Hinge((1, 0, 0), name="pitch"))
+    return Serial(*parts)
+
+
+def _add_main_rotor(m: Model, d: Data, cfg: Config, parent: str) -> None:
+    mr = d["main_rotor"]
+    tilt = mr["shaft_tilt"] if cfg.shaft_tilt else 0.0
+    at = main_hub_position(d) if parent != "world" else np.zeros(3)
+    joint = (DrivenHinge((0, 0, 1), lambda t, p: p["omega"] * t, name="azimuth") if cfg.rotors == "driven"
+             else Hinge((0, 0, 1), name="azimuth"))
+    rh = mr["hub_radius"]
+    m.add_body("main_hub", parent, joint, mass=mr["hub_mass"], inertia=mr["hub_mass"] / 4 * np.diag([rh**2, rh**2, 2 * rh**2]),
+               at=at, frame=shaft_frame(tilt),
+               shape={"kind": "cylinder", "radius": rh, "length": 0.25, "axis": [0, 0, 1], "color": "#50565e"})
+    big_r, c, t = mr["radius"], mr["chord"], mr["blade_thickness"]
+    e = mr["flap_hinge_offset"]
+    for k in range(cfg.blades):
+        psi0 = 2 * np.pi * k / mr["n_blades"]
+        m.add_body(f"blade{k + 1}", "main_hub", _blade_joint(d, cfg, psi0), mass=mr["blade_mass"],
+                   com=((big_r - e) / 2 - 0 * e, 0, 0), inertia=_box_inertia(mr["blade_mass"], big_r - e, c, t),
+                   at=e * _rz(psi0)[:, 0], frame=_rz(psi0),
+                   shape={"kind": "box", "size": [big_r - e, c, t], "offset": [(big_r - e) / 2, 0, 0],
+                          "color": ["#d62728", "#1f77b4", "#2ca02c", "#ff7f0e"][k % 4]})
+
+
+def _add_tail_rotor(m: Model, d: Data, cfg: Config, parent: str) -> None:
+    tr = d["tail_rotor"]
+    driven = cfg.rotors == "driven"
+    joint = (DrivenHinge((0, 0, 1), lambda t, p: tr["gear_ratio"] * p["omega"] * t, name="azimuth") if driven
+             else Hinge((0, 0, 1), name="azimuth"))
+    m.add_body("tail_hub", parent, joint, mass=tr["hub_mass"], inertia=_box_inertia(tr["hub_mass"], 0.1, 0.1, 0.1),
+               at=tail_hub_position(d), frame=TAIL_FRAME,
+               shape={"kind": "cylinder", "radius": 0.06, "length": 0.15, "axis": [0, 0, 1], "color": "#50565e"})
+    m.add_body("seesaw", "tail_hub", Hinge((0, -1, 0), name="teeter", stiffness=tr["teeter_stiffness"]),
+               mass=tr["seesaw_mass"], inertia=_box_inertia(tr["seesaw_mass"], 0.2, 0.05, 0.05),
+               shape={"kind": "box", "size": [0.2, 0.05, 0.05], "color": "#50565e"})
+    big_r, c, t = tr["radius"], tr["chord"], tr["blade_thickness"]
+    for k in range(int(tr["n_blades"])):
+        pitch = (DrivenHinge((1, 0, 0), lambda t, p: p["tail_collective"], name="pitch") if driven
+                 else Hinge((1, 0, 0), name="pitch"))
+        m.add_body(f"tail_blade{k + 1}", "seesaw", pitch, mass=tr["blade_mass"], com=(big_r / 2, 0, 0),
+                   inertia=_box_inertia(tr["blade_mass"], big_r, c, t), frame=_rz(np.pi * k),
+                   shape={"kind": "box", "size": [big_r, c, t], "offset": [big_r / 2, 0, 0], "color": "#7f7f7f"})
+
+
+def _add_rotor_aero(m: Model, d: Data, cfg: Config, trim: TrimEstimate) -> None:
+    rho = d["environment"]["rho"]
+    mr, tr = d["main_rotor"], d["tail_rotor"]
+    main = Rotor("main_rotor", "main_hub", [f"blade{k + 1}" for k in range(cfg.blades)], mr["radius"], mr["chord"],
+                 mr["twist"], mr["root_cutout"], int(cfg.elements or mr["elements"]), mr["flap_hinge_offset"])
+    m.add_state("main_rotor.inflow", trim.inflow_main, "m/s", "main-rotor uniform induced velocity")
+    m.add_force(RotorAero(main, _airfoil(mr), rho, mr["kappa"]))
+    if cfg.tail_rotor:
+        tail = Rotor("tail_rotor", "tail_hub", [f"tail_blade{k + 1}" for k in range(int(tr["n_blades"]))],
+                     tr["radius"], tr["chord"], tr["twist"], tr["root_cutout"], int(tr["elements"]))
+        m.add_state("tail_rotor.inflow", trim.inflow_tail, "m/s", "tail-rotor uniform induced velocity")
+        m.add_force(RotorAero(tail, _airfoil(tr), rho, tr["kappa"]))
+
+
+def _airfoil(sec: dict) -> Airfoil:
+    return Airfoil(sec["lift_slope"], sec["cd0"], sec.get("cd2", 0.0), sec["alpha_stall"],
+                   sec.get("cd_stalled", 1.8))
+
+
+def _add_airframe_aero(m: Model, d: Data) -> None:
+    fa, ht, fin, rho = d["fuselage_aero"], d["horizontal_tail"], d["vertical_fin"], d["environment"]["rho"]
+    m.add_force(FuselageAero("fuselage", {k: fa[k] for k in "XYZMN"}, fa["v_ref"], fa["angle_limit"]))
+    m.add_force(LiftingSurface("horizontal tail", "fuselage", (ht["x"], 0, ht["z"]), (1, 0, 0), (0, 0, -1),
+                               ht["incidence"], ht["area"], Airfoil(ht["lift_slope"], 0.01, 0.0, ht["alpha_stall"]), rho))
+    m.add_force(LiftingSurface("fin", "fuselage", (fin["x"], 0, fin["z"]), (1, 0, 0), (0, 1, 0),
+                               fin["incidence"], fin["area"], Airfoil(fin["lift_slope"], 0.01, 0.0, fin["alpha_stall"]), rho))
+
+
+def _add_parameters(m: Model, d: Data, cfg: Config, trim: TrimEstimate) -> None:
+    mr, tr = d["main_rotor"], d["tail_rotor"]
+    m.add_parameter("omega", mr["omega"], "rad/s", "main-rotor speed (tail rotor turns gear_ratio times faster)",
+                    low=0.5 * mr["omega"], high=1.2 * mr["omega"])
+    if not cfg.pitch_hinge:
+        return
+    for name, value, what in (("collective", trim.collective, "main-rotor collective pitch at the blade root"),
+                              ("lateral_cyclic", trim.lateral_cyclic, "main-rotor lateral cyclic θ1c"),
+                              ("longitudinal_cyclic", trim.longitudinal_cyclic, "main-rotor longitudinal cyclic θ1s")):
+        m.add_parameter(name, value, "rad", what, control=True, low=mr[f"{name}_min"], high=mr[f"{name}_max"])
+    if cfg.tail_rotor:
+        m.add_parameter("tail_collective", trim.tail_collective, "rad", "tail-rotor collective pitch", control=True,
+                        low=tr["collective_min"], high=tr["collective_max"])
+
+
+def _add_outputs(m: Model, d: Data, cfg: Config) -> None:
+    gear = d["tail_rotor"]["gear_ratio"]
+    if cfg.rotors == "driven":
+        m.add_output("main_rotor.azimuth", lambda s: s.p["omega"] * s.t, "rad", "azimuth of blade 1 from the tail")
+        if cfg.tail_rotor:
+            m.add_output("tail_rotor.azimuth", lambda s: gear * s.p["omega"] * s.t, "rad", "azimuth of tail blade 1")
+    else:
+        m.add_output("main_rotor.azimuth", lambda s: s.q("main_hub.azimuth"), "rad", "azimuth of blade 1 from the tail")
+        if cfg.tail_rotor:
+            m.add_output("tail_rotor.azimuth", lambda s: s.q("tail_hub.azimuth"), "rad", "azimuth of tail blade 1")
+    if cfg.rotor_aero:
+        m.add_output("main_rotor.thrust", lambda s: s.signals["main_rotor.thrust"], "N", "main-rotor thrust")
+        if cfg.tail_rotor:
+            m.add_output("tail_rotor.thrust", lambda s: s.signals["tail_rotor.thrust"], "N", "tail-rotor thrust")
+
+
+def _set_initial(m: Model, d: Data, cfg: Config, trim: TrimEstimate) -> None:
+    mr, omega = d["main_rotor"], d["main_rotor"]["omega"]
+    if cfg.fuselage == "free":
+        q = rot.euler_to_quat(trim.roll, trim.pitch, 0.0)
+        r = np.array(ca.DM(rot.quat_to_matrix(ca.DM(q))))
+        u, v, w = r.T @ np.array([cfg.speed, 0.0, 0.0])
+        m.set_initial(**{"fuselage.qw": q[0], "fuselage.qx": q[1], "fuselage.qy": q[2], "fuselage.qz": q[3],
+                         "fuselage.u": u, "fuselage.v": v, "fuselage.w": w})
+    for k in range(cfg.blades):
+        psi = 2 * np.pi * k / mr["n_blades"]
+        m.set_initial(**{f"blade{k + 1}.flap": trim.coning - trim.a1s * np.cos(psi),
+                         f"blade{k + 1}.flap_rate": trim.a1s * omega * np.sin(psi)})
+        if cfg.rotors == "free" and cfg.pitch_hinge:
+            m.set_initial(**{f"blade{k + 1}.pitch": trim.collective})
+    if cfg.rotors == "free":
+        m.set_initial(**{"main_hub.azimuth_rate": omega})
+        if cfg.tail_rotor:
+            m.set_initial(**{"tail_hub.azimuth_rate": d["tail_rotor"]["gear_ratio"] * omega})
+
+
+def build(cfg: Config = Config(), data: Data | None = None, name: str = "bo105") -> Model:
+    """The Bo105 model with exactly the bodies and forces ``cfg`` asks for."""
+    d = data or load_data()
+    trim = estimate_trim(d, cfg.speed)
+    m = Model(name, gravity=(0.0, 0.0, d["environment"]["g"]))
+    parent = _add_fuselage(m, d, cfg)
+    _add_main_rotor(m, d, cfg, parent)
+    if cfg.tail_rotor:
+        _add_tail_rotor(m, d, cfg, parent)
+    if cfg.rotor_aero:
+        _add_rotor_aero(m, d, cfg, trim)
+    if cfg.airframe_aero and cfg.fuselage == "free":
+        _add_airframe_aero(m, d)
+    if cfg.rotors == "driven":
+        _add_parameters(m, d, cfg, trim)
+    _add_outputs(m, d, cfg)
+    _set_initial(m, d, cfg, trim)
+    return m
+
+
+# -- scenes --------------------------------------------------------------------------------
+
+def _builder(cfg: Config, name: str):
+    def make(**options) -> Model:
+        return build(replace(cfg, **options), name=f"bo105-{name}")
+    return make
+
+
+def _plots(cfg: Config) -> dict:
+    panels = {"main-rotor flap (rad)": [f"blade{k + 1}.flap" for k in range(cfg.blades)],
+              "main-rotor lag (rad)": [f"blade{k + 1}.lag" for k in range(cfg.blades)]}
+    if cfg.tail_rotor:
+        panels["tail-rotor seesaw (rad)"] = ["seesaw.teeter"]
+    return panels
+
+
+SCENE_CONFIGS = {
+    "structural": (Config(rotors="free", rotor_aero=False, airframe_aero=False, dampers=False),
+                   "the paper's conservative case: free fuselage, free hubs spinning from the initial "
+                   "condition, free pitch hinges, no aerodynamics, no dampers", True),
+    "forward-flight": (Config(speed=10.0), "the paper's aeromechanic case: free flight at 10 m/s with blade-element "
+                       "rotors, dynamic inflow, lag dampers, fuselage and empennage loads, controls from a trim estimate",
+                       False),
+    "hover": (Config(speed=0.0), "as forward-flight, at zero speed", False),
+    "ground-run": (Config(fuselage="clamped", airframe_aero=False, speed=0.0),
+                   "fuselage clamped to the ground, both rotors with aerodynamics and dampers", False),
+    "single-blade": (Config(fuselage="none", blades=1, tail_rotor=False, rotor_aero=False, airframe_aero=False,
+                            dampers=False, shaft_tilt=False, pitch_hinge=False),
+                     "hub clamped and driven (vertical shaft), one blade on flap and lag hinges with springs, "
+                     "no aerodynamics: for frequency checks", False),
+}
+
+for _name, (_cfg, _text, _conservative) in SCENE_CONFIGS.items():
+    register(Scene(_name, _text, _builder(_cfg, _name), omega=load_data()["main_rotor"]["omega"],
+                   conservative=_conservative, plots=_plots(_cfg)))
