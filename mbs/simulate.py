@@ -33,6 +33,7 @@ class Simulation:
     steps_per_rev: int
     energy: np.ndarray
     outputs: np.ndarray
+    compensated: bool = True
 
     @property
     def max_rel_energy_error(self) -> float:
@@ -50,7 +51,8 @@ class Simulation:
     def summary(self) -> dict:
         out = {"scene": self.scene.name, "revs": self.revs, "steps_per_rev": self.steps_per_rev,
                "steps": int(round(self.revs * self.steps_per_rev)), "dtype": str(self.system.dtype),
-               "backend": self.system.backend, "method": "rk4", "wall_s": self.traj.wall_s,
+               "backend": self.system.backend, "method": "rk4", "compensated_summation": self.compensated,
+               "wall_s": self.traj.wall_s,
                "realtime_factor": (self.traj.t[-1] - self.traj.t[0]) / max(self.traj.wall_s, 1e-12),
                "nfev": self.traj.nfev, "result": self.traj.result.name, "message": self.traj.message,
                "parameters": dict(zip(self.system.info.param_names, self.params.tolist()))}
@@ -62,8 +64,12 @@ class Simulation:
 def simulate(scene: str | _scenes.Scene, revs: float = 1.0, steps_per_rev: int | None = None,
              dtype: str = "float64", backend: str = "compiled", params: dict | None = None,
              every: int = 1, progress=None, system: System | None = None, x0=None,
-             options: dict | None = None) -> Simulation:
-    """Run ``scene`` for ``revs`` main-rotor revolutions of RK4 at ``steps_per_rev``."""
+             options: dict | None = None, compensated: bool = True) -> Simulation:
+    """Run ``scene`` for ``revs`` main-rotor revolutions of RK4 at ``steps_per_rev``.
+
+    ``compensated=False`` turns off the compensated summation of the step updates (plain
+    floating-point arithmetic, as in the paper).
+    """
     scene = _scenes.get(scene) if isinstance(scene, str) else scene
     if not (np.isfinite(revs) and revs > 0):
         raise ValueError(f"revs = {revs} must be positive")
@@ -74,10 +80,11 @@ def simulate(scene: str | _scenes.Scene, revs: float = 1.0, steps_per_rev: int |
     p = system.params(params or {})
     h = scene.revolution(system, p) / steps_per_rev
     n = int(round(revs * steps_per_rev))
-    traj = system.run(system.x0() if x0 is None else x0, 0.0, h, n, every=every, p=p, progress=progress)
+    traj = system.run(system.x0() if x0 is None else x0, 0.0, h, n, every=every, p=p, progress=progress,
+                      compensated=compensated)
     evaluator = system if system.dtype == np.float64 else _float64_twin(scene, options)
-    return Simulation(scene, system, traj, p, revs, steps_per_rev,
-                      evaluator.history("energy", traj, p), evaluator.history("outputs", traj, p))
+    return Simulation(scene, system, traj, p, revs, steps_per_rev, evaluator.history("energy", traj, p),
+                      evaluator.history("outputs", traj, p), compensated)
 
 
 def _float64_twin(scene, options) -> System:

@@ -27,28 +27,39 @@ _REALS = {"float64": ("double", ctypes.c_double), "float32": ("float", ctypes.c_
 
 DRIVER = r"""
 #include <stdlib.h>
-/* Fixed-step loop over the generated step function: rows every `every` steps and at the end.
-   Returns 0 on success, 1 on a non-finite state, 2 on an evaluation error, 3 on no memory. */
+/* Fixed-step loop: x <- project(x + incr(x)), with compensated (Kahan) summation carried in
+   comp[] (in/out) unless `compensated` is 0; rows every `every` steps and at the end. Returns 0 on success, 1 on a
+   non-finite state, 2 on an evaluation error, 3 when out of memory. */
 CASADI_SYMBOL_EXPORT int mbs_run_{m}(const casadi_real* x0, double t0, double h, long long k0,
-    long long n, long long every, const casadi_real* p, casadi_real* out, long long* done) {{
-  casadi_int sz_arg, sz_res, sz_iw, sz_w, i, k, row = 0;
+    long long n, long long every, const casadi_real* p, casadi_real* out, casadi_real* comp,
+    int compensated, long long* done) {{
+  casadi_int a1, r1, i1, w1, a2, r2, i2, w2, i, k, row = 0;
   int status = 0;
-  step_{m}_work(&sz_arg, &sz_res, &sz_iw, &sz_w);
-  const casadi_real** arg = malloc(sizeof(void*) * (sz_arg + 1));
-  casadi_real** res = malloc(sizeof(void*) * (sz_res + 1));
-  casadi_int* iw = malloc(sizeof(casadi_int) * (sz_iw + 1));
-  casadi_real* w = malloc(sizeof(casadi_real) * (sz_w + 2 * {nx} + 2));
+  incr_{m}_work(&a1, &r1, &i1, &w1);
+  project_work(&a2, &r2, &i2, &w2);
+  a1 = a1 > a2 ? a1 : a2; r1 = r1 > r2 ? r1 : r2; i1 = i1 > i2 ? i1 : i2; w1 = w1 > w2 ? w1 : w2;
+  const casadi_real** arg = malloc(sizeof(void*) * (a1 + 1));
+  casadi_real** res = malloc(sizeof(void*) * (r1 + 1));
+  casadi_int* iw = malloc(sizeof(casadi_int) * (i1 + 1));
+  casadi_real* w = malloc(sizeof(casadi_real) * (w1 + 3 * {nx} + 3));
   *done = 0;
   if (!arg || !res || !iw || !w) status = 3;
-  casadi_real *xa = w + sz_w, *xb = xa + {nx}, tt, hh = (casadi_real) h;
+  casadi_real *xa = w + w1, *dx = xa + {nx}, *xs = dx + {nx}, tt, hh = (casadi_real) h, y, s;
   for (i = 0; !status && i < {nx}; ++i) xa[i] = x0[i];
   for (k = 0; !status && k < n; ++k) {{
     tt = (casadi_real) (t0 + (double) (k0 + k) * h);
-    arg[0] = xa; arg[1] = &tt; arg[2] = &hh; arg[3] = p; res[0] = xb;
-    if (step_{m}(arg, res, iw, w, 0)) {{ status = 2; break; }}
-    for (i = 0; i < {nx}; ++i) if (!isfinite(xb[i])) status = 1;
+    arg[0] = xa; arg[1] = &tt; arg[2] = &hh; arg[3] = p; res[0] = dx;
+    if (incr_{m}(arg, res, iw, w, 0)) {{ status = 2; break; }}
+    for (i = 0; i < {nx}; ++i) {{
+      y = dx[i] - comp[i]; s = xa[i] + y; comp[i] = compensated ? (s - xa[i]) - y : 0; xs[i] = s;
+    }}
+    arg[0] = xs; res[0] = xa;
+    if (project(arg, res, iw, w, 0)) {{ status = 2; break; }}
+    for (i = 0; i < {nx}; ++i) {{
+      if (xa[i] != xs[i]) comp[i] = 0;
+      if (!isfinite(xa[i])) status = 1;
+    }}
     if (status) break;
-    casadi_real* tmp = xa; xa = xb; xb = tmp;
     *done = k + 1;
     if ((k + 1) % every == 0 || k + 1 == n) {{
       for (i = 0; i < {nx}; ++i) out[row * {nx} + i] = xa[i];
@@ -188,15 +199,17 @@ class CompiledSystem(System):
     def _eval(self, name, *args):
         return [o.astype(float) for o in self.function(name)(*args)]
 
-    def _run(self, method, x0, t0, h, k0, n, every, p):
+    def _run(self, method, x0, t0, h, k0, n, every, p, comp, compensated=True):
         f = getattr(self._lib, f"mbs_run_{method}")
         rows = -(-n // every)
         out = np.zeros((rows, self.info.nx), self.dtype)
         x0, p = np.ascontiguousarray(x0, self.dtype), np.ascontiguousarray(p, self.dtype)
+        c = np.ascontiguousarray(comp, self.dtype)
         done = ctypes.c_longlong()
         f.restype = ctypes.c_int
         status = f(x0.ctypes.data_as(ctypes.c_void_p), ctypes.c_double(t0), ctypes.c_double(h),
                    ctypes.c_longlong(k0), ctypes.c_longlong(n), ctypes.c_longlong(every),
                    p.ctypes.data_as(ctypes.c_void_p), out.ctypes.data_as(ctypes.c_void_p),
-                   ctypes.byref(done))
+                   c.ctypes.data_as(ctypes.c_void_p), ctypes.c_int(int(compensated)), ctypes.byref(done))
+        comp[:] = c
         return out, (2 if status > 1 else status), done.value

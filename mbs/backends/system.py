@@ -67,9 +67,10 @@ class System:
     def _eval(self, name: str, *args) -> list[np.ndarray]:
         raise NotImplementedError
 
-    def _run(self, method, x0, t0, h, k0, n, every, p) -> tuple[np.ndarray, int, int]:
+    def _run(self, method, x0, t0, h, k0, n, every, p, comp, compensated=True) -> tuple[np.ndarray, int, int]:
         """Run ``n`` steps from step index ``k0``; rows at every ``every`` steps and the
-        last; returns (rows, status (0 ok, 1 non-finite, 2 error), steps done)."""
+        last; ``comp`` (nx,) is the summation compensation, updated in place; returns
+        (rows, status (0 ok, 1 non-finite, 2 error), steps done)."""
         raise NotImplementedError
 
     # -- checks ---------------------------------------------------------------------------
@@ -165,10 +166,13 @@ class System:
 
     def run(self, x0, t0: float, h: float, n_steps: int, every: int = 1, p=None,
             method: str = "rk4", progress: Callable[[int, int], None] | None = None,
-            chunk: int | None = None) -> Trajectory:
+            chunk: int | None = None, compensated: bool = True) -> Trajectory:
         """Integrate ``n_steps`` fixed steps of ``method``, recording every ``every`` steps.
 
-        ``progress(done, total)`` is called after each chunk of steps.
+        Each step adds its update with compensated (Kahan) summation, carried across the
+        chunks of one call (a new call starts from zero compensation: the result depends on
+        ``x0`` alone); ``compensated=False`` gives plain summation. ``progress(done, total)``
+        is called after each chunk of steps.
         """
         if method not in self.info.methods:
             raise ValueError(f"unknown fixed-step method {method!r}; known: {sorted(self.info.methods)}")
@@ -178,9 +182,10 @@ class System:
             raise ValueError(f"n_steps = {n_steps} must be >= 0 and every = {every} >= 1")
         chunk = chunk or max(every, (max(n_steps, 1) // 50) // every * every or every)
         rows, x, k, status, start = [x0[None, :]], x0, 0, 0, time.perf_counter()
+        comp = np.zeros(self.info.nx)
         while k < n_steps and status == 0:
             n = min(chunk, n_steps - k)
-            out, status, done = self._run(method, x, t0, h, k, n, every, p)
+            out, status, done = self._run(method, x, t0, h, k, n, every, p, comp, compensated)
             self.nfev += done * self.info.methods[method]
             rows.append(out[: done // every] if status else out)
             k += done

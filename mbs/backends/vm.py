@@ -6,7 +6,7 @@ import numpy as np
 
 from mbs.backends.info import info_of
 from mbs.backends.system import System
-from mbs.integrators import FIXED_STEP, symbolic_step
+from mbs.integrators import FIXED_STEP, symbolic_increment, symbolic_step
 
 
 def _flat(dm) -> np.ndarray:
@@ -26,18 +26,19 @@ class VMSystem(System):
         self.functions = dict(symbolic.functions)
         for name, tab in FIXED_STEP.items():
             self.functions[f"step_{name}"] = symbolic_step(symbolic["rhs"], symbolic["project"], tab)
+            self.functions[f"incr_{name}"] = symbolic_increment(symbolic["rhs"], tab)
         super().__init__(info_of(symbolic, {n: t.stages for n, t in FIXED_STEP.items()}), dtype)
 
     def _eval(self, name, *args):
         out = self.functions[name](*args)
         return [_flat(o) for o in (out if isinstance(out, (list, tuple)) else [out])]
 
-    def _run(self, method, x0, t0, h, k0, n, every, p):
-        step = self.functions[f"step_{method}"]
+    def _run(self, method, x0, t0, h, k0, n, every, p, comp, compensated=True):
+        incr, project = self.functions[f"incr_{method}"], self.functions["project"]
         rows, x = [], x0
         for i in range(n):
             try:
-                x = _flat(step(x, t0 + (k0 + i) * h, h, p))
+                x = _compensated_add(x, _flat(incr(x, t0 + (k0 + i) * h, h, p)), comp, project, compensated)
             except RuntimeError:
                 return np.array(rows).reshape(-1, x0.size), 2, i
             if not np.all(np.isfinite(x)):
@@ -45,3 +46,13 @@ class VMSystem(System):
             if (i + 1) % every == 0 or i + 1 == n:
                 rows.append(x)
         return np.array(rows).reshape(-1, x0.size), 0, n
+
+
+def _compensated_add(x, dx, comp, project, compensated=True):
+    """``project(x + dx)`` with Kahan compensation ``comp`` (updated in place), as the C driver does."""
+    y = dx - comp
+    s = x + y
+    comp[:] = (s - x) - y if compensated else 0.0
+    xp = _flat(project(s))
+    comp[xp != s] = 0.0
+    return xp

@@ -4,11 +4,23 @@ from __future__ import annotations
 
 import casadi as ca
 
-from mbs.integrators._tableau import ButcherTableau, rk_step
+from mbs.integrators._tableau import ButcherTableau, rk_increment, rk_step
 from mbs.integrators.euler import EULER
 from mbs.integrators.rk4 import RK4
 
 FIXED_STEP: dict[str, ButcherTableau] = {t.name: t for t in (RK4, EULER)}
+
+
+def symbolic_increment(rhs: ca.Function, tab: ButcherTableau) -> ca.Function:
+    """``incr(x, t, h, p) -> dx``: the unrounded update of one step, ``x_next = project(x + dx)``.
+
+    The fixed-step drivers add it with compensated (Kahan) summation, so that round-off does
+    not accumulate over many steps (it matters in float32).
+    """
+    nx, np_ = rhs.size1_in(0), rhs.size1_in(2)
+    x, t, h, p = ca.MX.sym("x", nx), ca.MX.sym("t"), ca.MX.sym("h"), ca.MX.sym("p", np_)
+    dx = rk_increment(rhs, x, t, h, p, tab)
+    return ca.Function(f"incr_{tab.name}", [x, t, h, p], [dx], ["x", "t", "h", "p"], ["dx"])
 
 
 def symbolic_step(rhs: ca.Function, project: ca.Function, tab: ButcherTableau) -> ca.Function:
@@ -19,4 +31,4 @@ def symbolic_step(rhs: ca.Function, project: ca.Function, tab: ButcherTableau) -
     return ca.Function(f"step_{tab.name}", [x, t, h, p], [xn], ["x", "t", "h", "p"], ["x_next"])
 
 
-__all__ = ["ButcherTableau", "FIXED_STEP", "RK4", "EULER", "symbolic_step", "rk_step"]
+__all__ = ["ButcherTableau", "FIXED_STEP", "RK4", "EULER", "symbolic_step", "symbolic_increment", "rk_step"]

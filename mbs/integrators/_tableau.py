@@ -36,6 +36,11 @@ class ButcherTableau:
 
 def rk_step(f: ca.Function, x, t, h, p, tab: ButcherTableau):
     """One explicit RK step of ``x' = f(x, t, p)`` (symbolic, MX or SX)."""
+    return x + rk_increment(f, x, t, h, p, tab)
+
+
+def rk_increment(f: ca.Function, x, t, h, p, tab: ButcherTableau):
+    """The update ``h sum_i b_i k_i`` of one explicit RK step (without adding ``x``)."""
     k = []
     for i in range(tab.stages):
         xi = x
@@ -43,4 +48,4 @@ def rk_step(f: ca.Function, x, t, h, p, tab: ButcherTableau):
             if tab.a[i][j]:
                 xi = xi + h * tab.a[i][j] * k[j]
         k.append(f(xi, t + tab.c[i] * h, p))
-    return x + h * sum(bi * ki for bi, ki in zip(tab.b, k) if bi)
+    return h * sum(bi * ki for bi, ki in zip(tab.b, k) if bi)
