@@ -61,7 +61,38 @@ def cmd_demo(args) -> int:
     return 0 if sim.traj.ok else 1
 
 
+def cmd_trim(args) -> int:
+    import numpy as np
+
+    from mbs._progress import Progress
+    from mbs.trim import trim
+
+    res = trim(args.scene, speed=args.speed, iterations=args.iterations,
+               progress=Progress(f"trim {args.scene}", not args.quiet))
+    out = res.summary()
+    lines = [f"{res.scene} at {res.speed:g} m/s: {res.iterations} Newton iterations, {res.wall_s:.2f} s",
+             *[f"  {k:20s} {v:+.5f} rad ({np.degrees(v):+.3f} deg)" for k, v in
+               [*res.controls.items(), ("roll", res.roll), ("pitch", res.pitch)]],
+             f"  max |mean acceleration| {np.abs(res.residual).max():.2e} (m/s^2, rad/s^2)"]
+    if args.write:
+        from mbs.models.bo105 import write_trim
+
+        out["written"] = str(write_trim(args.scene, res))
+        lines.append(f"wrote {out['written']}")
+    emit(out, args.json, lines)
+    return 0
+
+
 def register(sub, bench) -> None:
+    p = sub.add_parser("trim", help="trim a free-flying scene: controls and attitude for steady level flight")
+    p.add_argument("scene", nargs="?", default="forward-flight")
+    p.add_argument("--speed", type=float, default=None, help="flight speed in m/s (default: the scene's)")
+    p.add_argument("--iterations", type=int, default=10)
+    p.add_argument("--write", action="store_true", help="store the result as the scene's default trim")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_json(p)
+    p.set_defaults(fn=cmd_trim)
+
     p = sub.add_parser("scenes", help="list the scenes: bodies, degrees of freedom, force elements")
     add_json(p)
     p.set_defaults(fn=cmd_scenes)

@@ -37,6 +37,7 @@ else:  # pragma: no cover
     import tomli as tomllib
 
 DATA_FILE = Path(__file__).with_name("bo105.toml")
+TRIM_FILE = Path(__file__).with_name("bo105_trim.toml")
 
 
 class Data(dict):
@@ -77,6 +78,7 @@ class Config:
     pitch_hinge: bool = True
     speed: float = 10.0
     elements: int | None = None
+    trim: str | None = None  # key of the stored trim (bo105_trim.toml) giving defaults
 
 
 # -- trim estimate -------------------------------------------------------------------------
@@ -141,6 +143,28 @@ def _tail_collective(d: Data, thrust: float, speed: float) -> tuple[float, float
     v = momentum_inflow(thrust, rho, tr["radius"], speed)
     theta = (2 * ct / (sigma * tr["lift_slope"]) + tr["kappa"] * v / tip / 2) / (1 / 3 + mu**2 / 2)
     return theta, v
+
+
+def stored_trim(key: str | None, speed: float) -> dict | None:
+    """The trim stored under ``key`` in ``bo105_trim.toml`` if it is for ``speed`` (m/s)."""
+    if not key or not TRIM_FILE.exists():
+        return None
+    entry = tomllib.loads(TRIM_FILE.read_text()).get(key)
+    return entry if entry and abs(entry["speed"] - speed) < 1e-6 else None
+
+
+def write_trim(key: str, result) -> Path:
+    """Store a :class:`mbs.trim.Trim` under ``key`` in ``bo105_trim.toml`` (kept sorted)."""
+    entries = tomllib.loads(TRIM_FILE.read_text()) if TRIM_FILE.exists() else {}
+    entries[key] = {"speed": result.speed, **result.controls, "roll": result.roll, "pitch": result.pitch,
+                    **{k: v for k, v in result.state.items() if k.endswith(".inflow")},
+                    "max_abs_residual": float(np.abs(result.residual).max())}
+    lines = ["# Trimmed flight conditions of the Bo105 model (DER): written by `heli trim SCENE --write`",
+             "# (mbs/trim.py). Angles in rad, speed and inflow in m/s, residual in m/s^2 or rad/s^2.", ""]
+    for name, e in sorted(entries.items()):
+        lines += [f'["{name}"]'] + [f'"{k}" = {float(v)!r}' for k, v in e.items()] + [""]
+    TRIM_FILE.write_text("\n".join(lines))
+    return TRIM_FILE
 
 
 # -- the tree ------------------------------------------------------------------------------
@@ -294,8 +318,11 @@ def _add_airframe_aero(m: Model, d: Data) -> None:
                                fin["incidence"], fin["area"], Airfoil(fin["lift_slope"], 0.01, 0.0, fin["alpha_stall"]), rho))
 
 
-def _add_parameters(m: Model, d: Data, cfg: Config, trim: TrimEstimate) -> None:
+def _add_parameters(m: Model, d: Data, cfg: Config, trim: TrimEstimate, stored: dict | None) -> None:
     mr, tr = d["main_rotor"], d["tail_rotor"]
+    if stored:
+        trim = replace(trim, **{k: stored[k] for k in ("collective", "lateral_cyclic", "longitudinal_cyclic",
+                                                      "tail_collective") if k in stored})
     m.add_parameter("omega", mr["omega"], "rad/s", "main-rotor speed (tail rotor turns gear_ratio times faster)",
                     low=0.5 * mr["omega"], high=1.2 * mr["omega"])
     if not cfg.pitch_hinge:
@@ -325,8 +352,13 @@ def _add_outputs(m: Model, d: Data, cfg: Config) -> None:
             m.add_output("tail_rotor.thrust", lambda s: s.signals["tail_rotor.thrust"], "N", "tail-rotor thrust")
 
 
-def _set_initial(m: Model, d: Data, cfg: Config, trim: TrimEstimate) -> None:
+def _set_initial(m: Model, d: Data, cfg: Config, trim: TrimEstimate, stored: dict | None) -> None:
+    """Trimmed attitude and inflow when stored; blades start at the estimated coning and
+    flapping with zero lag, so the lag transient of the paper's Fig. 2 shows."""
     mr, omega = d["main_rotor"], d["main_rotor"]["omega"]
+    if stored:
+        trim = replace(trim, roll=stored["roll"], pitch=stored["pitch"])
+        m.set_initial(**{k: stored[k] for k in m.states if k in stored})
     if cfg.fuselage == "free":
         q = rot.euler_to_quat(trim.roll, trim.pitch, 0.0)
         r = np.array(ca.DM(rot.quat_to_matrix(ca.DM(q))))
@@ -348,7 +380,7 @@ def _set_initial(m: Model, d: Data, cfg: Config, trim: TrimEstimate) -> None:
 def build(cfg: Config = Config(), data: Data | None = None, name: str = "bo105") -> Model:
     """The Bo105 model with exactly the bodies and forces ``cfg`` asks for."""
     d = data or load_data()
-    trim = estimate_trim(d, cfg.speed)
+    trim, stored = estimate_trim(d, cfg.speed), stored_trim(cfg.trim, cfg.speed)
     m = Model(name, gravity=(0.0, 0.0, d["environment"]["g"]))
     parent = _add_fuselage(m, d, cfg)
     _add_main_rotor(m, d, cfg, parent)
@@ -359,9 +391,9 @@ def build(cfg: Config = Config(), data: Data | None = None, name: str = "bo105")
     if cfg.airframe_aero and cfg.fuselage == "free":
         _add_airframe_aero(m, d)
     if cfg.rotors == "driven":
-        _add_parameters(m, d, cfg, trim)
+        _add_parameters(m, d, cfg, trim, stored)
     _add_outputs(m, d, cfg)
-    _set_initial(m, d, cfg, trim)
+    _set_initial(m, d, cfg, trim, stored)
     return m
 
 
@@ -385,12 +417,12 @@ SCENE_CONFIGS = {
     "structural": (Config(rotors="free", rotor_aero=False, airframe_aero=False, dampers=False),
                    "the paper's conservative case: free fuselage, free hubs spinning from the initial "
                    "condition, free pitch hinges, no aerodynamics, no dampers", True),
-    "forward-flight": (Config(speed=10.0), "the paper's aeromechanic case: free flight at 10 m/s with blade-element "
-                       "rotors, dynamic inflow, lag dampers, fuselage and empennage loads, controls from a trim estimate",
+    "forward-flight": (Config(speed=10.0, trim="forward-flight"), "the paper's aeromechanic case: free flight at 10 m/s with blade-element "
+                       "rotors, dynamic inflow, lag dampers, fuselage and empennage loads, trimmed controls and attitude",
                        False),
-    "hover": (Config(speed=0.0), "as forward-flight, at zero speed", False),
-    "ground-run": (Config(fuselage="clamped", airframe_aero=False, speed=0.0),
-                   "fuselage clamped to the ground, both rotors with aerodynamics and dampers", False),
+    "hover": (Config(speed=0.0, trim="hover"), "as forward-flight, at zero speed", False),
+    "ground-run": (Config(fuselage="clamped", airframe_aero=False, speed=0.0, trim="hover"),
+                   "fuselage clamped to the ground, both rotors with aerodynamics and dampers, hover controls", False),
     "single-blade": (Config(fuselage="none", blades=1, tail_rotor=False, rotor_aero=False, airframe_aero=False,
                             dampers=False, shaft_tilt=False, pitch_hinge=False),
                      "hub clamped and driven (vertical shaft), one blade on flap and lag hinges with springs, "

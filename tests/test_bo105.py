@@ -1,0 +1,137 @@
+"""The Bo105 model and the paper's two results (Fig. 2 hinge angles, Fig. 3 energy error)."""
+import json
+
+import numpy as np
+import pytest
+
+from mbs import analysis, scenes
+from mbs.cli import main
+from mbs.models import bo105
+from mbs.simulate import simulate
+
+ALLOWED_SOURCES = {"S1", "S1a", "S1b", "S2", "S3", "DER", "EST", "STD"}
+
+
+@pytest.fixture(scope="module")
+def forward_flight():
+    return simulate("forward-flight", revs=10, steps_per_rev=100)
+
+
+def _rev(sim):
+    return sim.scene.revolution(sim.system, sim.params)
+
+
+def test_every_datum_has_unit_and_source():
+    data = bo105.load_data()
+    for section, entries in data.meta.items():
+        for name, meta in entries.items():
+            assert meta["unit"], f"{section}.{name} has no unit"
+            assert meta["source"] in ALLOWED_SOURCES, f"{section}.{name}: source {meta['source']!r}"
+    assert data.meta["main_rotor"]["lag_frequency"]["source"] == "EST"  # not found: stays marked
+
+
+def test_scenes_build_only_what_they_need():
+    models = {name: scenes.get(name).model() for name in
+              ("structural", "forward-flight", "hover", "ground-run", "single-blade")}
+    ff, st, sb, gr = models["forward-flight"], models["structural"], models["single-blade"], models["ground-run"]
+    assert set(ff.bodies) == {"fuselage", "main_hub", "blade1", "blade2", "blade3", "blade4", "tail_hub", "seesaw",
+                              "tail_blade1", "tail_blade2"}
+    assert {f.name for f in ff.forces} >= {"main_rotor aerodynamics", "tail_rotor aerodynamics",
+                                           "fuselage aerodynamics", "horizontal tail", "fin"}
+    assert all("aerodynamics" not in f.name and f.damping == 0 for f in st.forces)
+    assert not st.parameters and set(sb.bodies) == {"main_hub", "blade1"}
+    assert "fuselage aerodynamics" not in {f.name for f in gr.forces}
+    assert {p.name for p in ff.parameters.values() if p.control} == {
+        "collective", "lateral_cyclic", "longitudinal_cyclic", "tail_collective"}
+
+
+def test_heli_scenes_lists_bodies_dof_and_forces(capsys):
+    assert main(["scenes", "--json"]) == 0
+    rows = {r["scene"]: r for r in json.loads(capsys.readouterr().out.strip().splitlines()[-1])["scenes"]}
+    assert rows["forward-flight"]["dof"] == 6 + 4 * 2 + 1 and rows["structural"]["dof"] == 6 + 1 + 4 * 3 + 1 + 1 + 2
+    assert rows["single-blade"]["bodies"] == ["main_hub", "blade1"] and rows["single-blade"]["dof"] == 2
+
+
+@pytest.mark.parametrize("dtype, bound", [("float64", 3e-8), ("float32", 1e-5)])
+def test_fig3_energy_error_small_and_not_growing(dtype, bound, capsys, tmp_path):
+    argv = ["simulate", "structural", "--revs", "10", "--steps-per-rev", "100", "--dtype", dtype,
+            "--out", str(tmp_path), "--quiet", "--json"]
+    assert main(argv) == 0
+    res = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    assert res["scene"] == "structural" and res["steps"] == 1000 and res["dtype"] == dtype
+    assert res["max_rel_energy_error"] <= bound
+    assert {"wall_s", "realtime_factor", "revs"} <= set(res)
+    assert (tmp_path / "energy_error.png").stat().st_size > 10_000
+    data = np.genfromtxt(tmp_path / "results.csv", delimiter=",", names=True)
+    err = np.abs(data["total_energy"] / data["total_energy"][0] - 1)
+    rev = data["time"] / (2 * np.pi / 44.4)
+    assert err[rev >= 8].max() <= 2 * err[rev <= 2].max()
+    assert err.max() > 1e-12  # RK4 does lose energy: the check is not vacuous
+
+
+def test_fig2_flap_is_periodic_at_one_per_rev(forward_flight):
+    sim, T = forward_flight, _rev(forward_flight)
+    late = sim.traj.t >= 3 * T
+    f = analysis.dominant_frequency(sim.traj.t[late], sim.traj.column("blade1.flap")[late]) * T
+    assert abs(f - 1.0) <= 0.05
+
+
+def test_fig2_lag_shows_its_lower_natural_frequency(forward_flight):
+    """A decaying lag transient below 1/rev; with the fuselage free its collective mode couples
+    with fuselage yaw and sits above the isolated blade's frequency."""
+    sim, T = forward_flight, _rev(forward_flight)
+    f, zeta = analysis.fit_damped_mode(sim.traj.t, sim.traj.column("blade1.lag"), 1 / T, 0.6 / T)
+    nu_lag = _closed_form(sim)[1]
+    assert nu_lag < f * T < 0.9 and 0.02 < zeta < 0.2
+
+
+def test_lag_frequency_with_clamped_fuselage_matches_closed_form():
+    sim = simulate("ground-run", revs=10, steps_per_rev=100)
+    T = _rev(sim)
+    f, zeta = analysis.fit_damped_mode(sim.traj.t, sim.traj.column("blade1.lag"), 1 / T, 0.6 / T)
+    assert abs(f * T / _closed_form(sim)[1] - 1) < 0.02 and 0.04 < zeta < 0.1  # 5 % damper + aerodynamics
+
+
+def test_fig2_seesaw_at_tail_rotor_rate_with_varying_amplitude(forward_flight):
+    sim, T = forward_flight, _rev(forward_flight)
+    gear = bo105.load_data()["tail_rotor"]["gear_ratio"]
+    teeter = sim.traj.column("seesaw.teeter")
+    assert abs(analysis.dominant_frequency(sim.traj.t, teeter) * T / gear - 1) < 0.05
+    env = analysis.envelope(sim.traj.t, teeter, T / gear)[: int(3 * gear)]
+    assert (env.max() - env.min()) / env.max() > 0.3
+
+
+def _closed_form(sim):
+    d, b = bo105.load_data(), sim.system.info.bodies[sim.system.info.body_names.index("blade1")]
+    mr = d["main_rotor"]
+    return analysis.flap_lag_frequencies(b["mass"], b["com"], b["inertia"], mr["flap_hinge_offset"],
+                                         mr["flap_stiffness"], mr["lag_stiffness"], mr["omega"])
+
+
+def test_single_blade_frequencies_match_closed_form():
+    scene = scenes.get("single-blade")
+    system = scene.system("compiled")
+    sim = simulate(scene, revs=20, steps_per_rev=200, system=system,
+                   x0=system.x0(**{"blade1.flap": 0.01, "blade1.lag": 0.01}))
+    T = _rev(sim)
+    nu_flap, nu_lag = _closed_form(sim)
+    assert abs(nu_flap - 1.117) < 0.001  # S1's flap frequency ratio
+    for name, nu in (("blade1.flap", nu_flap), ("blade1.lag", nu_lag)):
+        measured = analysis.crossing_frequency(sim.traj.t, sim.traj.column(name)) * T
+        assert abs(measured / nu - 1) < 0.01
+
+
+@pytest.mark.parametrize("scene", ["forward-flight", "hover"])
+def test_stored_trim_holds_the_flight_condition(scene):
+    """The stored trim is a trim of the current model (stale data fails here)."""
+    sim = simulate(scene, revs=10, steps_per_rev=100)
+    info = sim.system.info
+    x = sim.traj.x
+    u0 = x[0, info.state_names.index("fuselage.u")]
+    rates = x[:, [info.state_names.index(f"fuselage.{k}") for k in "pqr"]]
+    speed = np.linalg.norm(x[:, [info.state_names.index(f"fuselage.{k}") for k in "uvw"]], axis=1)
+    assert np.abs(speed - speed[0]).max() < 0.2 and np.abs(rates).max() < 0.06
+    thrust = sim.outputs[:, info.output_names.index("main_rotor.thrust")]
+    weight = bo105.load_data()["aircraft"]["mass"] * 9.80665
+    assert abs(thrust[sim.traj.t > 2 * _rev(sim)].mean() / weight - 1) < 0.03
+    assert u0 > 9.9 if scene == "forward-flight" else abs(u0) < 1e-9
