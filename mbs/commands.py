@@ -83,7 +83,27 @@ def cmd_trim(args) -> int:
     return 0
 
 
+def cmd_figures(args) -> int:
+    from mbs._progress import Progress
+    from mbs.figures import make_all
+
+    res = make_all(Path(args.out), progress=Progress("figures", not args.quiet))
+    f3 = res["fig3"]
+    lines = [f"Fig. 3 max relative energy error: float64 {f3['float64']['max_rel_energy_error']:.2e}, "
+             f"float32 {f3['float32']['max_rel_energy_error']:.2e} "
+             f"(plain summation {f3['float32_plain']['max_rel_energy_error']:.2e})",
+             *[f"wrote {p}" for p in res["files"]]]
+    emit(res, args.json, lines)
+    return 0
+
+
 def register(sub, bench) -> None:
+    p = sub.add_parser("figures", help="regenerate the paper's Fig. 2 and Fig. 3")
+    p.add_argument("--out", default="out/figures")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_json(p)
+    p.set_defaults(fn=cmd_figures)
+
     p = sub.add_parser("trim", help="trim a free-flying scene: controls and attitude for steady level flight")
     p.add_argument("scene", nargs="?", default="forward-flight")
     p.add_argument("--speed", type=float, default=None, help="flight speed in m/s (default: the scene's)")

@@ -41,18 +41,29 @@ def hinge_angles(sim, path: Path, title: str | None = None) -> Path:
     return Path(path)
 
 
-def energy_error(sims: list, path: Path, title: str | None = None) -> Path:
-    """Relative total-energy error ``(E - E0)/E0`` over revolutions, one line per run (Fig. 3)."""
+def energy_error(sims: list, path: Path, title: str | None = None, log: bool = False) -> Path:
+    """Relative total-energy error over revolutions, one line per run (the paper's Fig. 3).
+
+    ``log``: plot ``|E - E0|/|E0|`` on a log axis with the square roots of the precisions
+    (the paper's reference level) as dotted lines; otherwise ``(E - E0)/E0`` linearly.
+    """
     plt = _pyplot()
-    fig, ax = plt.subplots(figsize=(8, 3.6))
+    fig, ax = plt.subplots(figsize=(8, 3.8))
     for sim in sims:
         e = sim.energy[:, -1]
-        ax.plot(_revs(sim), e / e[0] - 1, lw=1.0,
-                label=f"{sim.system.dtype} ({sim.steps_per_rev} steps/rev, max {sim.max_rel_energy_error:.1e})")
+        err = e / e[0] - 1
+        label = (f"{sim.system.dtype}{'' if sim.compensated else ', plain summation'} "
+                 f"(max {sim.max_rel_energy_error:.1e})")
+        ax.plot(_revs(sim), np.abs(err) if log else err, lw=1.0, label=label)
+    if log:
+        ax.set_yscale("log")
+        for dt, ls in zip(sorted({str(s.system.dtype) for s in sims}), (":", "--")):
+            level = np.sqrt(np.finfo(dt).eps)
+            ax.axhline(level, ls=ls, color="grey", lw=1, label=f"√eps({dt}) = {level:.1e}")
     ax.set_xlabel("main-rotor revolutions")
-    ax.set_ylabel("relative energy error (E − E0)/E0")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
+    ax.set_ylabel("|E − E0| / |E0|" if log else "relative energy error (E − E0)/E0")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=8, loc="lower right" if log else "best")
     ax.set_title(title or f"{sims[0].scene.name}: relative total-energy error, RK4", fontsize=10)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
