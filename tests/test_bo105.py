@@ -135,3 +135,12 @@ def test_stored_trim_holds_the_flight_condition(scene):
     weight = bo105.load_data()["aircraft"]["mass"] * 9.80665
     assert abs(thrust[sim.traj.t > 2 * _rev(sim)].mean() / weight - 1) < 0.03
     assert u0 > 9.9 if scene == "forward-flight" else abs(u0) < 1e-9
+
+
+def test_heli_figures_writes_both_figures(tmp_path, capsys):
+    assert main(["figures", "--out", str(tmp_path), "--quiet", "--json"]) == 0
+    res = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    assert res["fig3"]["float64"]["max_rel_energy_error"] <= 3e-8
+    assert res["fig3"]["float32"]["max_rel_energy_error"] <= 1e-5
+    for name in ("fig2_hinge_angles.png", "fig3_energy_error.png"):
+        assert (tmp_path / name).stat().st_size > 20_000
