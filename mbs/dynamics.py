@@ -21,12 +21,13 @@ import casadi as ca
 import numpy as np
 
 from mbs import tree as _tree
+from mbs.backends.info import StateSizes
 from mbs.forces import Loads, State
 from mbs.joints import Params, Relative, compose
 
 
 @dataclass
-class Layout:
+class Layout(StateSizes):
     """Where each body's coordinates live in ``s`` and ``u``; numeric data only."""
 
     bodies: list
@@ -46,18 +47,6 @@ class Layout:
             lay.v_names += [f"{b.name}.{n}" for n in b.joint.v_names]
         lay.z_names = list(model.states)
         return lay
-
-    @property
-    def nq(self) -> int:
-        return len(self.q_names)
-
-    @property
-    def nv(self) -> int:
-        return len(self.v_names)
-
-    @property
-    def nz(self) -> int:
-        return len(self.z_names)
 
 
 def _placement(body) -> Relative:

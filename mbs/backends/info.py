@@ -8,21 +8,12 @@ from pathlib import Path
 import numpy as np
 
 
-@dataclass
-class ModelInfo:
-    """Names, sizes, defaults and body data of a model; everything a run-time needs."""
+class StateSizes:
+    """Sizes and names of the state ``x = (s, u, z)`` from ``q_names``, ``v_names``, ``z_names``."""
 
-    name: str
     q_names: list[str]
     v_names: list[str]
-    parameters: list[dict]
-    bodies: list[dict]
-    x0: list[float]
-    gravity: list[float]
-    methods: dict[str, int] = field(default_factory=dict)  # fixed-step method -> rhs calls per step
-    outputs: list[dict] = field(default_factory=list)
-    z_names: list[str] = field(default_factory=list)
-    extra: dict = field(default_factory=dict)
+    z_names: list[str]
 
     @property
     def nq(self) -> int:
@@ -43,6 +34,23 @@ class ModelInfo:
     @property
     def state_names(self) -> list[str]:
         return self.q_names + self.v_names + self.z_names
+
+
+@dataclass
+class ModelInfo(StateSizes):
+    """Names, sizes, defaults and body data of a model; everything a run-time needs."""
+
+    name: str
+    q_names: list[str]
+    v_names: list[str]
+    parameters: list[dict]
+    bodies: list[dict]
+    x0: list[float]
+    gravity: list[float]
+    methods: dict[str, int] = field(default_factory=dict)  # fixed-step method -> rhs calls per step
+    outputs: list[dict] = field(default_factory=list)
+    z_names: list[str] = field(default_factory=list)
+    extra: dict = field(default_factory=dict)
 
     @property
     def param_names(self) -> list[str]:
