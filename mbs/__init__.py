@@ -16,7 +16,7 @@ _EXPORTS = {
     "Model": "mbs.tree", "Joint": "mbs.joints", "Fixed": "mbs.joints", "Hinge": "mbs.joints",
     "DrivenHinge": "mbs.joints", "FreeJoint": "mbs.joints", "Serial": "mbs.joints",
     "ForceElement": "mbs.forces", "SpringDamper": "mbs.forces", "UserForce": "mbs.forces",
-    "State": "mbs.forces", "Loads": "mbs.forces",
+    "State": "mbs.forces", "Loads": "mbs.forces", "PointForce": "mbs.forces", "BodyTorque": "mbs.forces",
     "build": "mbs.backends", "BACKENDS": "mbs.backends", "System": "mbs.backends.system",
     "Trajectory": "mbs.backends.system", "Result": "mbs.backends.system",
     "CompilerNotFound": "mbs.backends.compiled",

@@ -154,3 +154,38 @@ class UserForce(ForceElement):
 
     def apply(self, state, loads):
         self.fn(state, loads)
+
+
+def _value(state: State, v):
+    """A constant, a parameter name, or a function of the state -> SX."""
+    if isinstance(v, str):
+        return state.p[v]
+    return v(state) if callable(v) else ca.DM(v)
+
+
+class PointForce(ForceElement):
+    """Force (N) on ``body`` at ``point`` (m, body frame), given in ``frame`` ("body" or
+    "world") components: a constant (3,), a function ``f(state) -> SX (3,)``, or, per
+    component, names of parameters."""
+
+    def __init__(self, name: str, body: str, force, point=(0.0, 0.0, 0.0), frame: str = "body"):
+        if frame not in ("body", "world"):
+            raise ValueError(f"{name}: frame must be 'body' or 'world', not {frame!r}")
+        self.name, self.body, self.force, self.point, self.frame = name, body, force, np.asarray(point, float), frame
+
+    def apply(self, state, loads):
+        f = ca.vertcat(*[_value(state, c) for c in self.force]) if isinstance(self.force, (list, tuple)) \
+            else _value(state, self.force)
+        loads.add_force(self.body, f, self.point, self.frame, state.body(self.body).rotation)
+
+
+class BodyTorque(ForceElement):
+    """Torque (N m) on ``body`` in body-frame components: constant, function or parameter names."""
+
+    def __init__(self, name: str, body: str, torque):
+        self.name, self.body, self.torque = name, body, torque
+
+    def apply(self, state, loads):
+        t = ca.vertcat(*[_value(state, c) for c in self.torque]) if isinstance(self.torque, (list, tuple)) \
+            else _value(state, self.torque)
+        loads.add_torque(self.body, t)

@@ -220,13 +220,14 @@ def _fuselage_shape(d: Data) -> dict:
     g, ht, fin = d["geometry"], d["horizontal_tail"], d["vertical_fin"]
     boom_start = g["cabin_x"] - g["cabin"][0] / 2
     boom_len = boom_start - d["tail_rotor"]["hub_x"]
-    span = ht["area"] / 0.5
+    fin_height, t = fin["area"] / fin["chord"], g["plate_thickness"]
     return {"parts": [
         {"kind": "box", "size": g["cabin"], "offset": [g["cabin_x"], 0, 0], "color": "#c8ccd2"},
         {"kind": "cylinder", "radius": g["boom_radius"], "length": boom_len, "axis": [1, 0, 0],
          "offset": [boom_start - boom_len / 2, 0, ht["z"]], "color": "#c8ccd2"},
-        {"kind": "box", "size": [0.5, span, 0.05], "offset": [ht["x"], 0, ht["z"]], "color": "#9aa3ad"},
-        {"kind": "box", "size": [0.7, 0.05, fin["area"] / 0.7], "offset": [fin["x"], 0, fin["z"] - 0.3],
+        {"kind": "box", "size": [ht["chord"], ht["area"] / ht["chord"], t], "offset": [ht["x"], 0, ht["z"]],
+         "color": "#9aa3ad"},
+        {"kind": "box", "size": [fin["chord"], t, fin_height], "offset": [fin["x"], 0, fin["z"] - fin_height / 2],
          "color": "#9aa3ad"},
     ]}
 
@@ -257,14 +258,14 @@ def _add_main_rotor(m: Model, d: Data, cfg: Config, parent: str) -> None:
              else Hinge((0, 0, 1), name="azimuth"))
     rh = mr["hub_radius"]
     m.add_body("main_hub", parent, joint, mass=mr["hub_mass"], inertia=mr["hub_mass"] / 4 * np.diag([rh**2, rh**2, 2 * rh**2]),
-               at=at, frame=shaft_frame(tilt),
-               shape={"kind": "cylinder", "radius": rh, "length": 0.25, "axis": [0, 0, 1], "color": "#50565e"})
+               at=at, frame=shaft_frame(tilt), shape={"kind": "cylinder", "radius": rh, "length": d["geometry"]["hub_height"],
+                                                      "axis": [0, 0, 1], "color": "#50565e"})
     big_r, c, t = mr["radius"], mr["chord"], mr["blade_thickness"]
     e = mr["flap_hinge_offset"]
     for k in range(cfg.blades):
         psi0 = 2 * np.pi * k / mr["n_blades"]
         m.add_body(f"blade{k + 1}", "main_hub", _blade_joint(d, cfg, psi0), mass=mr["blade_mass"],
-                   com=((big_r - e) / 2 - 0 * e, 0, 0), inertia=_box_inertia(mr["blade_mass"], big_r - e, c, t),
+                   com=((big_r - e) / 2, 0, 0), inertia=_box_inertia(mr["blade_mass"], big_r - e, c, t),
                    at=e * _rz(psi0)[:, 0], frame=_rz(psi0),
                    shape={"kind": "box", "size": [big_r - e, c, t], "offset": [(big_r - e) / 2, 0, 0],
                           "color": ["#d62728", "#1f77b4", "#2ca02c", "#ff7f0e"][k % 4]})
@@ -275,12 +276,13 @@ def _add_tail_rotor(m: Model, d: Data, cfg: Config, parent: str) -> None:
     driven = cfg.rotors == "driven"
     joint = (DrivenHinge((0, 0, 1), lambda t, p: tr["gear_ratio"] * p["omega"] * t, name="azimuth") if driven
              else Hinge((0, 0, 1), name="azimuth"))
-    m.add_body("tail_hub", parent, joint, mass=tr["hub_mass"], inertia=_box_inertia(tr["hub_mass"], 0.1, 0.1, 0.1),
+    radius, length = d["geometry"]["tail_hub"]
+    m.add_body("tail_hub", parent, joint, mass=tr["hub_mass"], inertia=_box_inertia(tr["hub_mass"], *[tr["hub_size"]] * 3),
                at=tail_hub_position(d), frame=TAIL_FRAME,
-               shape={"kind": "cylinder", "radius": 0.06, "length": 0.15, "axis": [0, 0, 1], "color": "#50565e"})
+               shape={"kind": "cylinder", "radius": radius, "length": length, "axis": [0, 0, 1], "color": "#50565e"})
     m.add_body("seesaw", "tail_hub", Hinge((0, -1, 0), name="teeter", stiffness=tr["teeter_stiffness"]),
-               mass=tr["seesaw_mass"], inertia=_box_inertia(tr["seesaw_mass"], 0.2, 0.05, 0.05),
-               shape={"kind": "box", "size": [0.2, 0.05, 0.05], "color": "#50565e"})
+               mass=tr["seesaw_mass"], inertia=_box_inertia(tr["seesaw_mass"], *tr["seesaw_size"]),
+               shape={"kind": "box", "size": tr["seesaw_size"], "color": "#50565e"})
     big_r, c, t = tr["radius"], tr["chord"], tr["blade_thickness"]
     for k in range(int(tr["n_blades"])):
         pitch = (DrivenHinge((1, 0, 0), lambda t, p: p["tail_collective"], name="pitch") if driven
@@ -306,16 +308,16 @@ def _add_rotor_aero(m: Model, d: Data, cfg: Config, trim: TrimEstimate) -> None:
 
 def _airfoil(sec: dict) -> Airfoil:
     return Airfoil(sec["lift_slope"], sec["cd0"], sec.get("cd2", 0.0), sec["alpha_stall"],
-                   sec.get("cd_stalled", 1.8))
+                   sec.get("cd_stalled", Airfoil.cd_stalled))
 
 
 def _add_airframe_aero(m: Model, d: Data) -> None:
     fa, ht, fin, rho = d["fuselage_aero"], d["horizontal_tail"], d["vertical_fin"], d["environment"]["rho"]
     m.add_force(FuselageAero("fuselage", {k: fa[k] for k in "XYZMN"}, fa["v_ref"], fa["angle_limit"]))
     m.add_force(LiftingSurface("horizontal tail", "fuselage", (ht["x"], 0, ht["z"]), (1, 0, 0), (0, 0, -1),
-                               ht["incidence"], ht["area"], Airfoil(ht["lift_slope"], 0.01, 0.0, ht["alpha_stall"]), rho))
+                               ht["incidence"], ht["area"], _airfoil(ht), rho))
     m.add_force(LiftingSurface("fin", "fuselage", (fin["x"], 0, fin["z"]), (1, 0, 0), (0, 1, 0),
-                               fin["incidence"], fin["area"], Airfoil(fin["lift_slope"], 0.01, 0.0, fin["alpha_stall"]), rho))
+                               fin["incidence"], fin["area"], _airfoil(fin), rho))
 
 
 def _add_parameters(m: Model, d: Data, cfg: Config, trim: TrimEstimate, stored: dict | None) -> None:
@@ -324,7 +326,7 @@ def _add_parameters(m: Model, d: Data, cfg: Config, trim: TrimEstimate, stored: 
         trim = replace(trim, **{k: stored[k] for k in ("collective", "lateral_cyclic", "longitudinal_cyclic",
                                                       "tail_collective") if k in stored})
     m.add_parameter("omega", mr["omega"], "rad/s", "main-rotor speed (tail rotor turns gear_ratio times faster)",
-                    low=0.5 * mr["omega"], high=1.2 * mr["omega"])
+                    low=mr["omega_min"], high=mr["omega_max"])
     if not cfg.pitch_hinge:
         return
     for name, value, what in (("collective", trim.collective, "main-rotor collective pitch at the blade root"),
