@@ -1,0 +1,240 @@
+"""Viewer without a browser: scene from the model, keyframes, exported HTML, CLI, live server."""
+from __future__ import annotations
+
+import json
+import os
+import re
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+from mbs import scenes
+from mbs.simulate import simulate, write
+from viewer import build_scene, export_html, from_results, motion
+from viewer import kinematics as kin
+from viewer.export import commands_in
+from viewer.scene import WORLD
+
+
+@pytest.fixture(scope="module")
+def flight():
+    """One main-rotor revolution of the Bo105 in forward flight (VM), every step recorded."""
+    return simulate("forward-flight", 1.0, backend="vm")
+
+
+@pytest.fixture(scope="module")
+def flight_page(flight, tmp_path_factory):
+    return export_html(flight, tmp_path_factory.mktemp("view") / "viewer.html")
+
+
+def test_scene_has_one_node_per_body_nested_as_the_tree(flight):
+    scene = build_scene(flight.system.info)
+    assert scene.paths["fuselage"] == WORLD + "/fuselage"
+    assert scene.paths["blade3"] == WORLD + "/fuselage/main_hub/blade3"
+    assert scene.paths["tail_blade2"] == WORLD + "/fuselage/tail_hub/seesaw/tail_blade2"
+    assert len(scene.paths) == len(flight.system.info.bodies) == 10
+    driven = build_scene(scenes.get("demo-driven").system("vm").info)
+    assert sorted(driven.paths) == ["blade1", "blade2", "blade3", "fuselage", "hub"]
+
+
+def test_geometry_is_sized_from_the_model(flight):
+    from mbs.models.bo105 import load_data
+
+    mr = load_data()["main_rotor"]
+    scene = build_scene(flight.system.info)
+    (blade,) = scene.parts["blade1"]
+    assert blade.kind == "box"
+    np.testing.assert_allclose(blade.dims, [mr["radius"] - mr["flap_hinge_offset"], mr["chord"], mr["blade_thickness"]])
+    # the tip (traced) lies at the rotor radius from the shaft axis
+    np.testing.assert_allclose(scene.tip_point("blade1")[0] + mr["flap_hinge_offset"], mr["radius"])
+    (hub,) = scene.parts["main_hub"]
+    assert hub.kind == "cylinder" and hub.dims[0] == mr["hub_radius"]
+    np.testing.assert_allclose(hub.transform[:3, :3] @ [0, 1, 0], [0, 0, 1], atol=1e-15)  # three.js y -> shaft
+    fuselage = scene.parts["fuselage"]
+    boom = [p for p in fuselage if p.kind == "cylinder"]
+    assert len(fuselage) == 4 and len(boom) == 1
+    np.testing.assert_allclose(boom[0].transform[:3, :3] @ [0, 1, 0], [1, 0, 0], atol=1e-15)  # boom along x
+
+
+def test_viewer_transforms_equal_core_body_poses(flight):
+    mo = motion(flight)
+    composed = kin.compose(mo.local, mo.parents)
+    for k in range(0, len(mo.t), 7):
+        x = mo.recording.state_at(mo.t[k])
+        origins, rotations = flight.system.poses(x, mo.t[k], flight.params)
+        np.testing.assert_allclose(composed[k], kin.homogeneous(origins, rotations), atol=1e-12)
+
+
+def _animated_local(page_path, scene, n_keys):
+    """Per body the node transforms (k, 4, 4) stored in the page: tracks, else the static one."""
+    cmds = commands_in(page_path)
+    static = {c["path"]: np.array(c["matrix"]).reshape(4, 4).T for c in cmds if c["type"] == "set_transform"}
+    (anim,) = [c for c in cmds if c["type"] == "set_animation"]
+    tracks = {a["path"]: {t["name"]: t for t in a["clip"]["tracks"]} for a in anim["animations"]}
+    out = {}
+    for path in [WORLD, *scene.paths.values()]:
+        T = np.tile(static[path], (n_keys, 1, 1))
+        for name, tr in tracks.get(path, {}).items():
+            values = np.array([k["value"] for k in tr["keys"]])
+            if name == ".position":
+                T[:, :3, 3] = values
+            else:
+                x, y, z, w = values.T
+                T[:, :3, :3] = np.stack([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                                         [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                                         [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]]).transpose(2, 0, 1)
+        out[path] = T
+    return out, tracks
+
+
+def test_page_animation_reproduces_core_poses(flight, flight_page):
+    """Keys decoded from the HTML (float32), composed down the tree, give the core's poses."""
+    mo, scene = flight_page.motion, flight_page.scene
+    nodes, _ = _animated_local(flight_page.path, scene, len(mo.t))
+    local = np.stack([nodes[scene.paths[b]] for b in scene.body_names], axis=1)
+    world = kin.compose(local, mo.parents)
+    origin = -nodes[WORLD][:, :3, 3]  # the world node follows the fuselage
+    for k in range(len(mo.t)):
+        origins, rotations = flight.system.poses(mo.recording.state_at(mo.t[k]), mo.t[k], flight.params)
+        np.testing.assert_allclose(world[k, :, :3, :3], rotations, atol=2e-6)
+        np.testing.assert_allclose(world[k, :, :3, 3], origins, atol=1e-5 * max(1.0, np.abs(origins).max()))
+        np.testing.assert_allclose(origin[k], origins[0], atol=1e-5 * max(1.0, np.abs(origins).max()))
+
+
+def test_keys_stay_under_90_degrees_even_from_coarse_rows(flight, tmp_path):
+    """Rows 20 steps apart turn the tail rotor by ~1.05 revolutions: keys are added back."""
+    exp = export_html(flight, tmp_path / "coarse.html", every=20)
+    mo, scene = exp.motion, exp.scene
+    _, tracks = _animated_local(exp.path, scene, len(mo.t))
+    for path, tr in tracks.items():
+        if ".quaternion" in tr:
+            q = np.array([k["value"] for k in tr[".quaternion"]["keys"]])
+            angle = np.degrees(2 * np.arccos(np.clip(np.abs(np.sum(q[1:] * q[:-1], axis=1)), 0, 1)))
+            assert angle.max() < 60.5, path
+    # the short way between keys is the true way: the tail hub turns by the driven azimuth
+    names = flight.system.info.output_names
+    tail = np.array([flight.system.outputs(mo.recording.state_at(t), t, flight.params)[names.index("tail_rotor.azimuth")]
+                     for t in mo.t])
+    turned = kin.key_angles(mo.local)[:, scene.body_names.index("tail_hub")]
+    np.testing.assert_allclose(turned, np.diff(tail), atol=1e-9)
+    assert np.diff(tail).sum() > 5 * 2 * np.pi  # ~5.2 tail revolutions in one main-rotor revolution
+    assert len(mo.t) > 5 * 101 / 20
+
+
+def test_exported_page_is_one_offline_file(flight_page):
+    text = flight_page.path.read_text()
+    assert "<script src" not in text.lower() and "<link" not in text.lower()
+    urls = set(re.findall(r"(?:https?|wss?|ftp)://[^\s\"'<>)]*", text))
+    # an XML namespace name (never fetched) and the template of viewer.connect(), never called here
+    assert urls <= {"http://www.w3.org/1999/xhtml", "ws://${location.host}`"}, urls
+    assert "viewer.connect(" not in text and "fetch(" not in text.split("var viewer = new MeshCat.Viewer", 1)[1]
+    assert "window.__viewerReady = true" in text
+    assert flight_page.size < 1.3e6
+
+
+def test_results_folder_gives_the_same_keys_as_the_simulation(flight, tmp_path):
+    write(flight, tmp_path)
+    a, b = motion(flight), motion(from_results(tmp_path))
+    np.testing.assert_array_equal(a.t, b.t)
+    np.testing.assert_allclose(a.local, b.local, atol=1e-12)
+
+
+def test_last_revolutions_and_slow_motion(tmp_path):
+    sim = simulate("demo-driven", 2.0, backend="vm")
+    exp = export_html(sim, tmp_path / "v.html", revs=1.0, slow=4.0, trace=False)
+    period = sim.scene.revolution(sim.system, sim.params)
+    np.testing.assert_allclose(exp.sim_time, [period, 2 * period], rtol=1e-12)
+    np.testing.assert_allclose(exp.duration, 4.0 * period, rtol=1e-12)
+    assert not [c for c in commands_in(exp.path) if "tip_path" in c["path"]]
+
+
+@pytest.mark.parametrize("options, message", [
+    ({"slow": 0.0}, "slow"), ({"revs": -1.0}, "revs"), ({"every": 0}, "every"),
+    ({"trace": ["rotor"]}, "unknown body 'rotor'"), ({"follow": "cabin"}, "unknown body 'cabin'"),
+    ({"start": 99.0}, "start = 99.0"),
+])
+def test_bad_options_are_named(flight, tmp_path, options, message):
+    with pytest.raises(ValueError, match=re.escape(message)):
+        export_html(flight, tmp_path / "v.html", **options)
+
+
+def test_bad_shapes_and_missing_run_json_are_named(flight, tmp_path):
+    info = flight.system.info
+    bad = type(info)(**{**info.__dict__, "bodies": [{**info.bodies[0], "shape": {"kind": "sphere"}}, *info.bodies[1:]]})
+    with pytest.raises(ValueError, match="body 'fuselage': unknown shape kind 'sphere'"):
+        build_scene(bad)
+    bad.bodies[0]["shape"] = {"kind": "box", "size": [1, 0, 1], "color": "#c8ccd2"}
+    with pytest.raises(ValueError, match="box size must be positive"):
+        build_scene(bad)
+    write(flight, tmp_path)
+    (tmp_path / "run.json").unlink()
+    with pytest.raises(ValueError, match="no run.json"):
+        from_results(tmp_path)
+
+
+def test_cli_view_writes_html(flight, tmp_path, capsys):
+    from mbs.cli import main
+
+    write(flight, tmp_path)
+    assert main(["view", str(tmp_path), "--html", str(tmp_path / "out.html"), "--json"]) == 0
+    res = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    assert res["keys"] == 101 and res["max_key_angle_deg"] < 60 and (tmp_path / "out.html").stat().st_size == res["bytes"]
+    assert main(["view", str(tmp_path / "missing")]) == 2
+
+
+def _listening(port: int) -> set[str]:
+    """Local addresses (hex, as in /proc/net/tcp*) listening on ``port``."""
+    out = set()
+    for name in ("/proc/net/tcp", "/proc/net/tcp6"):
+        for line in open(name).read().splitlines()[1:]:
+            local, state = line.split()[1], line.split()[3]
+            if state == "0A" and int(local.rsplit(":", 1)[1], 16) == port:
+                out.add(local.rsplit(":", 1)[0])
+    return out
+
+
+def _gone(pid: int) -> bool:
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().split(") ", 1)[1][0] == "Z"  # exited, not yet reaped by its parent
+    except FileNotFoundError:
+        return True
+
+
+@pytest.mark.skipif(not os.path.exists("/proc/net/tcp"), reason="needs Linux /proc")
+def test_live_server_is_loopback_only_and_stops(flight):
+    from viewer.live import LiveViewer
+
+    live = LiveViewer(flight.system)
+    pid, web_port = live.pid, int(live.url.split(":")[2].split("/")[0])
+    zmq_port = int(live.zmq_url.rsplit(":", 1)[1])
+    assert live.url.startswith("http://127.0.0.1:")
+    assert _listening(web_port) == {"0100007F"} and _listening(zmq_port) == {"0100007F"}
+    live.show(flight.traj.x[5], flight.traj.t[5], flight.params)
+    live.close()
+    live.close()
+    with pytest.raises(ProcessLookupError):
+        os.killpg(pid, 0)
+    assert not _listening(web_port)
+
+
+def test_live_server_exits_when_its_parent_is_killed(tmp_path):
+    script = ("import time; from mbs import scenes; from viewer.live import LiveViewer\n"
+              "v = LiveViewer(scenes.get('demo-driven').system('vm'))\nprint(v.pid, flush=True)\ntime.sleep(60)\n")
+    parent = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
+    try:
+        server = int(parent.stdout.readline())
+    finally:
+        parent.kill()
+        parent.wait(10)
+        parent.stdout.close()
+    deadline = time.monotonic() + 5
+    while not _gone(server) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    gone = _gone(server)
+    if not gone:
+        os.killpg(server, 9)
+    assert gone

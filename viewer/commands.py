@@ -1,0 +1,97 @@
+"""``heli view``: an offline HTML animation of a results folder, or a live meshcat server."""
+from __future__ import annotations
+
+import signal
+import time
+from pathlib import Path
+
+from mbs.cli import add_json, emit
+
+
+def _terminate_as_exit(signum, frame):
+    raise SystemExit(128 + signum)
+
+
+def cmd_view(args) -> int:
+    if args.results is None and args.simulate is None:
+        raise ValueError("give a results folder or results.csv, or --simulate SCENE")
+    if args.simulate is not None:
+        return _live_simulation(args)
+    if args.serve:
+        return _serve(args)
+    from viewer.export import export_html
+
+    results = Path(args.results)
+    out = Path(args.html) if args.html else (results if results.is_dir() else results.parent) / "viewer.html"
+    exp = export_html(results, out, revs=None if args.revs == 0 else args.revs, start=args.start, every=args.every,
+                      slow=args.slow, trace=not args.no_trace, follow=not args.no_follow, backend=args.backend)
+    res = exp.summary()
+    emit(res, args.json, [f"{res['scene']}: {exp.keys} keyframes, t = {exp.sim_time[0]:.4g} to {exp.sim_time[1]:.4g} s "
+                          f"shown in {exp.duration:.3g} s ({exp.slow:g} times slower), largest joint turn between "
+                          f"keys {exp.max_key_angle_deg:.1f} deg", f"wrote {exp.path} ({exp.size / 1e6:.2f} MB)"])
+    return 0
+
+
+def _serve(args) -> int:
+    from viewer.live import LiveViewer
+    from viewer.motion import as_recording
+
+    rec = as_recording(Path(args.results), args.backend)
+    signal.signal(signal.SIGTERM, _terminate_as_exit)
+    with LiveViewer(rec.system, follow=not args.no_follow, web_port=args.port) as live:
+        emit({"url": live.url, "pid": live.pid}, args.json, [f"meshcat viewer at {live.url} (Ctrl-C to stop)"])
+        end = time.monotonic() + args.duration if args.duration else None
+        try:
+            while end is None or time.monotonic() < end:
+                live.play(rec, slow=args.slow, revs=None if args.revs == 0 else args.revs, every=args.every)
+        except KeyboardInterrupt:
+            pass
+    return 0
+
+
+def _live_simulation(args) -> int:
+    from mbs import scenes
+    from mbs._progress import Progress
+    from viewer.live import LiveViewer
+
+    scene = scenes.get(args.simulate)
+    system = scene.system(args.backend)
+    signal.signal(signal.SIGTERM, _terminate_as_exit)
+    with LiveViewer(system, follow=not args.no_follow, web_port=args.port) as live:
+        print(f"meshcat viewer at {live.url}", flush=True)
+        if args.wait:
+            time.sleep(args.wait)
+        revs = args.revs or 1.0
+        try:
+            t, _ = live.simulate(scene, revs, slow=args.slow, progress=Progress(f"simulate {scene.name}", not args.json))
+        except KeyboardInterrupt:
+            return 130
+        emit({"url": live.url, "scene": scene.name, "revs": revs, "t_end": t}, args.json,
+             [f"{scene.name}: {revs:g} revolutions shown live, t_end = {t:.4g} s"])
+    return 0
+
+
+def register(sub, bench) -> None:
+    p = sub.add_parser("view", help="animate results in the browser: one offline HTML file, or a live meshcat server",
+                       description="Animate the rotor tree of a results folder (results.csv + run.json from "
+                                   "'heli simulate') as one self-contained HTML file (--html, the default) or on "
+                                   "a local meshcat server (--serve); --simulate SCENE streams a run as it computes.")
+    p.add_argument("results", nargs="?", help="results folder or results.csv (with run.json beside it)")
+    p.add_argument("--html", metavar="OUT.html", help="output file (default: viewer.html beside the results)")
+    p.add_argument("--serve", action="store_true", help="stream to a meshcat server on 127.0.0.1 until Ctrl-C")
+    p.add_argument("--simulate", metavar="SCENE", help="run SCENE and stream each step live (implies a server)")
+    p.add_argument("--revs", type=float, default=1.0,
+                   help="main-rotor revolutions shown (default 1: the last one; 0: all)")
+    p.add_argument("--start", type=float, default=None, help="first time shown, s (default: last --revs revolutions)")
+    p.add_argument("--every", type=int, default=1, help="keep every N-th recorded row (keys are added back where "
+                                                         "a joint would turn 60 deg or more)")
+    p.add_argument("--slow", type=float, default=10.0, help="slow-motion factor (default 10; 1 = real time)")
+    p.add_argument("--no-trace", action="store_true", help="no blade tip-path trace")
+    p.add_argument("--no-follow", action="store_true", help="fixed world instead of following the fuselage")
+    p.add_argument("--backend", choices=["vm", "compiled"], default="vm", help="evaluator for the poses (default vm)")
+    p.add_argument("--port", type=int, default=None, help="web port of the live server (default: first free from 7000)")
+    p.add_argument("--duration", type=float, default=None, help="with --serve: stop after this many seconds")
+    p.add_argument("--wait", type=float, default=0.0, help="with --simulate: seconds to wait before running "
+                                                            "(time to open the page)")
+    add_json(p)
+    p.set_defaults(fn=cmd_view)
