@@ -1,4 +1,4 @@
-"""Core subcommands of ``heli``: scenes, simulate, demo."""
+"""Core subcommands of ``heli``: scenes, simulate, trim, figures (``heli demo`` is in :mod:`fmu.commands`)."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -44,20 +44,6 @@ def cmd_simulate(args) -> int:
         lines.append(f"max relative energy error: {res['max_rel_energy_error']:.3e}")
     lines += [f"wrote {p}" for p in paths.values()]
     emit(res, args.json, lines)
-    return 0 if sim.traj.ok else 1
-
-
-def cmd_demo(args) -> int:
-    from mbs._progress import Progress
-    from mbs.simulate import simulate, write
-
-    sim = simulate("demo-rotor", args.revs, 100, progress=Progress("demo", not args.json))
-    paths = write(sim, Path(args.out))
-    res = {**sim.summary(), "files": {k: str(v) for k, v in paths.items()}}
-    emit(res, args.json, [f"demo-rotor: {args.revs} revolutions, RK4 at 100 steps/rev, {sim.traj.wall_s:.3f} s "
-                          f"wall ({res['realtime_factor']:.0f}x real time)",
-                          f"max relative energy error {sim.max_rel_energy_error:.2e}",
-                          *[f"wrote {p}" for p in paths.values()]])
     return 0 if sim.traj.ok else 1
 
 
@@ -128,10 +114,3 @@ def register(sub, bench) -> None:
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     add_json(p)
     p.set_defaults(fn=cmd_simulate)
-
-    p = sub.add_parser("demo", help="the main job: build, run and plot (see README)")
-    p.add_argument("--revs", type=int, default=10)
-    p.add_argument("--out", default="out/demo")
-    add_json(p)
-    p.set_defaults(fn=cmd_demo)
-

@@ -1,0 +1,367 @@
+"""Build the FMU of a scene family: plan the variables, compile the models, stage a clean
+copy of the slave and of the core's run-time files, and call pythonfmu's builder.
+
+``ensure_fmu(scenes)`` returns a cached ``.fmu`` (``<cache>/fmu/<key>/<identifier>.fmu``,
+keyed by the sources of ``mbs`` and ``fmu``, the scenes, the compiler, CasADi and pythonfmu),
+building it in a fresh interpreter (``python -m fmu.build``) when absent. The staged code
+lives in a package named ``heli_bo105_<digest>`` (digest of the staged code) with every
+``import mbs...`` rewritten to it, so the shipped copy never mixes with an ``mbs`` that the
+host process imported, nor with another build of this FMU loaded in the same process.
+"""
+from __future__ import annotations
+
+import argparse
+import hashlib
+import importlib.metadata
+import json
+import os
+import platform
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+import zipfile
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+DEFAULT_SCENES = ("forward-flight", "hover", "ground-run")
+SLAVE = "heli_bo105_slave"
+RUNTIME = ["backends/__init__.py", "backends/info.py", "backends/system.py", "backends/compiled.py",
+           "backends/vm.py", "integrators/*.py"]
+VM_FUNCTIONS = ("incr_rk4", "project", "outputs", "energy")
+_IMPORT = re.compile(r"^(\s*)(from|import)\s+mbs(?=[\s.])", re.MULTILINE)
+
+
+def mbs_dir() -> Path:
+    import mbs
+
+    return Path(mbs.__file__).resolve().parent
+
+
+def identifier(scenes) -> str:
+    """Model identifier (also the FMU's file name) of a family: ``HeliRotor_<primary>``."""
+    return "HeliRotor_" + re.sub(r"\W", "_", scenes[0])
+
+
+# -- planning (needs the core and CasADi) ---------------------------------------------------
+
+def plan(scene_names) -> tuple[dict, dict]:
+    """The FMU's spec (variables, scenes, recipes) and, per model group, ``(vm, source, info)``.
+
+    Scenes whose generated code is identical share one compiled model (``group``).
+    Raises ValueError when a scene cannot provide the primary scene's variables.
+    """
+    from mbs import scenes as registry
+    from mbs.backends import build
+    from mbs.backends.compiled import generate
+
+    groups, per_scene = {}, {}
+    for name in scene_names:
+        scene = registry.get(name)
+        model = scene.model()
+        vm = build(model, "vm")
+        source = generate(vm.functions, vm.info, "float64")
+        key = hashlib.sha256(source.encode()).hexdigest()
+        if key not in groups:
+            groups[key] = (re.sub(r"\W", "_", name), vm, source)
+        per_scene[name] = (scene, model, vm, groups[key][0])
+    primary = per_scene[scene_names[0]]
+    variables = _variables(primary, scene_names)
+    computed = [v for v in variables if v["causality"] in ("output", "local")]
+    spec = {"model_identifier": identifier(scene_names), "primary": scene_names[0], "family": list(scene_names),
+            "description": f"{primary[0].description} (scenes: {', '.join(scene_names)})",
+            "version": _version(), "variables": variables, "n_computed": len(computed),
+            "default_experiment": _default_experiment(primary),
+            "scenes": {n: _scene_spec(per_scene[n], computed, variables) for n in scene_names}}
+    return spec, {g: (vm, src) for g, vm, src in groups.values()}
+
+
+def _version() -> str:
+    try:
+        return importlib.metadata.version("rotor-mbs")
+    except importlib.metadata.PackageNotFoundError:
+        return "0"
+
+
+def _revolution(scene, vm) -> float:
+    return scene.revolution(vm, vm.params())
+
+
+def _default_experiment(primary) -> dict:
+    scene, _, vm, _ = primary
+    rev = _revolution(scene, vm)
+    return {"start": 0.0, "stop": 10 * rev, "step": rev / scene.steps_per_rev}
+
+
+def _var(name, causality, variability, description, unit=None, **extra) -> dict:
+    return {"name": name, "causality": causality, "variability": variability, "type": "Real",
+            "description": description, "unit": unit, **extra}
+
+
+def _finite(value):
+    return float(value) if value is not None and np.isfinite(value) else None
+
+
+def _variables(primary, scene_names) -> list[dict]:
+    scene, model, vm, _ = primary
+    info = vm.info
+    out = [_var(p["name"], "input", "continuous", p["description"], p["unit"] or None,
+                min=_finite(p["low"]), max=_finite(p["high"])) for p in info.parameters if p["control"]]
+    out.append({**_var("scene", "parameter", "fixed", "scene of this FMU's family: " + ", ".join(scene_names)),
+                "type": "String", "allowed": list(scene_names)})
+    out.append({**_var("evaluator", "parameter", "fixed", "compiled: the shipped C library (numpy only); "
+                       "vm: CasADi's virtual machine (needs casadi on the host)"),
+                "type": "String", "allowed": ["compiled", "vm"]})
+    out.append(_var("max_step", "parameter", "tunable", "largest internal RK4 step (> 0); each communication "
+                    "step is split into equal sub-steps no longer than this; default 1/100 revolution", "s"))
+    out += [_var(p["name"], "parameter", "fixed", p["description"], p["unit"] or None,
+                 min=_finite(p["low"]), max=_finite(p["high"])) for p in info.parameters if not p["control"]]
+    free = [b for b in info.bodies if b["joint"] == "FreeJoint"]
+    if free:
+        out.append(_var("initial_forward_speed", "parameter", "fixed",
+                        f"initial {free[0]['name']} speed north (world x) at the scene's initial attitude; "
+                        "default: the scene's", "m/s"))
+    return out + _computed_variables(model, info, free)
+
+
+def _computed_variables(model, info, free) -> list[dict]:
+    hinges = [b for b in info.bodies if b["joint"] != "FreeJoint"]
+    out = [_var(q, "output", "continuous", f"{q.replace('.', ' ')} angle (hinge coordinate)", "rad", kind="state")
+           for b in hinges for q in b["q_names"]]
+    out += [_var(v, "output", "continuous", f"{v.replace('.', ' ').replace('_rate', '')} angular rate", "rad/s",
+                 kind="state") for b in hinges for v in b["v_names"]]
+    out += [_var(o["name"], "output", "continuous", o["description"], o["unit"] or None, kind="output")
+            for o in info.outputs]
+    for b in free:
+        out += _free_body_variables(b)
+    out.append(_var("total_energy", "output", "continuous", "total energy: kinetic + gravity + spring "
+                    "potential (J)", "J", kind="energy"))
+    taken = {v["name"] for v in out}
+    for name in info.state_names:
+        if name not in taken:
+            unit = model.states[name].unit if name in model.states else "1"
+            out.append(_var(name, "local", "continuous", f"state {name} (for recording)", unit or None, kind="state"))
+    for k, v in enumerate(out):
+        v["position"] = k
+    return out
+
+
+def _free_body_variables(b: dict) -> list[dict]:
+    name, q, v = b["name"], b["q_names"], b["v_names"]
+    axes = ("north (world x)", "east (world y)", "down (world z)")
+    out = [_var(q[i], "output", "continuous", f"{name} position {axes[i]}", "m", kind="state", body=name)
+           for i in range(3)]
+    out += [_var(f"{name}.{a}", "output", "continuous", f"{name} {a} angle (aerospace z-y-x Euler angles)", "rad",
+                 kind="euler", body=name, axis=i) for i, a in enumerate(("roll", "pitch", "yaw"))]
+    out += [_var(v[i], "output", "continuous", f"{name} velocity along body {'xyz'[i]}", "m/s", kind="state",
+                 body=name) for i in range(3)]
+    out += [_var(v[i], "output", "continuous", f"{name} angular velocity about body {'xyz'[i - 3]}", "rad/s",
+                 kind="state", body=name) for i in range(3, 6)]
+    return out
+
+
+def _scene_spec(entry, computed, variables) -> dict:
+    scene, _, vm, group = entry
+    info = vm.info
+    names = {v["name"] for v in variables}
+    missing = [p for p in info.param_names if p not in names]
+    if missing:
+        raise ValueError(f"scene {scene.name!r} has parameters {missing} that the primary scene lacks")
+    free = [b for b in info.bodies if b["joint"] == "FreeJoint"]
+    x0 = np.array(info.x0)
+    return {"group": group, "x0": info.x0, "omega": scene.omega, "steps_per_rev": scene.steps_per_rev,
+            "revolution": _revolution(scene, vm), "parameter_order": info.param_names,
+            "defaults": {p["name"]: p["default"] for p in info.parameters},
+            "ranges": {p["name"]: [_finite(p["low"]), _finite(p["high"])] for p in info.parameters},
+            "plots": scene.plots, "description": scene.description,
+            "forward_speed": _forward_speed(info, free[0], x0) if free else None,
+            "recipe": _recipe(scene.name, vm, computed)}
+
+
+def _forward_speed(info, body: dict, x0: np.ndarray) -> dict:
+    from mbs._rotation import quat_to_matrix
+
+    import casadi as ca
+
+    q = [info.state_names.index(n) for n in body["q_names"][3:7]]
+    v = [info.state_names.index(n) for n in body["v_names"][:3]]
+    r = np.array(ca.DM(quat_to_matrix(ca.DM(x0[q]))))
+    return {"q": q, "v": v, "default": float((r @ x0[v])[0])}
+
+
+def _recipe(scene_name: str, vm, computed) -> dict:
+    """How ``scene_name`` computes each output/local: state index, output index, Euler angles
+    of a free body, or a constant (a body that is clamped in this scene)."""
+    info = vm.info
+    table = {"x": [], "y": [], "const": [], "energy": [], "euler": []}
+    for k, v in enumerate(computed):
+        name = v["name"]
+        if v["kind"] == "energy":
+            table["energy"].append(k)
+        elif v["kind"] == "output" and name in info.output_names:
+            table["y"].append([k, info.output_names.index(name)])
+        elif v["kind"] == "state" and name in info.state_names:
+            table["x"].append([k, info.state_names.index(name)])
+        elif v["kind"] == "euler" and _is_free(info, v["body"]):
+            b = _body(info, v["body"])
+            table["euler"].append([k, v["axis"], [info.state_names.index(n) for n in b["q_names"][3:7]]])
+        else:
+            table["const"].append([k, _clamped_value(scene_name, vm, v)])
+    return table
+
+
+def _body(info, name: str) -> dict | None:
+    return next((b for b in info.bodies if b["name"] == name), None)
+
+
+def _is_free(info, name: str) -> bool:
+    b = _body(info, name)
+    return b is not None and b["joint"] == "FreeJoint"
+
+
+def _clamped_value(scene_name: str, vm, v: dict) -> float:
+    """Value of a free-body variable of the primary scene for a body clamped in this scene."""
+    from mbs._rotation import matrix_to_quat, quat_to_euler
+
+    body = v.get("body") or v["name"].split(".")[0]
+    info = vm.info
+    if _body(info, body) is None or v["kind"] == "output":
+        raise ValueError(f"scene {scene_name!r} cannot provide the variable {v['name']!r}")
+    pos, rot = vm.poses(vm.x0())
+    i = info.body_names.index(body)
+    if v["kind"] == "euler":
+        return float(quat_to_euler(matrix_to_quat(rot[i]))[v["axis"]])
+    coordinate = v["name"].split(".", 1)[1]
+    values = dict(zip("xyz", pos[i]), **dict(zip(("qw", "qx", "qy", "qz"), matrix_to_quat(rot[i]))))
+    return float(values.get(coordinate, 0.0))
+
+
+# -- staging --------------------------------------------------------------------------------
+
+def runtime_sources() -> dict[str, str]:
+    """The core's run-time files the FMU ships (relative path -> text), before renaming."""
+    root = mbs_dir()
+    return {path.relative_to(root).as_posix(): path.read_text()
+            for pattern in RUNTIME for path in sorted(root.glob(pattern))}
+
+
+def stage_code(stage: Path) -> tuple[str, Path]:
+    """Write the entry module (the slave, with its class defined in it as pythonfmu expects)
+    and the renamed core package into ``stage``; returns (entry module name, package folder)."""
+    files = runtime_sources()
+    slave = (HERE / f"{SLAVE}.py").read_text()
+    digest = hashlib.sha256(json.dumps([files, slave], sort_keys=True).encode()).hexdigest()[:12]
+    package = f"heli_bo105_{digest}"
+    folder = stage / package
+    files["__init__.py"] = f'"""Run-time part of the core shipped in the heli rotor FMU (build {digest})."""\n'
+    entry = f"{SLAVE}_{digest}"
+    for path, text in [*((folder / rel, t) for rel, t in files.items()), (stage / f"{entry}.py", slave)]:
+        renamed = _IMPORT.sub(rf"\1\2 {package}", text)
+        if re.search(r"^\s*(from|import)\s+mbs\b", renamed, re.MULTILINE):
+            raise RuntimeError(f"staged {path.name} still imports mbs")
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(renamed)
+    for sub in {p.parent for p in folder.rglob("*.py")}:
+        (sub / "__init__.py").touch()
+    return entry, folder
+
+
+def stage_models(stage: Path, spec: dict, groups: dict) -> Path:
+    """Compile each model group (cached by the core) and write ``heli_models/``."""
+    from mbs.backends.compiled import compile_source
+
+    root = stage / "heli_models"
+    for group, (vm, source) in groups.items():
+        folder = root / group
+        (folder / "vm").mkdir(parents=True)
+        compiled = compile_source(source, vm.info)
+        shutil.copy2(compiled / "model.so", folder / "model.so")
+        (folder / "info.json").write_text(vm.info.to_json())
+        for name in VM_FUNCTIONS:
+            vm.functions[name].save(str(folder / "vm" / f"{name}.casadi"))
+    (root / "spec.json").write_text(json.dumps(spec, indent=1))
+    return root
+
+
+def build_here(scene_names, dest: Path) -> Path:
+    """Plan, stage and build in this process (call it in a fresh interpreter: the builder
+    imports the staged code). Writes ``dest`` (a ``.fmu`` path)."""
+    from pythonfmu import FmuBuilder
+
+    spec, groups = plan(list(scene_names))
+    with tempfile.TemporaryDirectory(prefix="heli-fmu-stage-") as tmp:
+        stage = Path(tmp)
+        entry, package = stage_code(stage)
+        models = stage_models(stage, spec, groups)
+        sys.path.insert(0, str(stage))
+        built = FmuBuilder.build_FMU(stage / f"{entry}.py", dest=stage / "out", project_files=[package, models],
+                                     canGetAndSetFMUstate=True, canSerializeFMUstate=True)
+        _recompress(built, Path(dest))
+    return Path(dest)
+
+
+def _recompress(src: Path, dest: Path) -> None:
+    """pythonfmu stores files uncompressed; deflate them (the libraries shrink about 4x)."""
+    dest.parent.mkdir(parents=True, exist_ok=True)
+    with zipfile.ZipFile(src) as zin, zipfile.ZipFile(dest, "w", zipfile.ZIP_DEFLATED) as zout:
+        for item in zin.infolist():
+            zout.writestr(item.filename, zin.read(item.filename))
+
+
+# -- cache ----------------------------------------------------------------------------------
+
+def cache_key(scene_names) -> str:
+    """Hash of everything the FMU is built from."""
+    from mbs.backends.compiled import CFLAGS, cache_dir, find_compiler  # noqa: F401 (numpy only)
+
+    h = hashlib.sha256()
+    for root in (mbs_dir(), HERE):
+        for path in sorted(p for p in root.rglob("*") if p.suffix in (".py", ".toml") and "__pycache__" not in p.parts):
+            h.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes())
+    versions = [importlib.metadata.version(d) for d in ("casadi", "pythonfmu")]
+    h.update(json.dumps([list(scene_names), versions, find_compiler(), CFLAGS, sys.platform,
+                         platform.machine()]).encode())
+    return h.hexdigest()[:20]
+
+
+def cached_path(scene_names) -> Path:
+    from mbs.backends.compiled import cache_dir
+
+    return cache_dir() / "fmu" / cache_key(scene_names) / f"{identifier(scene_names)}.fmu"
+
+
+def ensure_fmu(scene_names=DEFAULT_SCENES, force: bool = False, log=None) -> tuple[Path, float]:
+    """The cached FMU of ``scene_names`` (built in a subprocess if absent); returns
+    (path, build seconds, 0 if it came from the cache)."""
+    path = cached_path(scene_names)
+    if path.exists() and not force:
+        return path, 0.0
+    if log:
+        log(f"building the FMU for {', '.join(scene_names)} (compiles the models once; cached) ...")
+    start = time.perf_counter()
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    with tempfile.TemporaryDirectory(prefix="heli-fmu-build-") as cwd:
+        env = {**os.environ, "PYTHONDONTWRITEBYTECODE": "1"}
+        proc = subprocess.run([sys.executable, "-m", "fmu.build", "--scenes", ",".join(scene_names),
+                               "--dest", str(tmp)], cwd=cwd, env=env, capture_output=True, text=True)
+    if proc.returncode:
+        raise RuntimeError(f"building the FMU failed:\n{proc.stderr[-4000:]}")
+    tmp.replace(path)
+    return path, time.perf_counter() - start
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description="build the heli rotor FMU in this process (use ensure_fmu)")
+    ap.add_argument("--scenes", default=",".join(DEFAULT_SCENES))
+    ap.add_argument("--dest", required=True)
+    args = ap.parse_args(argv)
+    build_here(args.scenes.split(","), Path(args.dest))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

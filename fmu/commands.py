@@ -1,0 +1,85 @@
+"""``heli`` subcommands of the FMU: ``fmu build``, ``demo`` and ``bench fmu``."""
+from __future__ import annotations
+
+import shutil
+import sys
+from pathlib import Path
+
+from mbs.cli import add_json, emit
+
+
+def _log(message: str) -> None:
+    print(message, file=sys.stderr, flush=True)
+
+
+def cmd_fmu_build(args) -> int:
+    from fmu import build
+
+    scenes = tuple(args.scenes.split(",")) if args.scenes else build.DEFAULT_SCENES
+    path, seconds = build.ensure_fmu(scenes, force=args.force, log=_log)
+    out = Path(args.out)
+    dest = out / path.name if out.suffix != ".fmu" else out
+    dest.parent.mkdir(parents=True, exist_ok=True)
+    shutil.copy2(path, dest)
+    res = {"fmu": str(dest), "cached": str(path), "scenes": list(scenes), "build_s": seconds,
+           "size_bytes": dest.stat().st_size}
+    how = f"built in {seconds:.1f} s" if seconds else "from the cache"
+    emit(res, args.json, [f"{dest} ({dest.stat().st_size / 1e6:.2f} MB, scenes {', '.join(scenes)}; {how})"])
+    return 0
+
+
+def cmd_demo(args) -> int:
+    from fmu import demo
+
+    res = demo.run(Path(args.out), args.revs, log=_log)
+    lines = [f"{res['scene']}: {res['revs']:g} revolutions through the FMU under fmpy "
+             f"(communication step {res['communication_step_s'] * 1e3:.3f} ms, collective step and cyclic doublet)",
+             f"FMU: {res['fmu']} ({'built in %.1f s' % res['build_s'] if res['build_s'] else 'from the cache'})",
+             f"fmpy run: {res['fmpy_wall_s']:.2f} s wall for {res['simulated_s']:.3f} s simulated "
+             f"({res['realtime_factor']:.1f}x real time); total {res['total_s']:.1f} s",
+             *[f"wrote {p}" for p in res["files"].values()]]
+    emit(res, args.json, lines)
+    return 0
+
+
+def cmd_bench_fmu(args) -> int:
+    from fmu import bench
+
+    res = bench.run(args.revs, args.repeats)
+    us = res["us_per_step"]
+    lines = [f"{res['scene']}: {res['revs']:g} revolutions, communication step 1/100 rev "
+             f"({res['communication_step_s'] * 1e3:.3f} ms), median of {res['repeats']} fresh processes",
+             f"  fmpy.simulate_fmu   {res['realtime_factor_fmpy']:7.1f}x real time ({us['fmpy']:6.1f} µs/step, "
+             "incl. extract and instantiate)",
+             f"  fmpy loop (FMU2Slave) {res['realtime_factor_fmpy_loop']:5.1f}x real time ({us['loop']:6.1f} µs/step)",
+             f"  core directly       {res['realtime_factor_core']:7.1f}x real time ({us['core']:6.1f} µs/step)",
+             f"  FMU overhead ratio  {res['overhead_ratio']:7.2f} (core RTF / fmpy RTF); loop only "
+             f"{res['overhead_ratio_loop']:.2f}",
+             f"  target: fmpy >= 10x real time: {'met' if res['meets_target'] else 'NOT met'}"]
+    emit(res, args.json, lines)
+    return 0
+
+
+def register(sub, bench) -> None:
+    p = sub.add_parser("fmu", help="the FMI 2.0 co-simulation FMU")
+    fsub = p.add_subparsers(dest="fmu_command", required=True, metavar="ACTION")
+    b = fsub.add_parser("build", help="build the .fmu (cached; in a fresh interpreter from a staged copy)")
+    b.add_argument("--out", default="out/fmu", help="output .fmu file or folder (default out/fmu/)")
+    b.add_argument("--scenes", default=None,
+                   help="comma-separated scene family, the first one the default (default forward-flight,hover,ground-run)")
+    b.add_argument("--force", action="store_true", help="rebuild even if a cached FMU exists")
+    add_json(b)
+    b.set_defaults(fn=cmd_fmu_build)
+
+    p = sub.add_parser("demo", help="the main job: build the FMU, run forward flight through fmpy, write "
+                       "results.csv, hinge_angles.png, viewer.html")
+    p.add_argument("--out", default="out/demo", help="output folder (default out/demo)")
+    p.add_argument("--revs", type=float, default=10.0, help="main-rotor revolutions (default 10)")
+    add_json(p)
+    p.set_defaults(fn=cmd_demo)
+
+    p = bench.add_parser("fmu", help="FMU under fmpy against the core: real-time factors and overhead")
+    p.add_argument("--revs", type=float, default=20.0, help="revolutions per run (default 20)")
+    p.add_argument("--repeats", type=int, default=3, help="fresh-process runs per kind (median; default 3)")
+    add_json(p)
+    p.set_defaults(fn=cmd_bench_fmu)
