@@ -68,6 +68,20 @@ def test_viewer_transforms_equal_core_body_poses(flight):
         np.testing.assert_allclose(composed[k], kin.homogeneous(origins, rotations), atol=1e-12)
 
 
+@pytest.mark.parametrize("name", sorted(scenes.all_scenes()))
+def test_every_scene_can_be_shown(name, tmp_path):
+    """Each scene's own bodies only; node transforms reproduce the core's poses; keys < 60 deg."""
+    sim = simulate(name, 0.25, backend="vm")
+    exp = export_html(sim, tmp_path / "v.html", revs=None)
+    assert list(exp.scene.paths) == sim.system.info.body_names
+    assert exp.max_key_angle_deg < 60
+    composed = kin.compose(exp.motion.local, exp.motion.parents)
+    x, t = sim.traj.x[-1], sim.traj.t[-1]
+    np.testing.assert_allclose(composed[-1], kin.homogeneous(*sim.system.poses(x, t, sim.params)), atol=1e-12)
+    shapes = [c["path"] for c in commands_in(exp.path) if c["type"] == "set_object" and "/shape/" in c["path"]]
+    assert len(shapes) == sum(len(p) for p in exp.scene.parts.values()) > 0
+
+
 def _animated_local(page_path, scene, n_keys):
     """Per body the node transforms (k, 4, 4) stored in the page: tracks, else the static one."""
     cmds = commands_in(page_path)
@@ -142,6 +156,25 @@ def test_results_folder_gives_the_same_keys_as_the_simulation(flight, tmp_path):
     np.testing.assert_allclose(a.local, b.local, atol=1e-12)
 
 
+def test_inputs_recorded_per_row_drive_the_pitch(tmp_path):
+    """A collective column in results.csv (e.g. an FMU input schedule) is used row by row."""
+    sim = simulate("demo-driven", 1.0, backend="vm")
+    write(sim, tmp_path)
+    csv = tmp_path / "results.csv"
+    lines = csv.read_text().splitlines()
+    step = [0.1 if i < 50 else 0.3 for i in range(len(lines) - 1)]
+    csv.write_text("\n".join([lines[0] + ",collective"] + [f"{l},{c}" for l, c in zip(lines[1:], step)]) + "\n")
+    rec = from_results(tmp_path)
+    i = rec.info.param_names.index("collective")
+    assert rec.params_at(rec.t[10])[i] == 0.1 and rec.params_at(rec.t[80])[i] == 0.3
+    mo = motion(rec, revs=None)
+    b = rec.info.body_names.index("blade1")
+    for k, pitch in ((10, 0.1), (80, 0.3)):
+        p = sim.system.params(collective=pitch)
+        _, rotations = sim.system.poses(rec.x[k], rec.t[k], p)
+        np.testing.assert_allclose(mo.rotations[k, b], rotations[b], atol=1e-12)
+
+
 def test_last_revolutions_and_slow_motion(tmp_path):
     sim = simulate("demo-driven", 2.0, backend="vm")
     exp = export_html(sim, tmp_path / "v.html", revs=1.0, slow=4.0, trace=False)
@@ -183,6 +216,16 @@ def test_cli_view_writes_html(flight, tmp_path, capsys):
     res = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
     assert res["keys"] == 101 and res["max_key_angle_deg"] < 60 and (tmp_path / "out.html").stat().st_size == res["bytes"]
     assert main(["view", str(tmp_path / "missing")]) == 2
+
+
+def test_cli_serve_streams_then_stops(flight, tmp_path):
+    write(flight, tmp_path)
+    proc = subprocess.run([sys.executable, "-m", "mbs", "view", str(tmp_path), "--serve", "--duration", "0.5",
+                           "--slow", "2", "--json"], capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 0, proc.stderr
+    res = json.loads(proc.stdout.strip().splitlines()[-1])
+    assert res["url"].startswith("http://127.0.0.1:")
+    assert _gone(res["pid"])
 
 
 def _listening(port: int) -> set[str]:

@@ -87,16 +87,17 @@ def test_picture_changes_between_two_times(page, pages):
 
 
 def test_live_update_reaches_the_page_and_the_server_stops(page, sim):
+    """Poses streamed while a simulation runs show up in the page; the server is gone after close."""
     from viewer.live import LiveViewer
 
     live = LiveViewer(sim.system)
     try:
         hub = live.scene.paths[sim.system.info.body_names[1]]
-        open_viewer(page, live.url, ready=f"viewer.scene_tree.children.meshcat !== undefined")
+        open_viewer(page, live.url, ready="viewer.scene_tree.children.meshcat !== undefined")
         page.wait_for_function(f"mcNode('{hub}/shape/0/<object>') !== null")
-        k = 30  # a later state: the hub has turned by about a third of a revolution
-        live.show(sim.traj.x[k], sim.traj.t[k], sim.params)
-        origins, rotations = sim.system.poses(sim.traj.x[k], sim.traj.t[k], sim.params)
+        t, x = live.simulate(SCENE, revs=0.3, slow=1.0)  # the hub turns by about a third of a revolution
+        np.testing.assert_allclose(x, sim.traj.x[30], atol=1e-8)  # streaming does not change the run
+        origins, rotations = sim.system.poses(x, t, sim.params)
         expected = live._transforms(origins, rotations)[0][1]
         page.wait_for_function("""([p, m]) => { const g = mcLocal(p);
             return g !== null && g.every((v, i) => Math.abs(v - m[i]) < 1e-6); }""",

@@ -89,7 +89,7 @@ def from_results(path: str | Path, backend: str = "vm") -> Recording:
         raise ValueError(f"{path}: results of scene {meta['scene']!r} lack the columns {missing}")
     known = system.info.param_names
     p = system.params({k: v for k, v in (meta.get("parameters") or {}).items() if k in known})
-    varying = [n for n in known if n in cols and np.ptp(cols[n]) > 0]
+    varying = [n for n in known if n in cols and np.ptp(cols[n]) > 1e-12 * max(1.0, np.abs(cols[n]).max())]
     P = None
     if varying:
         P = np.array([system.params(p, **{n: cols[n][i] for n in varying}) for i in range(len(cols["time"]))])
@@ -118,6 +118,8 @@ def _checked(rec: Recording) -> Recording:
         raise ValueError(f"state {rec.info.state_names[j]!r} is {rec.x[i, j]} at t = {rec.t[i]} s")
     if np.any(np.diff(rec.t) <= 0):
         raise ValueError("recorded times must increase strictly")
+    if rec.P is not None and rec.P.shape != (len(rec.t), len(rec.info.param_names)):
+        raise ValueError(f"per-row parameters have shape {rec.P.shape}, expected ({len(rec.t)}, {len(rec.info.param_names)})")
     return rec
 
 
