@@ -17,7 +17,7 @@ import pytest
 # WebGL through ANGLE on SwiftShader (software Vulkan): no GPU needed.
 ARGS = ["--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader", "--use-angle=swiftshader",
         "--disable-quic", "--no-first-run", "--disable-background-networking", "--disable-component-update",
-        "--disable-sync"]
+        "--disable-sync", "--disable-dev-shm-usage"]
 VIEWPORT = {"width": 640, "height": 480}
 
 # Page helpers. mcNode walks the scene tree without creating nodes (scene_tree.find would).

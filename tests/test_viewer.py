@@ -228,11 +228,22 @@ def test_cli_serve_streams_then_stops(flight, tmp_path):
     assert _gone(res["pid"])
 
 
+def test_live_viewer_gives_up_on_a_silent_server(flight):
+    from viewer.live import LiveViewer, ServerError
+
+    start = time.monotonic()
+    with pytest.raises(ServerError, match="did not answer within 0.3 s"):
+        LiveViewer(flight.system, zmq_url="tcp://127.0.0.1:9", timeout=0.3)  # nothing listens there
+    assert time.monotonic() - start < 5
+
+
 def _listening(port: int) -> set[str]:
     """Local addresses (hex, as in /proc/net/tcp*) listening on ``port``."""
     out = set()
     for name in ("/proc/net/tcp", "/proc/net/tcp6"):
-        for line in open(name).read().splitlines()[1:]:
+        with open(name) as f:
+            lines = f.read().splitlines()[1:]
+        for line in lines:
             local, state = line.split()[1], line.split()[3]
             if state == "0A" and int(local.rsplit(":", 1)[1], 16) == port:
                 out.add(local.rsplit(":", 1)[0])

@@ -35,6 +35,9 @@ def _clip_time(exp, k: int) -> float:
 
 def test_page_renders_with_webgl_and_no_errors(page, pages):
     exp = pages["default"]
+    requests = []
+    page.on("request", lambda r: requests.append(r.url))
+    page.context.set_offline(True)
     open_viewer(page, exp.path.as_uri())
     renderer = page.evaluate("""() => { const gl = viewer.renderer.getContext();
         const ext = gl.getExtension('WEBGL_debug_renderer_info');
@@ -46,6 +49,7 @@ def test_page_renders_with_webgl_and_no_errors(page, pages):
     rgb = pixels(page)
     assert len(np.unique(rgb.reshape(-1, 3), axis=0)) > 100  # a rendered scene, not a blank canvas
     assert page.errors == []
+    assert requests == [exp.path.as_uri()]  # offline: nothing but the file itself is fetched
 
 
 def test_every_main_rotor_blade_is_visible(page, pages):

@@ -34,16 +34,17 @@ def cmd_view(args) -> int:
 
 def _serve(args) -> int:
     from viewer.live import LiveViewer
-    from viewer.motion import as_recording
+    from viewer.motion import motion
 
-    rec = as_recording(Path(args.results), args.backend)
+    mo = motion(Path(args.results), None if args.revs == 0 else args.revs, args.start, args.every, backend=args.backend)
     signal.signal(signal.SIGTERM, _terminate_as_exit)
-    with LiveViewer(rec.system, follow=not args.no_follow, web_port=args.port) as live:
-        emit({"url": live.url, "pid": live.pid}, args.json, [f"meshcat viewer at {live.url} (Ctrl-C to stop)"])
+    with LiveViewer(mo.recording.system, follow=not args.no_follow, web_port=args.port) as live:
+        emit({"url": live.url, "pid": live.pid, "keys": len(mo.t)}, args.json,
+             [f"meshcat viewer at {live.url} (Ctrl-C to stop)"])
         end = time.monotonic() + args.duration if args.duration else None
         try:
             while end is None or time.monotonic() < end:
-                live.play(rec, slow=args.slow, revs=None if args.revs == 0 else args.revs, every=args.every)
+                live.play(mo, slow=args.slow)
         except KeyboardInterrupt:
             pass
     return 0

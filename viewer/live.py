@@ -190,11 +190,11 @@ class LiveViewer:
         self.show_poses(*self.system.poses(x, t, p))
 
     def play(self, source, slow: float = 10.0, revs: float | None = None, every: int = 1) -> int:
-        """Replay a Simulation, results path or Recording at ``slow`` times slower than real
-        time (frames that fall behind the clock are dropped); returns the frames sent."""
-        from viewer.motion import motion
+        """Replay a Motion, Simulation, results path or Recording at ``slow`` times slower
+        than real time (frames that fall behind the clock are dropped); returns the frames sent."""
+        from viewer.motion import Motion, motion
 
-        mo = motion(as_recording(source), revs, every=every)
+        mo = source if isinstance(source, Motion) else motion(as_recording(source), revs, every=every)
         start, sent = time.monotonic(), 0
         for k, t in enumerate(mo.t):
             due = start + (t - mo.t[0]) * slow

@@ -44,7 +44,8 @@ class Recording:
 
     def state_at(self, t: float) -> np.ndarray:
         """State at time ``t`` (s), linear between recorded rows, quaternions renormalised."""
-        if not self.t[0] - 1e-12 <= t <= self.t[-1] + 1e-12:
+        tol = 1e-12 * max(1.0, abs(t))
+        if not self.t[0] - tol <= t <= self.t[-1] + tol:
             raise ValueError(f"time {t} s is outside the recording [{self.t[0]}, {self.t[-1]}] s")
         i = int(np.clip(np.searchsorted(self.t, t, side="right") - 1, 0, len(self.t) - 2)) if len(self.t) > 1 else 0
         if len(self.t) == 1 or t == self.t[i]:
