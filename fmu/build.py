@@ -32,7 +32,7 @@ DEFAULT_SCENES = ("forward-flight", "hover", "ground-run")
 SLAVE = "heli_bo105_slave"
 RUNTIME = ["backends/__init__.py", "backends/info.py", "backends/system.py", "backends/compiled.py",
            "backends/vm.py", "integrators/*.py"]
-VM_FUNCTIONS = ("incr_rk4", "project", "outputs", "energy")
+VM_FUNCTIONS = ("incr_rk4", "project", "fmu_outputs")
 _IMPORT = re.compile(r"^(\s*)(from|import)\s+mbs(?=[\s.])", re.MULTILINE)
 
 
@@ -50,10 +50,13 @@ def identifier(scenes) -> str:
 # -- planning (needs the core and CasADi) ---------------------------------------------------
 
 def plan(scene_names) -> tuple[dict, dict]:
-    """The FMU's spec (variables, scenes, recipes) and, per model group, ``(vm, source, info)``.
+    """The FMU's spec (variables, scenes) and, per model group, ``(vm, functions)``: the
+    functions to generate, the core's plus ``fmu_outputs(x, t, p)``, which computes every
+    output and local variable of the FMU in generated code.
 
-    Scenes whose generated code is identical share one compiled model (``group``).
-    Raises ValueError when a scene cannot provide the primary scene's variables.
+    Scenes whose generated code is identical (e.g. hover and forward flight, which differ in
+    initial state and trim only) share one model (``group``). Raises ValueError when a scene
+    cannot provide the primary scene's variables.
     """
     from mbs import scenes as registry
     from mbs.backends import build
@@ -64,10 +67,8 @@ def plan(scene_names) -> tuple[dict, dict]:
         scene = registry.get(name)
         model = scene.model()
         vm = build(model, "vm")
-        source = generate(vm.functions, vm.info, "float64")
-        key = hashlib.sha256(source.encode()).hexdigest()
-        if key not in groups:
-            groups[key] = (re.sub(r"\W", "_", name), vm, source)
+        key = hashlib.sha256(generate(vm.functions, vm.info, "float64").encode()).hexdigest()
+        groups.setdefault(key, (re.sub(r"\W", "_", name), vm))
         per_scene[name] = (scene, model, vm, groups[key][0])
     primary = per_scene[scene_names[0]]
     variables = _variables(primary, scene_names)
@@ -76,8 +77,9 @@ def plan(scene_names) -> tuple[dict, dict]:
             "description": f"{primary[0].description} (scenes: {', '.join(scene_names)})",
             "version": _version(), "variables": variables, "n_computed": len(computed),
             "default_experiment": _default_experiment(primary),
-            "scenes": {n: _scene_spec(per_scene[n], computed, variables) for n in scene_names}}
-    return spec, {g: (vm, src) for g, vm, src in groups.values()}
+            "scenes": {n: _scene_spec(per_scene[n], variables) for n in scene_names}}
+    functions = {g: (vm, {**vm.functions, "fmu_outputs": fmu_outputs(vm, computed)}) for g, vm in groups.values()}
+    return spec, functions
 
 
 def _version() -> str:
@@ -164,7 +166,7 @@ def _free_body_variables(b: dict) -> list[dict]:
     return out
 
 
-def _scene_spec(entry, computed, variables) -> dict:
+def _scene_spec(entry, variables) -> dict:
     scene, _, vm, group = entry
     info = vm.info
     names = {v["name"] for v in variables}
@@ -178,40 +180,61 @@ def _scene_spec(entry, computed, variables) -> dict:
             "defaults": {p["name"]: p["default"] for p in info.parameters},
             "ranges": {p["name"]: [_finite(p["low"]), _finite(p["high"])] for p in info.parameters},
             "plots": scene.plots, "description": scene.description,
-            "forward_speed": _forward_speed(info, free[0], x0) if free else None,
-            "recipe": _recipe(scene.name, vm, computed)}
+            "forward_speed": _forward_speed(info, free[0], x0) if free else None}
 
 
 def _forward_speed(info, body: dict, x0: np.ndarray) -> dict:
+    q = [info.state_names.index(n) for n in body["q_names"][3:7]]
+    v = [info.state_names.index(n) for n in body["v_names"][:3]]
+    return {"q": q, "v": v, "default": float((_matrix(x0[q]) @ x0[v])[0])}
+
+
+def _matrix(q) -> np.ndarray:
     from mbs._rotation import quat_to_matrix
 
     import casadi as ca
 
-    q = [info.state_names.index(n) for n in body["q_names"][3:7]]
-    v = [info.state_names.index(n) for n in body["v_names"][:3]]
-    r = np.array(ca.DM(quat_to_matrix(ca.DM(x0[q]))))
-    return {"q": q, "v": v, "default": float((r @ x0[v])[0])}
+    return np.array(ca.DM(quat_to_matrix(ca.DM(q))))
 
 
-def _recipe(scene_name: str, vm, computed) -> dict:
-    """How ``scene_name`` computes each output/local: state index, output index, Euler angles
-    of a free body, or a constant (a body that is clamped in this scene)."""
+def fmu_outputs(vm, computed):
+    """CasADi function ``fmu_outputs(x, t, p)`` of every computed variable (in order) of the
+    model ``vm``: a state, a model output, the total energy, Euler angles of a free body, or
+    a constant for a body that this model clamps."""
+    import casadi as ca
+
+    from mbs._rotation import quat_to_euler
+
     info = vm.info
-    table = {"x": [], "y": [], "const": [], "energy": [], "euler": []}
-    for k, v in enumerate(computed):
+    x, t, p = ca.MX.sym("x", info.nx), ca.MX.sym("t"), ca.MX.sym("p", len(info.parameters))
+    y, e = vm.functions["outputs"](x, t, p), vm.functions["energy"](x, t, p)
+    values = []
+    for v in computed:
         name = v["name"]
         if v["kind"] == "energy":
-            table["energy"].append(k)
+            values.append(e[e.numel() - 1])
         elif v["kind"] == "output" and name in info.output_names:
-            table["y"].append([k, info.output_names.index(name)])
+            values.append(y[info.output_names.index(name)])
         elif v["kind"] == "state" and name in info.state_names:
-            table["x"].append([k, info.state_names.index(name)])
+            values.append(x[info.state_names.index(name)])
         elif v["kind"] == "euler" and _is_free(info, v["body"]):
-            b = _body(info, v["body"])
-            table["euler"].append([k, v["axis"], [info.state_names.index(n) for n in b["q_names"][3:7]]])
+            q = [x[info.state_names.index(n)] for n in _body(info, v["body"])["q_names"][3:7]]
+            values.append(_euler(*q)[v["axis"]])
         else:
-            table["const"].append([k, _clamped_value(scene_name, vm, v)])
-    return table
+            values.append(_clamped_value(info.name, vm, v, quat_to_euler))
+    return ca.Function("fmu_outputs", [x, t, p], [ca.vertcat(*values)], ["x", "t", "p"], ["values"])
+
+
+def _euler(w, x, y, z):
+    """Aerospace Euler angles (roll, pitch, yaw) of a quaternion, as CasADi expressions
+    (the convention of :func:`mbs._rotation.quat_to_euler`)."""
+    import casadi as ca
+
+    n = ca.sqrt(w * w + x * x + y * y + z * z)
+    w, x, y, z = w / n, x / n, y / n, z / n
+    return (ca.atan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y)),
+            ca.asin(ca.fmin(1, ca.fmax(-1, 2 * (w * y - z * x)))),
+            ca.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z)))
 
 
 def _body(info, name: str) -> dict | None:
@@ -223,14 +246,14 @@ def _is_free(info, name: str) -> bool:
     return b is not None and b["joint"] == "FreeJoint"
 
 
-def _clamped_value(scene_name: str, vm, v: dict) -> float:
-    """Value of a free-body variable of the primary scene for a body clamped in this scene."""
-    from mbs._rotation import matrix_to_quat, quat_to_euler
+def _clamped_value(model: str, vm, v: dict, quat_to_euler) -> float:
+    """Value of a free-body variable of the primary scene for a body clamped in ``vm``."""
+    from mbs._rotation import matrix_to_quat
 
     body = v.get("body") or v["name"].split(".")[0]
     info = vm.info
     if _body(info, body) is None or v["kind"] == "output":
-        raise ValueError(f"scene {scene_name!r} cannot provide the variable {v['name']!r}")
+        raise ValueError(f"model {model!r} cannot provide the variable {v['name']!r}")
     pos, rot = vm.poses(vm.x0())
     i = info.body_names.index(body)
     if v["kind"] == "euler":
@@ -271,18 +294,19 @@ def stage_code(stage: Path) -> tuple[str, Path]:
 
 
 def stage_models(stage: Path, spec: dict, groups: dict) -> Path:
-    """Compile each model group (cached by the core) and write ``heli_models/``."""
-    from mbs.backends.compiled import compile_source
+    """Compile each model group (cached) and write ``heli_models/``: per group the library,
+    ``info.json`` and the CasADi functions the virtual machine needs."""
+    from mbs.backends.compiled import compile_source, generate
 
     root = stage / "heli_models"
-    for group, (vm, source) in groups.items():
+    for group, (vm, functions) in groups.items():
         folder = root / group
         (folder / "vm").mkdir(parents=True)
-        compiled = compile_source(source, vm.info)
+        compiled = compile_source(generate(functions, vm.info, "float64"), vm.info)
         shutil.copy2(compiled / "model.so", folder / "model.so")
         (folder / "info.json").write_text(vm.info.to_json())
         for name in VM_FUNCTIONS:
-            vm.functions[name].save(str(folder / "vm" / f"{name}.casadi"))
+            functions[name].save(str(folder / "vm" / f"{name}.casadi"))
     (root / "spec.json").write_text(json.dumps(spec, indent=1))
     return root
 

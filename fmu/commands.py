@@ -46,16 +46,17 @@ def cmd_bench_fmu(args) -> int:
     from fmu import bench
 
     res = bench.run(args.revs, args.repeats)
-    us = res["us_per_step"]
+    us, usc = res["us_per_step"], res["us_per_step_cpu"]
+    rows = [("fmpy.simulate_fmu", "fmpy"), ("  first call in process", "fmpy_cold"),
+            ("fmpy loop (FMU2Slave)", "fmpy_loop"), ("core directly", "core")]
     lines = [f"{res['scene']}: {res['revs']:g} revolutions, communication step 1/100 rev "
-             f"({res['communication_step_s'] * 1e3:.3f} ms), median of {res['repeats']} fresh processes",
-             f"  fmpy.simulate_fmu   {res['realtime_factor_fmpy']:7.1f}x real time ({us['fmpy']:6.1f} µs/step, "
-             "incl. extract and instantiate)",
-             f"  fmpy loop (FMU2Slave) {res['realtime_factor_fmpy_loop']:5.1f}x real time ({us['loop']:6.1f} µs/step)",
-             f"  core directly       {res['realtime_factor_core']:7.1f}x real time ({us['core']:6.1f} µs/step)",
-             f"  FMU overhead ratio  {res['overhead_ratio']:7.2f} (core RTF / fmpy RTF); loop only "
-             f"{res['overhead_ratio_loop']:.2f}",
-             f"  target: fmpy >= 10x real time: {'met' if res['meets_target'] else 'NOT met'}"]
+             f"({res['communication_step_s'] * 1e3:.3f} ms), median of {res['repeats']} fresh processes, "
+             f"load average {res['load_average'][0]:.1f}",
+             f"  {'':24s} {'real-time factor':>18s} {'µs/step':>9s}   (CPU time: factor, µs/step)"]
+    lines += [f"  {label:24s} {res['realtime_factor_' + k]:17.1f}x {us[k]:9.1f}   "
+              f"({res['realtime_factor_' + k + '_cpu']:.1f}x, {usc[k]:.1f})" for label, k in rows]
+    lines += [f"  FMU overhead ratio (core / fmpy): {res['overhead_ratio']:.2f} (CPU time {res['overhead_ratio_cpu']:.2f})",
+              f"  target fmpy >= 10x real time: {'met' if res['meets_target'] else 'NOT met'}"]
     emit(res, args.json, lines)
     return 0
 

@@ -19,6 +19,7 @@ build), never from an ``mbs`` that the host may have imported.
 """
 from __future__ import annotations
 
+import ctypes
 import json
 import math
 import sys
@@ -29,6 +30,7 @@ import numpy as np
 from pythonfmu import DefaultExperiment, Fmi2Slave, Real, String
 from pythonfmu.enums import Fmi2Causality, Fmi2Initial, Fmi2Status, Fmi2Variability
 
+from mbs.backends import compiled as _compiled
 from mbs.backends.compiled import CompiledSystem
 from mbs.backends.info import ModelInfo
 
@@ -42,17 +44,6 @@ BASE_UNITS = {"rad": {"rad": 1}, "rad/s": {"rad": 1, "s": -1}, "m": {"m": 1}, "m
               "1": {}}
 
 
-def quat_to_euler(w: float, x: float, y: float, z: float) -> tuple[float, float, float]:
-    """Aerospace Euler angles (roll, pitch, yaw) in rad of the quaternion ``(w, x, y, z)``
-    (same convention as :func:`mbs._rotation.quat_to_euler`, in scalar arithmetic)."""
-    n = math.sqrt(w * w + x * x + y * y + z * z)
-    w, x, y, z = w / n, x / n, y / n, z / n
-    roll = math.atan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y))
-    pitch = math.asin(min(1.0, max(-1.0, 2 * (w * y - z * x))))
-    yaw = math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
-    return roll, pitch, yaw
-
-
 def quat_to_matrix(q) -> np.ndarray:
     """Rotation matrix (body -> world) of the quaternion ``q = (w, x, y, z)``."""
     w, x, y, z = np.asarray(q, dtype=float) / np.linalg.norm(q)
@@ -61,41 +52,93 @@ def quat_to_matrix(q) -> np.ndarray:
                      [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
 
 
-class BadValue(ValueError):
-    """A value that the FMU refuses; the message names the variable and the value."""
+class Stepper:
+    """One instance's numerics through the core's evaluator interface (``_run``, ``_eval``),
+    for any evaluator: state ``x`` (nx,), summation compensation ``comp`` (nx,) and
+    parameters ``p``, advanced in place."""
+
+    def __init__(self, system, x: np.ndarray, comp: np.ndarray):
+        self.system = system
+        self.x, self.comp = np.array(x, dtype=float), np.array(comp, dtype=float)
+        self.p = np.zeros(len(system.info.parameters))
+
+    def set_params(self, p: np.ndarray) -> None:
+        self.p[:] = p
+
+    def step(self, t: float, h: float, n: int) -> tuple[int, int]:
+        """``n`` RK4 steps of ``h`` from ``t``; on failure (status 1 non-finite, 2 evaluation
+        error) the state is left as it was. Returns (status, sub-steps done)."""
+        comp = self.comp.copy()
+        rows, status, done = self.system._run("rk4", self.x, t, h, 0, n, n, self.p, comp)
+        if not status:
+            self.x[:], self.comp[:] = rows[-1], comp
+        return status, done
+
+    def outputs(self, t: float) -> list[float]:
+        """Every output and local variable of the FMU (generated ``fmu_outputs``)."""
+        return self.system._eval("fmu_outputs", self.x, t, self.p)[0].tolist()
 
 
-class Recipe:
-    """How one scene computes the output and local variables from ``(x, t, p)``."""
+# The driver signature that BoundStepper was written for; if the core's template differs,
+# the generic Stepper is used.
+DRIVER_SIGNATURE = ("int mbs_run_{m}(const casadi_real* x0, double t0, double h, long long k0,\n"
+                    "    long long n, long long every, const casadi_real* p, casadi_real* out, casadi_real* comp,\n"
+                    "    int compensated, long long* done)")
 
-    def __init__(self, table: dict, n: int):
-        self.n = n
-        self.xpos, self.xidx = self._pairs(table["x"])
-        self.ypos, self.yidx = self._pairs(table["y"])
-        self.cpos, self.cval = self._pairs(table["const"], float)
-        self.epos = np.array(table["energy"], dtype=int)
-        self.euler = [(int(pos), int(axis), [int(i) for i in q]) for pos, axis, q in table["euler"]]
+
+class BoundStepper(Stepper):
+    """:class:`Stepper` for the compiled evaluator with every C argument bound once to fixed
+    buffers: turning numpy arrays into pointers on each call costs about 25 µs, as much as
+    the RK4 step of the Bo105 itself, and an FMU calls twice per communication step."""
+
+    usable = DRIVER_SIGNATURE in _compiled.DRIVER
+
+    def __init__(self, system, x, comp):
+        super().__init__(system, x, comp)
+        lib = ctypes.CDLL(str(system.folder / "model.so"))
+        self._trial, self._t, self._done = np.zeros(self.x.size), np.zeros(1), ctypes.c_longlong()
+        ptr = lambda a: a.ctypes.data  # noqa: E731
+        self._drive = lib.mbs_run_rk4
+        self._drive.restype = ctypes.c_int
+        self._drive.argtypes = [ctypes.c_void_p, ctypes.c_double, ctypes.c_double, *[ctypes.c_longlong] * 3,
+                                *[ctypes.c_void_p] * 3, ctypes.c_int, ctypes.c_void_p]
+        self._drive_args = (ptr(self.x), ptr(self.p), ptr(self.x), ptr(self._trial), ctypes.addressof(self._done))
+        self._vals = np.zeros(self._outputs_size(lib))
+        self._fn = lib.fmu_outputs
+        self._fn.restype = ctypes.c_int
+        self._fn.argtypes = [*[ctypes.c_void_p] * 4, ctypes.c_int]
+        sizes = [ctypes.c_longlong() for _ in range(4)]
+        lib.fmu_outputs_work(*[ctypes.byref(z) for z in sizes])
+        self._arg = (ctypes.c_void_p * max(sizes[0].value, 3))(ptr(self.x), ptr(self._t), ptr(self.p))
+        self._res = (ctypes.c_void_p * max(sizes[1].value, 1))(ptr(self._vals))
+        self._iw = np.zeros(max(sizes[2].value, 1), np.int64)
+        self._w = np.zeros(max(sizes[3].value, 1))
+        self._fn_args = (ctypes.addressof(self._arg), ctypes.addressof(self._res), ptr(self._iw), ptr(self._w), 0)
 
     @staticmethod
-    def _pairs(rows, kind=int):
-        rows = list(rows)
-        return (np.array([r[0] for r in rows], dtype=int), np.array([r[1] for r in rows], dtype=kind))
+    def _outputs_size(lib) -> int:
+        f = lib.fmu_outputs_sparsity_out
+        f.restype = ctypes.POINTER(ctypes.c_longlong)
+        sp = f(0)
+        return int(sp[0] * sp[1])
 
-    def evaluate(self, system, x: np.ndarray, t: float, p: np.ndarray) -> list[float]:
-        v = np.empty(self.n)
-        v[self.xpos] = x[self.xidx]
-        if self.ypos.size:
-            v[self.ypos] = system._eval("outputs", x, t, p)[0][self.yidx]
-        if self.epos.size:
-            v[self.epos] = system._eval("energy", x, t, p)[0][-1]
-        v[self.cpos] = self.cval
-        angles = {}
-        for pos, axis, q in self.euler:
-            key = tuple(q)
-            if key not in angles:
-                angles[key] = quat_to_euler(*(float(x[i]) for i in q))
-            v[pos] = angles[key][axis]
-        return v.tolist()
+    def step(self, t, h, n):
+        self._trial[:] = self.comp
+        x, p, out, trial, done = self._drive_args  # out is x: the driver writes the last row only on success
+        status = self._drive(x, t, h, 0, n, n, p, out, trial, 1, done)
+        if not status:
+            self.comp[:] = self._trial
+        return (2 if status > 1 else status), self._done.value
+
+    def outputs(self, t):
+        self._t[0] = t
+        if self._fn(*self._fn_args):
+            raise FloatingPointError("the generated function fmu_outputs reported an error")
+        return self._vals.tolist()
+
+
+class BadValue(ValueError):
+    """A value that the FMU refuses; the message names the variable and the value."""
 
 
 def load_vm(folder: Path, info: ModelInfo):
@@ -149,7 +192,7 @@ class HeliRotorSlave(Fmi2Slave):
         self._systems: dict = {}
         self._phase = "instantiated"
         self._start_time = 0.0
-        self._sys = self._x = self._comp = self._p = self._cache = None
+        self._stepper = self._p = self._cache = None
         self._t = 0.0
         self._vars = {v["name"]: v for v in self._spec["variables"]}
         for k, v in enumerate(self._spec["variables"]):
@@ -170,16 +213,12 @@ class HeliRotorSlave(Fmi2Slave):
                     setter=lambda value: self._refuse_output(name, value), **args)
 
     def get_real(self, vrs: list[int]) -> list[float]:
-        """pythonfmu's ``get_real`` with one evaluation of the outputs for all of them."""
-        values, out = None, []
-        for vr in vrs:
-            k = self._positions.get(vr)
-            if k is None:
-                out += super().get_real([vr])
-            else:
-                values = values or self._computed()
-                out.append(values[k])
-        return out
+        """pythonfmu's ``get_real``, with one evaluation of the outputs for all of them."""
+        pos = self._positions
+        if all(vr in pos for vr in vrs):
+            values = self._computed()
+            return [values[pos[vr]] for vr in vrs]
+        return super().get_real(vrs)
 
     def to_xml(self, model_options=dict()):
         """pythonfmu's description plus units, ranges, ``<UnitDefinitions>`` and ``<InitialUnknowns>``."""
@@ -246,7 +285,7 @@ class HeliRotorSlave(Fmi2Slave):
         if v["causality"] == "input" or v["variability"] == "tunable":
             return
         if self._phase != "stepping":
-            self._sys = self._x = None
+            self._stepper = None
         elif value != self._frozen[name]:
             self._errors[name] = self._report(
                 f"parameter {name!r} is fixed: it cannot change after initialisation (set to {value!r}, "
@@ -315,13 +354,20 @@ class HeliRotorSlave(Fmi2Slave):
     def _prepare(self) -> None:
         """Load the scene's evaluator and set the initial state at the start time."""
         scene = self._scene()
-        self._sys = self._system(scene["group"], self._use("evaluator"))
         x0 = np.array(scene["x0"], dtype=float)
         if "initial_forward_speed" in self._settings and "initial_forward_speed" not in self._errors:
             x0 = self._with_forward_speed(scene, x0, float(self._settings["initial_forward_speed"]))
-        self._x, self._t, self._comp = x0, self._start_time, np.zeros(x0.size)
+        self._load(scene["group"], self._use("evaluator"), x0, np.zeros(x0.size))
+        self._t = self._start_time
+
+    def _load(self, group: str, evaluator: str, x: np.ndarray, comp: np.ndarray) -> None:
+        system = self._system(group, evaluator)
+        if x.size != system.info.nx:
+            raise BadValue(f"a state of {x.size} entries does not fit scene {self._use('scene')!r} "
+                           f"({system.info.nx} states)")
+        kind = BoundStepper if isinstance(system, CompiledSystem) and BoundStepper.usable else Stepper
+        self._stepper = kind(system, x, comp)
         self._p = self._cache = None
-        self._recipe = Recipe(scene["recipe"], self._spec["n_computed"])
 
     def _with_forward_speed(self, scene: dict, x0: np.ndarray, speed: float) -> np.ndarray:
         """Initial body velocity ``R(q0)^T (speed, 0, 0)``: level flight north at the scene's attitude."""
@@ -352,8 +398,12 @@ class HeliRotorSlave(Fmi2Slave):
         return self._systems[key]
 
     def _params(self) -> np.ndarray:
+        """Parameter vector of the scene's model (inputs included), handed to the stepper;
+        also caches ``max_step``."""
         if self._p is None:
             self._p = np.array([float(self._use(n)) for n in self._scene()["parameter_order"]])
+            self._h_max = float(self._use("max_step"))
+            self._stepper.set_params(self._p)
         return self._p
 
     def _computed(self) -> list[float]:
@@ -362,9 +412,10 @@ class HeliRotorSlave(Fmi2Slave):
         return self._cache
 
     def _compute(self) -> list[float]:
-        if self._x is None:
+        if self._stepper is None:
             self._prepare()
-        return self._recipe.evaluate(self._sys, self._x, self._t, self._params())
+        self._params()
+        return self._stepper.outputs(self._t)
 
     def do_step(self, current_time: float, step_size: float) -> bool:
         return self._guard("doStep", self._step, current_time, step_size)
@@ -378,14 +429,13 @@ class HeliRotorSlave(Fmi2Slave):
         if problem:
             self._report(problem, Fmi2Status.discard)
             return False
-        h_max = float(self._use("max_step"))
-        n = max(1, math.ceil(dt / h_max - 1e-12))
-        h, comp, p = dt / n, self._comp.copy(), self._params()
-        rows, status, done = self._sys._run("rk4", self._x, t, h, 0, n, n, p, comp)
+        self._params()
+        n = max(1, math.ceil(dt / self._h_max - 1e-12))
+        status, _ = self._stepper.step(t, dt / n, n)
         if status:
-            self._report(self._divergence(t, h, n, p, status), Fmi2Status.discard)
+            self._report(self._divergence(t, dt / n, n, status), Fmi2Status.discard)
             return False
-        self._x, self._comp, self._t, self._cache = rows[-1].astype(float), comp, t + dt, None
+        self._t, self._cache = t + dt, None
         return True
 
     def _step_problem(self, t: float, dt: float) -> str | None:
@@ -398,18 +448,19 @@ class HeliRotorSlave(Fmi2Slave):
                     "(restore a saved FMU state to go back in time)")
         return None
 
-    def _divergence(self, t, h, n, p, status) -> str:
+    def _divergence(self, t, h, n, status) -> str:
         """Redo the failed step recording every sub-step, and name the first state that
         became non-finite."""
-        rows, _, done = self._sys._run("rk4", self._x, t, h, 0, n, 1, p, self._comp.copy())
-        x = rows[done - 1] if done else self._x
+        st = self._stepper
+        rows, _, done = st.system._run("rk4", st.x, t, h, 0, n, 1, st.p, st.comp.copy())
+        x = rows[done - 1] if done else st.x
         tk = t + done * h
         where = f"at t = {tk!r} s (sub-step {done + 1} of {n}, h = {h!r} s)"
         if status != 1:
             return f"the model evaluation failed {where}; the step was discarded"
-        bad = x + self._sys._eval("incr_rk4", x, tk, h, p)[0]
+        bad = x + st.system._eval("incr_rk4", x, tk, h, st.p)[0]
         i = int(np.flatnonzero(~np.isfinite(bad))[0]) if not np.all(np.isfinite(bad)) else 0
-        return (f"the simulation diverged {where}: state {self._sys.info.state_names[i]!r} = {float(bad[i])!r}; "
+        return (f"the simulation diverged {where}: state {st.system.info.state_names[i]!r} = {float(bad[i])!r}; "
                 f"max_step = {self._use('max_step')!r} s may be beyond RK4's stability limit, or the inputs "
                 f"drove the model out of its range; the step was discarded (the state stays at t = {t!r} s)")
 
@@ -418,9 +469,9 @@ class HeliRotorSlave(Fmi2Slave):
         return self._guard("getFMUstate", self._snapshot)
 
     def _snapshot(self) -> dict:
+        st = self._stepper
         return {"format": STATE_FORMAT, "phase": self._phase, "start_time": self._start_time, "t": self._t,
-                "x": None if self._x is None else self._x.tolist(),
-                "comp": None if self._comp is None else self._comp.tolist(),
+                "x": None if st is None else st.x.tolist(), "comp": None if st is None else st.comp.tolist(),
                 "settings": dict(self._settings), "errors": dict(self._errors), "frozen": dict(self._frozen)}
 
     def _set_fmu_state(self, state: dict) -> None:
@@ -432,11 +483,8 @@ class HeliRotorSlave(Fmi2Slave):
         self._settings, self._errors = dict(state["settings"]), dict(state["errors"])
         self._frozen = dict(state["frozen"])
         self._phase, self._start_time = state["phase"], state["start_time"]
-        self._sys = self._x = None
+        self._stepper = None
         if state["x"] is not None:
-            self._prepare()
-            if len(state["x"]) != self._x.size:
-                raise BadValue(f"the saved state has {len(state['x'])} entries; scene "
-                               f"{self._use('scene')!r} has {self._x.size}")
-            self._x, self._comp = np.array(state["x"], dtype=float), np.array(state["comp"], dtype=float)
+            x, comp = np.array(state["x"], dtype=float), np.array(state["comp"], dtype=float)
+            self._load(self._scene()["group"], self._use("evaluator"), x, comp)
         self._t, self._p, self._cache = state["t"], None, None
