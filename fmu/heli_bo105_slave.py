@@ -214,11 +214,12 @@ class HeliRotorSlave(Fmi2Slave):
 
     def get_real(self, vrs: list[int]) -> list[float]:
         """pythonfmu's ``get_real``, with one evaluation of the outputs for all of them."""
-        pos = self._positions
-        if all(vr in pos for vr in vrs):
-            values = self._computed()
-            return [values[pos[vr]] for vr in vrs]
-        return super().get_real(vrs)
+        try:
+            idx = [self._positions[vr] for vr in vrs]
+        except KeyError:
+            return super().get_real(vrs)
+        values = self._computed()
+        return [values[k] for k in idx]
 
     def to_xml(self, model_options=dict()):
         """pythonfmu's description plus units, ranges, ``<UnitDefinitions>`` and ``<InitialUnknowns>``."""
@@ -273,15 +274,24 @@ class HeliRotorSlave(Fmi2Slave):
         return scene["defaults"][name]
 
     def _set(self, name: str, value) -> None:
+        v = self._vars[name]
+        if v["causality"] == "input" and name not in self._errors and self._settings.get(name) == value:
+            return  # a master sets every input before each step; most are unchanged
         self._settings[name] = value
         self._errors.pop(name, None)
-        self._p = self._cache = None
         try:
             self._check(name, value)
         except BadValue as exc:
+            self._p = self._cache = None
             self._errors[name] = self._report(str(exc))
             return
-        v = self._vars[name]
+        order = self._scene()["parameter_order"]
+        if v["causality"] == "input" and self._p is not None and name in order:
+            self._p[order.index(name)] = value
+            self._stepper.set_params(self._p)
+            self._cache = None
+            return
+        self._p = self._cache = None
         if v["causality"] == "input" or v["variability"] == "tunable":
             return
         if self._phase != "stepping":

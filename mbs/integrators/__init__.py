@@ -1,14 +1,22 @@
-"""Time integrators. Fixed-step explicit RK methods are data (Butcher tableaux) turned into
-generated code by :func:`mbs.integrators.symbolic_steps`."""
+"""Time integrators. Runge-Kutta methods are data (Butcher tableaux); explicit ones become
+generated code by :func:`symbolic_step` / :func:`symbolic_increment` in every built model,
+the implicit midpoint rule (:mod:`mbs.integrators.midpoint`) by a separate generated
+library, so that models which do not use it do not pay for its Jacobian.
+
+``FIXED_STEP``: explicit methods compiled into every model (name -> tableau; ``stages`` is
+the number of right-hand-side calls per step). ``TABLEAUX``: every fixed-step method.
+"""
 from __future__ import annotations
 
 import casadi as ca
 
 from mbs.integrators._tableau import ButcherTableau, rk_increment, rk_step
 from mbs.integrators.euler import EULER
+from mbs.integrators.midpoint import MIDPOINT, symbolic_midpoint_increment
 from mbs.integrators.rk4 import RK4
 
 FIXED_STEP: dict[str, ButcherTableau] = {t.name: t for t in (RK4, EULER)}
+TABLEAUX: dict[str, ButcherTableau] = {t.name: t for t in (EULER, RK4, MIDPOINT)}
 
 
 def symbolic_increment(rhs: ca.Function, tab: ButcherTableau) -> ca.Function:
@@ -31,4 +39,5 @@ def symbolic_step(rhs: ca.Function, project: ca.Function, tab: ButcherTableau) -
     return ca.Function(f"step_{tab.name}", [x, t, h, p], [xn], ["x", "t", "h", "p"], ["x_next"])
 
 
-__all__ = ["ButcherTableau", "FIXED_STEP", "RK4", "EULER", "symbolic_step", "symbolic_increment", "rk_step"]
+__all__ = ["ButcherTableau", "FIXED_STEP", "TABLEAUX", "RK4", "EULER", "MIDPOINT", "symbolic_step",
+           "symbolic_increment", "symbolic_midpoint_increment", "rk_step"]

@@ -1,4 +1,4 @@
-"""Explicit Runge-Kutta methods as data, and the one symbolic stepping kernel."""
+"""Runge-Kutta methods as data, their stability functions, and the one symbolic stepping kernel."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -9,7 +9,11 @@ import numpy as np
 
 @dataclass(frozen=True)
 class ButcherTableau:
-    """Explicit RK method: ``a`` (s, s) strictly lower triangular, weights ``b`` (s,), nodes ``c`` (s,)."""
+    """RK method: ``a`` (s, s), weights ``b`` (s,), nodes ``c`` (s,).
+
+    Explicit when ``a`` is strictly lower triangular; otherwise the stage equations are
+    implicit and need a nonlinear solve (see :mod:`mbs.integrators.midpoint`).
+    """
 
     name: str
     a: tuple
@@ -21,17 +25,34 @@ class ButcherTableau:
     def stages(self) -> int:
         return len(self.b)
 
-    def stability_polynomial(self) -> np.ndarray:
-        """Coefficients (highest power first) of ``R(z) = 1 + z bᵀ (I - z A)⁻¹ 1``.
+    @property
+    def explicit(self) -> bool:
+        return not np.any(np.triu(np.array(self.a, dtype=float)))
 
-        For an explicit method ``A`` is nilpotent, so ``R(z) = 1 + sum_k bᵀ A^k 1 z^(k+1)``.
+    def stability_function(self) -> tuple[np.ndarray, np.ndarray]:
+        """``R(z) = N(z) / D(z)`` for ``y' = λ y``, ``z = hλ``; coefficients, lowest power first.
+
+        ``R(z) = 1 + z bᵀ (I - z A)⁻¹ 1 = det(I - z A + z 1 bᵀ) / det(I - z A)``, and
+        ``det(I - z M)`` has the coefficients of the characteristic polynomial of ``M``.
         """
         a, b = np.array(self.a, dtype=float), np.array(self.b, dtype=float)
-        coeffs, v = [1.0], np.ones(self.stages)
-        for _ in range(self.stages):
-            coeffs.append(b @ v)
-            v = a @ v
-        return np.array(coeffs[::-1])
+        num = np.real(np.poly(a - np.outer(np.ones(self.stages), b)))
+        den = np.real(np.poly(a))
+        return _clean(num), _clean(den)
+
+    def stability_polynomial(self) -> np.ndarray:
+        """Coefficients (highest power first) of ``R(z)`` of an explicit method (``D = 1``)."""
+        if not self.explicit:
+            raise ValueError(f"{self.name} is implicit: its stability function is rational; "
+                             "use stability_function()")
+        return self.stability_function()[0][::-1]
+
+
+def _clean(c: np.ndarray) -> np.ndarray:
+    """Drop round-off from the determinant expansion (coefficients are rationals of order 1)."""
+    c = np.where(np.abs(c) < 1e-13, 0.0, c)
+    nz = np.flatnonzero(c)
+    return c[: nz[-1] + 1] if nz.size else c[:1]
 
 
 def rk_step(f: ca.Function, x, t, h, p, tab: ButcherTableau):
@@ -41,6 +62,8 @@ def rk_step(f: ca.Function, x, t, h, p, tab: ButcherTableau):
 
 def rk_increment(f: ca.Function, x, t, h, p, tab: ButcherTableau):
     """The update ``h sum_i b_i k_i`` of one explicit RK step (without adding ``x``)."""
+    if not tab.explicit:
+        raise ValueError(f"rk_increment handles explicit tableaux only; {tab.name} is implicit")
     k = []
     for i in range(tab.stages):
         xi = x
