@@ -160,3 +160,45 @@ def test_identical_blades_repeat_each_other_a_quarter_revolution_apart():
             bk = sim.traj.column(f"blade{k}.{name}")[window]
             assert np.abs(bk - b1[35 * n + shift:39 * n + shift]).max() < tol * scale
             assert np.abs(bk - b1[window]).max() > 0.1 * scale  # without the shift they differ
+
+
+def test_scene_without_a_component_has_none_of_its_states():
+    names = {n: scenes.get(n).system("vm").info.state_names for n in
+             ("structural", "forward-flight", "ground-run", "single-blade")}
+    assert len(names["forward-flight"]) == 2 * (6 + 4 * 2 + 1) + 1 + 2  # quaternion + 2 inflow states
+    assert not any(s.endswith(".inflow") for s in names["structural"])      # no aerodynamics
+    assert not any(s.startswith("fuselage.") for s in names["ground-run"])  # fuselage clamped
+    assert names["single-blade"] == ["blade1.flap", "blade1.lag", "blade1.flap_rate", "blade1.lag_rate"]
+
+
+@pytest.fixture(scope="module")
+def axisymmetric_ground_run():
+    """Ground run at the hover collective with zero cyclic, 60 revolutions (transient decayed)."""
+    return simulate("ground-run", revs=60, steps_per_rev=100,
+                    params={"lateral_cyclic": 0.0, "longitudinal_cyclic": 0.0})
+
+
+def test_ground_run_blades_agree_at_the_same_azimuth(axisymmetric_ground_run):
+    sim, n = axisymmetric_ground_run, 100
+    start, stop = 55 * n, 59 * n
+    for name in ("flap", "lag"):
+        b1 = sim.traj.column(f"blade1.{name}")
+        for k in (2, 3, 4):
+            shift = (k - 1) * n // 4  # blade k reaches blade 1's azimuth a quarter revolution later
+            bk = sim.traj.column(f"blade{k}.{name}")[start:stop]
+            assert np.abs(bk - b1[start + shift:stop + shift]).max() < 1e-6, (name, k)
+
+
+def test_ground_run_coning_matches_the_blade_element_estimate(axisymmetric_ground_run):
+    """Reference (shared/reference/bo105.md §3, centre-spring hover coning): β0 ≈ 2.0°."""
+    sim = axisymmetric_ground_run
+    flap = np.column_stack([sim.traj.column(f"blade{k}.flap")[55 * 100:] for k in range(1, 5)])
+    assert np.degrees(flap.mean()) == pytest.approx(2.0, rel=0.2)
+
+
+def test_hover_hinge_angles_stay_bounded():
+    sim = simulate("hover", revs=10, steps_per_rev=100)
+    for name, bound in (("flap", 0.1), ("lag", 0.05)):  # rad; trimmed hover: 0.051, 0.017
+        angles = np.column_stack([sim.traj.column(f"blade{k}.{name}") for k in range(1, 5)])
+        assert np.all(np.isfinite(angles)) and np.abs(angles).max() < bound, name
+    assert np.abs(sim.traj.column("seesaw.teeter")).max() < 0.02  # rad; measured 0.0019
