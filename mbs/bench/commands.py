@@ -1,30 +1,63 @@
-"""Benchmark subcommands: ``heli bench speed`` (and more to come)."""
+"""Benchmark subcommands: ``heli bench speed`` (``heli bench scaling`` lives in mbs.bench.scaling)."""
 from __future__ import annotations
 
 from mbs.cli import add_json, emit
 
 
+def _scene_lines(res: dict) -> list[str]:
+    lines = [f"Bo105 scenes (compiled C, float64; RK4 at {res['steps_per_rev']} steps per main-rotor revolution):",
+             f"  {'scene':15} {'DOF':>4} {'states':>6} {'rhs µs':>8} {'RK4 µs':>8} {'RK4 µs in run':>13} "
+             f"{'real time x':>11}"]
+    for r in res["bo105"]:
+        lines.append(f"  {r['scene']:15} {r['dof']:4d} {r['nx']:6d} {r['rhs_us']:8.2f} {r['rk4_step_us']:8.2f} "
+                     f"{r['rk4_step_in_run_us']:13.2f} {r['real_time_factor']:11.1f}")
+    lines.append("  (rhs and RK4: one raw call from Python; in run: per step inside a 200-step C loop, "
+                 "which sets the real-time factor)")
+    return lines
+
+
+def _engine_line(label: str, us: float | None, ratio: float | None, diff: float | None) -> str:
+    us_s = f"{us:9.2f}" if us is not None else f"{'-':>9}"
+    ratio_s = f"{ratio:13.2f}" if ratio is not None else f"{'':13}"
+    diff_s = f"{diff:15.1e}" if diff is not None else ""
+    return f"  {label:36} {us_s} {ratio_s} {diff_s}"
+
+
+def _tree_lines(c: dict, what: str) -> list[str]:
+    lines = [f"{what} {c['model']} ({c['nv']} DOF, no springs), one forward dynamics call:",
+             f"  {'engine':36} {'µs':>9} {'ours / them':>13} {'max rel. diff':>15}",
+             _engine_line("ours, compiled C (raw ctypes call)", c["compiled_rhs_us"], None, None),
+             _engine_line("ours, compiled C via System.rhs", c["compiled_rhs_checked_us"], None, None),
+             _engine_line("ours, CasADi virtual machine", c["vm_rhs_us"], None, None)]
+    for key, name, fn in (("pinocchio_aba", "pinocchio", "pinocchio.aba"),
+                          ("mujoco_forward", "mujoco", "mujoco.mj_forward")):
+        label = f"{fn} {c[name]}" if f"max_rel_diff_to_{key}" in c else fn
+        lines.append(_engine_line(label, c.get(f"{key}_us"), c.get(f"ratio_rhs_to_{key}"),
+                                  c.get(f"max_rel_diff_to_{key}")))
+        if f"max_rel_diff_to_{key}" not in c:
+            lines.append(f"    {fn}: {c[name]}")
+        elif f"{key}_error" in c:
+            lines.append(f"    {fn}: {c[f'{key}_error']}")
+    lines.append(f"  RK4 step, ours: {c['compiled_rk4_step_us']:.2f} µs (one call), "
+                 f"{c['compiled_rk4_step_in_run_us']:.2f} µs inside a 1000-step run")
+    return lines
+
+
 def cmd_bench_speed(args) -> int:
+    from mbs._progress import Progress
     from mbs.bench import speed
 
-    res = speed.run()
-    c = res["conservative_tree"]
-    lines = [f"conservative tree {c['model']} ({c['nv']} DOF):",
-             f"  compiled rhs          {c['compiled_rhs_us']:8.2f} µs (raw ctypes call)",
-             f"  compiled rhs, checked {c['compiled_rhs_checked_us']:8.2f} µs (System.rhs)",
-             f"  compiled RK4 step     {c['compiled_rk4_step_us']:8.2f} µs (one call), "
-             f"{c['compiled_rk4_step_in_run_us']:.2f} µs inside a 1000-step run",
-             f"  virtual machine rhs   {c['vm_rhs_us']:8.2f} µs"]
-    if "pinocchio_aba_us" in c:
-        lines += [f"  pinocchio.aba         {c['pinocchio_aba_us']:8.2f} µs",
-                  f"  ratio rhs / aba       {c['ratio_rhs_to_aba']:8.2f}"]
-    else:
-        lines.append(f"  pinocchio: {c['pinocchio']}")
+    res = speed.run(Progress("speed"))
+    m = res["machine"]
+    lines = [f"machine: {m['cpu']}, {m['cores']} cores; python {m['python']}, numpy {m['numpy']}, "
+             f"casadi {m['casadi']}, {m['cc']}", *_scene_lines(res),
+             *_tree_lines(res["conservative_tree"], "conservative tree"),
+             *_tree_lines(res["bo105_tree"], "Bo105 structural tree")]
     emit(res, args.json, lines)
     return 0
 
 
 def register(sub, bench) -> None:
-    p = bench.add_parser("speed", help="right-hand side and RK4 step against Pinocchio")
+    p = bench.add_parser("speed", help="Bo105 scenes, and one tree against Pinocchio and MuJoCo")
     add_json(p)
     p.set_defaults(fn=cmd_bench_speed)
