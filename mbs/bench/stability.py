@@ -385,7 +385,8 @@ def _method_line(name: str, row: dict) -> str:
         reach = ", ".join(f"{r['reach']:g}" for r in g)
         factors = ", ".join(f"{r['measured_energy_factor']:.5f}" for r in g)
         return (f"  {name:9s} {'0 (none)':>12s} {'none':>12s} {'-':>7s}  the fastest mode's energy grows at every "
-                f"step tested (hω = {reach}): by {factors} per step, 1+(hω)² predicted (logs within {100 * worst:.2g} %)")
+                f"step tested (hω = {reach}): by {factors} per step, 1+(hω)² predicted "
+                f"(logs within {100 * worst:.2g} %)")
     lam = row["limiting_eigenvalue"]
     mode = "" if lam is None else f"λ = {lam[0]:.4g} {'+-'[lam[1] < 0]} {abs(lam[1]):.4g}i 1/s"
     ratio = f"{row['ratio']:.3f}" if row["ratio"] else "-"
@@ -415,7 +416,8 @@ def lines_of(res: dict) -> list[str]:
     if "tumbling" in c:
         t = c["tumbling"]
         lines += [f"tumbling body (pitch {t['pitch_min_deg']:.2f} to {t['pitch_max_deg']:.2f} deg, nose within "
-                  f"{t['nose_from_vertical_min_deg']:.3f} deg of the vertical), RK4 h = {_ms(t['h'])} over {t['span_s']:g} s:",
+                  f"{t['nose_from_vertical_min_deg']:.3f} deg of the vertical), RK4 h = {_ms(t['h'])} "
+                  f"over {t['span_s']:g} s:",
                   f"  quaternion: energy error {t['energy_error']['1']:.3g} (h), {t['energy_error']['2']:.3g} (h/2), "
                   f"{t['energy_error']['4']:.3g} (h/4): order {t['energy_order']:.2f}; attitude error "
                   f"{t['quaternion_attitude_error_rad']:.2g} rad",
