@@ -33,6 +33,7 @@ AMPLITUDE_GROWTH = 2.0
 GRID = (0.5, 0.7, 0.85, 0.95, 1.0, 1.05, 1.15, 1.3, 1.6, 2.0)
 BISECT_TOL = 2e-3
 MIDPOINT_MULTIPLES = (1, 2, 5, 10, 20, 50, 100)
+MIN_STEPS = 50
 EULER_REACH = (0.4, 0.2, 0.1, 0.05)
 
 
@@ -75,10 +76,11 @@ class Judge:
 
 
 def probe(problem, method: str, h: float, span: float, judge: Judge) -> Probe:
-    """Run ``method`` with step ``h`` over about ``span`` s (a whole number of steps)."""
+    """Run ``method`` with step ``h`` over about ``span`` s (a whole number of steps, at
+    least :data:`MIN_STEPS`, so that a few huge steps cannot pass for stability)."""
     from mbs.solvers import solve
 
-    n = max(1, math.ceil(span / h - 1e-9))
+    n = max(MIN_STEPS, math.ceil(span / h - 1e-9))
     with np.errstate(all="ignore"):
         sol = solve(problem, method, n * h, h=h, x0=judge.x0, every=max(1, n // 400))
     if not sol.ok:
