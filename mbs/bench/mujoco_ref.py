@@ -16,7 +16,7 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
-from mbs.joints import Fixed, FreeJoint, Hinge, Serial
+from mbs.joints import Fixed, FreeJoint, Hinge
 from mbs.tree import Model, leaf_joints
 
 

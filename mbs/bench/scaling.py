@@ -24,6 +24,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from mbs.bench.speed import toolchain
 from mbs.bench.timing import machine, median_time
@@ -73,7 +74,7 @@ def rotor(n_blades: int) -> Model:
 FAMILIES = {"rotor": rotor, "chain": chain}
 
 
-def fit_exponent(n, t) -> float:
+def fit_exponent(n: ArrayLike, t: ArrayLike) -> float:
     """Least-squares slope ``k`` of ``log t = k log n + c``; ``n``, ``t`` positive, >= 2 points."""
     n, t = np.asarray(n, float), np.asarray(t, float)
     if n.size < 2 or np.any(n <= 0) or np.any(t <= 0) or np.unique(n).size < 2:
@@ -81,7 +82,7 @@ def fit_exponent(n, t) -> float:
     return float(np.polyfit(np.log(n), np.log(t), 1)[0])
 
 
-def upper_half(n, t) -> tuple[np.ndarray, np.ndarray]:
+def upper_half(n: ArrayLike, t: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """The points of the larger half of the sizes (at least two)."""
     order = np.argsort(n)
     keep = order[min(len(order) // 2, len(order) - 2):]

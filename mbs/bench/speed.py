@@ -1,17 +1,21 @@
-"""``heli bench speed``: the Bo105 scenes, and one conservative tree in three engines.
+"""``heli bench speed``: the Bo105 scenes, and two conservative trees in three engines.
 
 All figures are medians of raw calls in µs (see :func:`mbs.bench.timing.median_time`),
-measured in one run. The conservative tree (the demo rotor without its springs) is also
-built in Pinocchio (``pinocchio.aba``) and MuJoCo (``mj_forward``); each reference is timed
-only after its accelerations were checked against ours.
+measured in one run. The conservative trees (the demo rotor and the Bo105 structural tree,
+both without springs) are also built in Pinocchio (``pinocchio.aba``) and MuJoCo
+(``mj_forward``); each reference is timed only after its accelerations were checked
+against ours.
 """
 from __future__ import annotations
+
+from typing import Callable
 
 import numpy as np
 
 import mbs
 from mbs.bench.timing import machine, median_time
 from mbs.models.demo import spinning_rotor
+from mbs.tree import Model
 
 BO105_SCENES = ("structural", "forward-flight", "hover", "ground-run", "single-blade")
 STEPS_PER_REV = 100
@@ -74,14 +78,14 @@ def _ours(model, h: float) -> tuple[dict, object]:
     return out, compiled
 
 
-def demo_tree(n_blades: int = 4):
+def demo_tree(n_blades: int = 4) -> Model:
     """The demo rotor (free fuselage, free hub, flap and lag hinges) without its springs."""
     model = spinning_rotor(n_blades=n_blades, free_fuselage=True)
     model.forces.clear()  # the references get no joint torques: compare the bare tree
     return model
 
 
-def bo105_tree():
+def bo105_tree() -> Model:
     """The Bo105 ``structural`` scene's tree (every joint free) without its springs."""
     from mbs import scenes
 
@@ -91,7 +95,7 @@ def bo105_tree():
     return model
 
 
-def conservative_tree_speed(model=None, omega: float = 44.4) -> dict:
+def conservative_tree_speed(model: Model | None = None, omega: float = 44.4) -> dict:
     """Medians (µs) of one right-hand side and one RK4 step (``STEPS_PER_REV`` steps per
     revolution at ``omega`` rad/s) on a conservative tree without force elements (default
     :func:`demo_tree`), and of the same tree's forward dynamics in Pinocchio (ABA) and
@@ -153,7 +157,7 @@ def toolchain() -> dict:
     return out
 
 
-def run(progress=None) -> dict:
+def run(progress: Callable[[int, int], None] | None = None) -> dict:
     """Every measurement of ``heli bench speed`` in one run; ``progress(done, total)``."""
     rows, total = [], len(BO105_SCENES) + 2
     for i, name in enumerate(BO105_SCENES):
