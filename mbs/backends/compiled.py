@@ -72,8 +72,9 @@ CASADI_SYMBOL_EXPORT int mbs_run_{m}(const casadi_real* x0, double t0, double h,
 """
 
 
-class CompilerNotFound(RuntimeError):
-    """No C compiler: the compiled evaluator is unavailable."""
+class CompilerNotFound(ValueError, RuntimeError):
+    """No C compiler: the compiled evaluator is unavailable (a ValueError, as for every bad
+    input, and a RuntimeError for callers that catch environment problems)."""
 
 
 def find_compiler() -> str:
