@@ -179,7 +179,7 @@ def _fixed_steps(t0: float, t_end: float, h: float) -> int:
 def _solve_fixed(problem: Problem, method: Method, x0, t0, t_end, h, every) -> Solution:
     n = _fixed_steps(t0, t_end, h)
     system = problem.implicit if method.name == "midpoint" else problem.system
-    traj = system.run(x0, t0, h, n, every=every, p=problem.p, method=method.name)
+    traj = system.run(x0, t0, h, n, every=every, p=problem.p, method=method.name, chunk=n)  # one C call
     done = int(round((traj.t[-1] - t0) / h)) if traj.ok else _steps_done(traj, t0, h)
     status = Status.success if traj.ok else (Status.error if traj.result.name == "evaluation_error"
                                              else Status.newton if method.name == "midpoint"
