@@ -25,11 +25,16 @@ def quick(tmp_path_factory):
     return out, json.loads(buf.getvalue().strip().splitlines()[-1])
 
 
+def _rows(path) -> list[dict]:
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
 @pytest.mark.parametrize("scene", ["structural", "forward-flight"])
 def test_chart_and_data_file_hold_every_method_and_rk4_reaches_1e_6_rad(quick, scene):
     out, printed = quick
     res = printed["scenes"][scene]
-    rows = list(csv.DictReader(open(res["files"]["csv"])))
+    rows = _rows(res["files"]["csv"])
     assert {r["method"] for r in rows} == set(METHODS)
     assert (out / f"work_precision_{scene}.png").stat().st_size > 20_000
     rk4 = [r for r in rows if r["method"] == "rk4" and r["status"] == "success"]
@@ -46,7 +51,7 @@ def test_chart_and_data_file_hold_every_method_and_rk4_reaches_1e_6_rad(quick, s
 def test_failed_runs_are_marked_not_dropped(quick):
     """RK4 at 20 steps per revolution is past the structural scene's limit (about 31)."""
     res = quick[1]["scenes"]["structural"]
-    rows = list(csv.DictReader(open(res["files"]["csv"])))
+    rows = _rows(res["files"]["csv"])
     failed = [r for r in rows if r["status"] != "success"]
     assert any(r["method"] == "rk4" and r["value"] == "20.0" and r["status"] == "nonfinite" for r in failed)
     assert all(r["error_rad"] == "inf" and r["message"] for r in failed)

@@ -39,6 +39,7 @@ SAMPLES_PER_REV = 20
 REFERENCE_TOL = 1e-12
 CHECK_STEPS_PER_REV = 20480
 TARGET_ERROR = 1e-6
+REPEATS = 5
 REPEAT_BELOW_S = 1.0
 FIXED_SWEEP = {
     "euler": (640, 1280, 2560, 5120, 10240, 20480, 40960, 81920),
@@ -89,19 +90,15 @@ def hinge_error(x: np.ndarray, ref: np.ndarray, idx: list[int]) -> tuple[float, 
     return float(d.max()), float(d[-1].max())
 
 
-def _cost(runs: list) -> float:
-    return float(np.median([r.wall_s for r in runs]))
-
-
 def run_point(problem, method: str, value: float, span: float, samples: int, ref: np.ndarray,
-              idx: list[int], repeats: int = 3, max_wall_s: float = 60.0) -> Point:
+              idx: list[int], repeats: int = REPEATS, max_wall_s: float = 60.0) -> Point:
     """Run ``method`` once per repeat over ``span`` s (``value``: steps over the span for
     fixed-step methods, ``rtol`` for adaptive ones) and measure its error against ``ref``
     (``samples + 1`` rows)."""
     from mbs.solvers import METHODS, solve
 
     m = METHODS[method]
-    t_eval = np.linspace(0.0, span, samples + 1)
+    t_eval = _sample_times(span, samples)
     runs = []
     for _ in range(max(1, repeats)):
         with np.errstate(all="ignore"):
@@ -116,8 +113,13 @@ def run_point(problem, method: str, value: float, span: float, samples: int, ref
     sol = runs[-1]
     err, final = hinge_error(sol.x, ref, idx) if sol.ok else (math.inf, math.inf)
     setting = "steps" if m.kind == "fixed" else "rtol"
-    return Point(method, m.kind, setting, float(value), sol.status.name, err, final, _cost(runs), sol.nfev,
-                 sol.njev, sol.nsteps, sol.message)
+    wall = float(np.median([r.wall_s for r in runs]))
+    return Point(method, m.kind, setting, float(value), sol.status.name, err, final, wall, sol.nfev, sol.njev,
+                 sol.nsteps, sol.message)
+
+
+def _sample_times(span: float, samples: int) -> np.ndarray:
+    return np.linspace(0.0, span, samples + 1)
 
 
 def _whole_steps(n: int, samples: int) -> int:
@@ -131,7 +133,7 @@ def reference(problem, span: float, samples: int, check_steps: int) -> tuple[np.
     ``check_steps`` steps over the span (hinge-angle measure, rad)."""
     from mbs.solvers import solve
 
-    t_eval = np.linspace(0.0, span, samples + 1)
+    t_eval = _sample_times(span, samples)
     ref = solve(problem, "DOP853", span, rtol=REFERENCE_TOL, atol=REFERENCE_TOL, t_eval=t_eval)
     n = _whole_steps(check_steps, samples)
     chk = solve(problem, "rk4", span, h=span / n, every=n // samples)
@@ -171,7 +173,7 @@ def _sweeps(methods, fixed_sweep: dict, tolerances) -> list[tuple[str, float]]:
 
 
 def run_scene(problem, scene: str, revs: float, span_per_rev: float, methods=None, fixed_sweep=None,
-              tolerances=TOLERANCES, repeats: int = 3, samples_per_rev: int = SAMPLES_PER_REV,
+              tolerances=TOLERANCES, repeats: int = REPEATS, samples_per_rev: int = SAMPLES_PER_REV,
               check_steps_per_rev: int = CHECK_STEPS_PER_REV, max_wall_s: float = 60.0,
               progress=None) -> dict:
     """Every method's sweep on ``problem`` over ``revs`` revolutions of ``span_per_rev`` s."""
@@ -278,7 +280,7 @@ def write_outputs(res: dict, out: Path) -> dict:
 SCENES = ("structural", "forward-flight")
 
 
-def run(scenes=SCENES, revs: float = 1.0, methods=None, repeats: int = 5, out: Path | None = None,
+def run(scenes=SCENES, revs: float = 1.0, methods=None, repeats: int = REPEATS, out: Path | None = None,
         progress=None, **sweeps) -> dict:
     """The work-precision study of each scene; with ``out``, its CSV and PNG per scene."""
     from mbs import scenes as registry
@@ -348,7 +350,8 @@ def register(sub, bench) -> None:
     p.add_argument("--scene", action="append", choices=SCENES, help="scene (repeatable; default both)")
     p.add_argument("--revs", type=float, default=1.0, help="span in main-rotor revolutions (default 1)")
     p.add_argument("--method", action="append", choices=list(METHODS), help="method (repeatable; default all)")
-    p.add_argument("--repeats", type=int, default=5, help="timed runs per point, median reported (default 5)")
+    p.add_argument("--repeats", type=int, default=REPEATS,
+                   help=f"timed runs per point, median reported (default {REPEATS})")
     p.add_argument("--quick", action="store_true", help="short sweeps (a few points per method), for a first look")
     p.add_argument("--out", default="out/work-precision", help="folder for the PNG and CSV files")
     add_json(p)
