@@ -9,7 +9,8 @@ angular velocity (body components, rad/s), so that ``M = blockdiag(m I, J_c)``.
 * ``H = dV/ds F + dV/dt`` from ONE forward directional derivative along ``(F, 1)``
   (it carries the rates and accelerations of driven joints: they are functions of t);
 * ``Mt = J_uᵀ M J_u``, ``ht = J_uᵀ (h - M H) + Q``; ``u' = Mt⁻¹ ht`` by sparse LDL;
-  ``s' = F(s, u)``.
+  ``s' = F(s, u)``. The two products are summed over subtrees (:func:`_composite`): the
+  same sums, in O(n²) operations for a chain of n bodies instead of O(n³).
 
 No Jacobian is written by hand: each joint states only its relative kinematics.
 """
@@ -128,6 +129,61 @@ def _mass_times(lay, a: ca.SX) -> ca.SX:
     return ca.vertcat(*rows)
 
 
+def _skew(c) -> ca.SX:
+    """``skew(c) @ w = c × w``."""
+    return ca.vertcat(ca.horzcat(0, -c[2], c[1]), ca.horzcat(c[2], 0, -c[0]), ca.horzcat(-c[1], c[0], 0))
+
+
+def _body_spatial(lay, motions, Ju, g, i, b, r0):
+    """Body ``b`` (index ``i``) about the reference point ``r0``, world components, ordered
+    (angular, linear): the twists (6, nk) of its own rates (columns of ``J_u``), its spatial
+    inertia (6, 6) and the wrench (6,) of its load ``g`` (force in world, torque in body)."""
+    m = motions[b.name]
+    c = m.position + ca.mtimes(m.rotation, ca.DM(b.com)) - r0
+    cx, rows = _skew(c), slice(6 * i, 6 * i + 6)
+    own = Ju[rows, lay.v_slices[b.name]]
+    w = ca.mtimes(m.rotation, own[3:, :])
+    twist = ca.vertcat(w, own[:3, :] + ca.mtimes(cx, w))
+    j_world = ca.mtimes([m.rotation, ca.DM(b.inertia), m.rotation.T])
+    inertia = ca.blockcat([[j_world + b.mass * ca.mtimes(cx.T, cx), b.mass * cx],
+                           [b.mass * cx.T, b.mass * ca.SX.eye(3)]])
+    gf, gt = g[6 * i:6 * i + 3], g[6 * i + 3:6 * i + 6]
+    return twist, inertia, ca.vertcat(ca.cross(c, gf) + ca.mtimes(m.rotation, gt), gf)
+
+
+def _composite(lay, motions, Ju, g) -> tuple[ca.SX, ca.SX]:
+    """``Mt = J_uᵀ M J_u`` and ``J_uᵀ g`` (g: (6 nb,) body loads), summed over subtrees.
+
+    A unit rate ``u_k`` moves the whole subtree of its body ``b_k`` rigidly, with one twist
+    ``ξ_k`` (the body's own columns of ``J_u``, as a world twist about the root body's
+    origin). So ``(J_uᵀ M J_u)_jk = Σ_i ξ_jᵀ I_i ξ_k = ξ_jᵀ Ic(b_k) ξ_k`` when ``b_j`` is
+    ``b_k`` or one of its ancestors (zero otherwise) and ``(J_uᵀ g)_k = ξ_kᵀ Wc(b_k)``, with
+    ``Ic``, ``Wc`` the spatial inertias and wrenches summed over the subtree: the same sums as
+    the plain product, in O(n²) operations for a chain where the product takes O(n³).
+    """
+    r0 = motions[lay.bodies[0].name].position
+    twist, inertia, wrench = {}, {}, {}
+    for i, b in enumerate(lay.bodies):
+        twist[b.name], inertia[b.name], wrench[b.name] = _body_spatial(lay, motions, Ju, g, i, b, r0)
+    parent = {b.name: b.parent for b in lay.bodies}
+    for b in reversed(lay.bodies):
+        if b.parent in inertia:
+            inertia[b.parent] += inertia[b.name]
+            wrench[b.parent] += wrench[b.name]
+    moving = [b.name for b in lay.bodies if b.joint.nv]
+    blocks = {}
+    for k in moving:
+        f, a = ca.mtimes(inertia[k], twist[k]), k
+        while a in parent:  # b_k and its ancestors
+            if twist[a].shape[1]:
+                blocks[(a, k)] = ca.mtimes(twist[a].T, f)
+            a = parent[a]
+    rows = [[blocks[(a, k)] if (a, k) in blocks else blocks[(k, a)].T if (k, a) in blocks
+             else ca.SX(twist[a].shape[1], twist[k].shape[1]) for k in moving] for a in moving]
+    ht = ca.vertcat(*[ca.mtimes(twist[k].T, wrench[k]) for k in moving], ca.SX(0, 1))
+    return (ca.blockcat(rows) if moving else ca.SX(0, 0)), ht
+
+
 def _energy(lay, model, state: State, V) -> ca.SX:
     t_tr = t_rot = v_grav = 0
     for i, b in enumerate(lay.bodies):
@@ -161,9 +217,8 @@ def symbolic(model: _tree.Model) -> Symbolic:
     state = _state_view(lay, s, u, z, t, params, motions)
     state.energy = _energy(lay, model, state, V)
     h, Q, zdot = _applied_h(lay, model, state)
-    MJu = _mass_times(lay, Ju)
-    Mt = ca.sparsify(ca.mtimes(Ju.T, MJu))
-    ht = ca.mtimes(Ju.T, h - _mass_times(lay, H)) + Q
+    Mt, ht = _composite(lay, motions, Ju, h - _mass_times(lay, H))
+    Mt, ht = ca.sparsify(Mt), ht + Q
     project = ca.vertcat(*[b.joint.project(s[lay.q_slices[b.name]]) for b in lay.bodies], ca.SX(0, 1), u, z)
     args, names = [x, t, p], ["x", "t", "p"]
     fns = {
