@@ -35,7 +35,7 @@ ROTOR_BLADES = (2, 3, 4, 6, 8, 12, 16)
 CHAIN_DOF = (5, 10, 20, 40, 70, 100)
 QUICK_ROTOR_BLADES = (2, 4, 8, 16)
 QUICK_CHAIN_DOF = (5, 10, 20, 40)
-MAX_INSTRUCTIONS = 60_000  # right-hand-side operations above which a size is not compiled
+MAX_INSTRUCTIONS = 30_000  # right-hand-side operations above which a size is not compiled (gcc -O2 time grows steeply)
 COLUMNS = ("family", "size", "dof", "instructions", "build_s", "generate_s", "codegen_s", "compile_s",
            "compile_cached", "rhs_us", "rk4_us", "vm_rhs_us", "vm_rk4_us")
 
