@@ -155,8 +155,9 @@ def _composite(lay, motions, Ju, g) -> tuple[ca.SX, ca.SX]:
     """``Mt = J_uᵀ M J_u`` and ``J_uᵀ g`` (g: (6 nb,) body loads), summed over subtrees.
 
     A unit rate ``u_k`` moves the whole subtree of its body ``b_k`` rigidly, with one twist
-    ``ξ_k`` (the body's own columns of ``J_u``, as a world twist about the root body's
-    origin). So ``(J_uᵀ M J_u)_jk = Σ_i ξ_jᵀ I_i ξ_k = ξ_jᵀ Ic(b_k) ξ_k`` when ``b_j`` is
+    ``ξ_k`` (the body's own columns of ``J_u``, as a world twist about the first body's
+    origin: any common point would do, one near the bodies keeps float32 accurate when the
+    aircraft is far from the world origin). So ``(J_uᵀ M J_u)_jk = Σ_i ξ_jᵀ I_i ξ_k = ξ_jᵀ Ic(b_k) ξ_k`` when ``b_j`` is
     ``b_k`` or one of its ancestors (zero otherwise) and ``(J_uᵀ g)_k = ξ_kᵀ Wc(b_k)``, with
     ``Ic``, ``Wc`` the spatial inertias and wrenches summed over the subtree: the same sums as
     the plain product, in O(n²) operations for a chain where the product takes O(n³).
