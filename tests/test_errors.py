@@ -98,3 +98,4 @@ def test_extra_state_needs_a_rate():
     m.add_state("inflow", 1.0, "m/s")
     with pytest.raises(ValueError, match=r"no force element sets the rate of extra states \['inflow'\]"):
         mbs.build(m, "vm")
+

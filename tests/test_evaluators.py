@@ -38,3 +38,11 @@ def test_nfev_counts_rhs_evaluations(rotor_compiled):
     rotor_compiled.run(rotor_compiled.x0(), 0.0, STEP, 10)
     rotor_compiled.rhs(rotor_compiled.x0())
     assert rotor_compiled.nfev - before == 4 * 10 + 1
+
+
+def test_large_sources_compile_at_o1_small_ones_at_o2():
+    from mbs.backends.compiled import CFLAGS, LARGE_SOURCE_BYTES, compile_flags
+
+    assert compile_flags("x" * LARGE_SOURCE_BYTES) == CFLAGS
+    big = compile_flags("x" * (LARGE_SOURCE_BYTES + 1))
+    assert "-O1" in big and "-O2" not in big and set(big) - {"-O1"} == set(CFLAGS) - {"-O2"}
