@@ -66,10 +66,11 @@ def modes(jac: np.ndarray, state_names: list[str], top: int = 3) -> list[Mode]:
     return out
 
 
-def _ray_polynomial(coeffs: np.ndarray, mu: complex) -> np.ndarray:
-    """Coefficients (lowest first) of ``|P(r mu)|^2`` as a real polynomial in ``r``."""
+def _ray_polynomial(coeffs: np.ndarray, mu: complex) -> tuple[np.ndarray, np.ndarray]:
+    """Coefficients (lowest first) of ``|P(r mu)|^2`` as a real polynomial in ``r``, and the
+    sums of the magnitudes of the products that make each one (the scale of its round-off)."""
     a = np.asarray(coeffs, dtype=complex) * mu ** np.arange(len(coeffs))
-    return np.real(np.convolve(a, np.conj(a)))
+    return np.real(np.convolve(a, np.conj(a))), np.convolve(np.abs(a), np.abs(a))
 
 
 def boundary(tab: ButcherTableau, direction: complex) -> float:
@@ -81,11 +82,16 @@ def boundary(tab: ButcherTableau, direction: complex) -> float:
     """
     mu = complex(direction) / abs(direction)
     num, den = tab.stability_function()
-    pn, pd = _ray_polynomial(num, mu), _ray_polynomial(den, mu)
-    d = np.zeros(max(len(pn), len(pd)))
+    (pn, sn), (pd, sd) = _ray_polynomial(num, mu), _ray_polynomial(den, mu)
+    d, scale = np.zeros(max(len(pn), len(pd))), np.zeros(max(len(pn), len(pd)))
     d[:len(pn)] += pn
     d[:len(pd)] -= pd
-    d[np.abs(d) < 1e-12 * max(1.0, np.abs(d).max())] = 0.0
+    scale[:len(sn)] += sn
+    scale[:len(sd)] += sd
+    # coefficients that cancel (R = e^z to the method's order) leave round-off of their scale;
+    # a threshold relative to the largest coefficient would also drop the genuinely small
+    # high-order ones of a high-order method
+    d[np.abs(d) <= 1e-12 * scale] = 0.0
     nz = np.flatnonzero(d)
     if nz.size == 0:
         return np.inf

@@ -3,7 +3,9 @@
 
 ``METHODS`` is the registry (name -> :class:`Method`):
 
-* ``euler``, ``rk4``: explicit, the model's generated C driver (one call per run chunk);
+* ``euler``, ``rk4``, ``rk8``: explicit, the model's generated C driver (one call per run);
+  ``rk8`` takes the weights of Dormand and Prince's 8th-order solution (12 stages) with a
+  fixed step;
 * ``midpoint``: implicit midpoint rule, Newton with the AD Jacobian, generated into a
   separate library of the model (built on first use, cached on disk);
 * ``RK45``, ``DOP853``, ``Radau``, ``BDF``, ``LSODA``: :func:`scipy.integrate.solve_ivp`
@@ -76,6 +78,8 @@ class Method:
 METHODS: dict[str, Method] = {m.name: m for m in (
     Method("euler", "fixed", "explicit Euler (order 1), generated C driver", TABLEAUX["euler"]),
     Method("rk4", "fixed", "classical Runge-Kutta (order 4, the paper's), generated C driver", TABLEAUX["rk4"]),
+    Method("rk8", "fixed", "Dormand-Prince 8th-order weights with a fixed step (12 stages), generated C driver",
+           TABLEAUX["rk8"]),
     Method("midpoint", "fixed", "implicit midpoint (order 2, A-stable, symmetric), Newton with the AD "
            "Jacobian, generated C driver", TABLEAUX["midpoint"], uses_jacobian=True),
     Method("RK45", "adaptive", "scipy Dormand-Prince 5(4)"),

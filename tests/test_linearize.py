@@ -7,7 +7,7 @@ import pytest
 
 import mbs
 from mbs.dynamics import symbolic
-from mbs.integrators import EULER, MIDPOINT, RK4, ButcherTableau
+from mbs.integrators import EULER, MIDPOINT, RK4, RK8, ButcherTableau
 from mbs.linearize import (boundary, imaginary_axis_limit, max_stable_step, modes, predicted_limits,
                            real_axis_limit, rhs_jacobian)
 from mbs.models.demo import driven_rotor, spinning_rotor
@@ -49,6 +49,20 @@ def test_ad_jacobian_agrees_with_central_differences(make):
 def test_stability_boundaries_from_the_stability_function(tab, imag, real):
     assert imaginary_axis_limit(tab) == pytest.approx(imag, rel=1e-10)
     assert real_axis_limit(tab) == pytest.approx(real, rel=1e-10)
+
+
+def test_rk8_boundaries_match_the_published_dop853_values():
+    """5.960 on the imaginary and 6.394 on the negative real axis, as tabulated for DOP853's
+    8th-order solution. Its stability polynomial has degree 12 with small high-order
+    coefficients, which the boundary search must not mistake for round-off."""
+    num = RK8.stability_function()[0]
+    assert len(num) == 13 and 0 < num[12] < 1e-9
+    for direction, published in ((1j, 5.960), (-1.0, 6.394)):
+        r = boundary(RK8, direction)
+        assert r == pytest.approx(published, abs=1e-3)
+        amplification = abs(np.polyval(num[::-1], r * direction))
+        assert amplification == pytest.approx(1.0, abs=1e-8)
+        assert abs(np.polyval(num[::-1], 1.001 * r * direction)) > 1
 
 
 @pytest.mark.parametrize("angle", [0.55, 0.7, 0.85, 0.95])

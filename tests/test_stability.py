@@ -32,10 +32,11 @@ def test_predicted_rk4_limit_is_the_imaginary_axis_bound_of_the_fastest_mode(rot
     assert pred.limits["euler"].h == 0 and pred.limits["midpoint"].h == math.inf
 
 
-def test_rk4_measured_limit_within_10_percent_of_predicted(rotor):
+@pytest.mark.parametrize("method", ["rk4", "rk8"])
+def test_explicit_measured_limit_within_10_percent_of_predicted(rotor, method):
     problem, pred = rotor
-    h_pred = pred.limits["rk4"].h
-    h_meas, probes = st.measure_explicit(problem, "rk4", h_pred, 20 * REV, pred.judge)
+    h_pred = pred.limits[method].h
+    h_meas, probes = st.measure_explicit(problem, method, h_pred, 20 * REV, pred.judge)
     assert 0.9 <= h_meas / h_pred <= 1.1, (h_meas, h_pred)
     assert all(p.stable for p in probes if p.h <= 0.95 * h_pred)
     assert not any(p.stable for p in probes if p.h >= 1.05 * h_pred)

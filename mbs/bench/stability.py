@@ -225,7 +225,7 @@ def _pair(lam: complex | None) -> list[float] | None:
 # -- one model's table -----------------------------------------------------------------------
 
 def limits_table(problem, span: float, criterion: str = "energy", x0=None,
-                 methods=("euler", "rk4", "midpoint"), euler_reach=EULER_REACH, progress=None) -> dict:
+                 methods=("euler", "rk4", "rk8", "midpoint"), euler_reach=EULER_REACH, progress=None) -> dict:
     """Predicted against measured limit per method, on ``problem`` over ``span`` s."""
     pred = predict(problem, span, x0, criterion)
     h_rk4 = pred.limits["rk4"].h

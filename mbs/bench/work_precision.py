@@ -35,7 +35,7 @@ import numpy as np
 
 from mbs.cli import add_json, emit
 
-SAMPLES_PER_REV = 20
+SAMPLES_PER_REV = 10
 REFERENCE_TOL = 1e-12
 CHECK_STEPS_PER_REV = 20480
 TARGET_ERROR = 1e-6
@@ -44,10 +44,11 @@ REPEAT_BELOW_S = 1.0
 FIXED_SWEEP = {
     "euler": (640, 1280, 2560, 5120, 10240, 20480, 40960, 81920),
     "rk4": (20, 40, 60, 80, 120, 160, 240, 320, 480, 640, 960, 1280, 1920, 2560),
+    "rk8": (10, 20, 30, 40, 60, 80, 120, 160, 240, 320),
     "midpoint": (20, 40, 80, 160, 320, 640, 1280, 2560, 5120),
 }
 TOLERANCES = (1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10)
-QUICK = {"fixed_sweep": {"euler": (640, 2560), "rk4": (20, 80, 320), "midpoint": (40, 160)},
+QUICK = {"fixed_sweep": {"euler": (640, 2560), "rk4": (20, 80, 320), "rk8": (10, 40), "midpoint": (40, 160)},
          "tolerances": (1e-4, 1e-7), "check_steps_per_rev": 2560}
 HINGE_SUFFIXES = (".flap", ".lag", ".pitch", ".teeter")
 COLUMNS = ("scene", "method", "kind", "setting", "value", "status", "error_rad", "final_error_rad",

@@ -14,9 +14,10 @@ from mbs.integrators._tableau import ButcherTableau, rk_increment, rk_step
 from mbs.integrators.euler import EULER
 from mbs.integrators.midpoint import MIDPOINT, symbolic_midpoint_increment
 from mbs.integrators.rk4 import RK4
+from mbs.integrators.rk8 import RK8
 
-FIXED_STEP: dict[str, ButcherTableau] = {t.name: t for t in (RK4, EULER)}
-TABLEAUX: dict[str, ButcherTableau] = {t.name: t for t in (EULER, RK4, MIDPOINT)}
+FIXED_STEP: dict[str, ButcherTableau] = {t.name: t for t in (RK4, EULER, RK8)}
+TABLEAUX: dict[str, ButcherTableau] = {t.name: t for t in (EULER, RK4, RK8, MIDPOINT)}
 
 
 def symbolic_increment(rhs: ca.Function, tab: ButcherTableau) -> ca.Function:
@@ -39,5 +40,5 @@ def symbolic_step(rhs: ca.Function, project: ca.Function, tab: ButcherTableau) -
     return ca.Function(f"step_{tab.name}", [x, t, h, p], [xn], ["x", "t", "h", "p"], ["x_next"])
 
 
-__all__ = ["ButcherTableau", "FIXED_STEP", "TABLEAUX", "RK4", "EULER", "MIDPOINT", "symbolic_step",
+__all__ = ["ButcherTableau", "FIXED_STEP", "TABLEAUX", "RK4", "RK8", "EULER", "MIDPOINT", "symbolic_step",
            "symbolic_increment", "symbolic_midpoint_increment", "rk_step"]
