@@ -34,6 +34,7 @@ class Simulation:
     energy: np.ndarray
     outputs: np.ndarray
     compensated: bool = True
+    method: str = "rk4"
 
     @property
     def max_rel_energy_error(self) -> float:
@@ -51,7 +52,7 @@ class Simulation:
     def summary(self) -> dict:
         out = {"scene": self.scene.name, "revs": self.revs, "steps_per_rev": self.steps_per_rev,
                "steps": int(round(self.revs * self.steps_per_rev)), "dtype": str(self.system.dtype),
-               "backend": self.system.backend, "method": "rk4", "compensated_summation": self.compensated,
+               "backend": self.system.backend, "method": self.method, "compensated_summation": self.compensated,
                "wall_s": self.traj.wall_s,
                "realtime_factor": (self.traj.t[-1] - self.traj.t[0]) / max(self.traj.wall_s, 1e-12),
                "nfev": self.traj.nfev, "result": self.traj.result.name, "message": self.traj.message,
@@ -64,8 +65,9 @@ class Simulation:
 def simulate(scene: str | _scenes.Scene, revs: float = 1.0, steps_per_rev: int | None = None,
              dtype: str = "float64", backend: str = "compiled", params: dict | None = None,
              every: int = 1, progress=None, system: System | None = None, x0=None,
-             options: dict | None = None, compensated: bool = True) -> Simulation:
-    """Run ``scene`` for ``revs`` main-rotor revolutions of RK4 at ``steps_per_rev``.
+             options: dict | None = None, compensated: bool = True, method: str = "rk4") -> Simulation:
+    """Run ``scene`` for ``revs`` main-rotor revolutions of ``method`` (a fixed-step method of
+    the generated driver: ``rk4``, the paper's, ``rk8`` or ``euler``) at ``steps_per_rev``.
 
     ``compensated=False`` turns off the compensated summation of the step updates (plain
     floating-point arithmetic, as in the paper).
@@ -81,10 +83,10 @@ def simulate(scene: str | _scenes.Scene, revs: float = 1.0, steps_per_rev: int |
     h = scene.revolution(system, p) / steps_per_rev
     n = int(round(revs * steps_per_rev))
     traj = system.run(system.x0() if x0 is None else x0, 0.0, h, n, every=every, p=p, progress=progress,
-                      compensated=compensated)
+                      compensated=compensated, method=method)
     evaluator = system if system.dtype == np.float64 else _float64_twin(scene, options)
     return Simulation(scene, system, traj, p, revs, steps_per_rev, evaluator.history("energy", traj, p),
-                      evaluator.history("outputs", traj, p), compensated)
+                      evaluator.history("outputs", traj, p), compensated, method)
 
 
 def _float64_twin(scene, options) -> System:
