@@ -32,7 +32,7 @@ DEFAULT_SCENES = ("forward-flight", "hover", "ground-run")
 SLAVE = "heli_bo105_slave"
 RUNTIME = ["backends/__init__.py", "backends/info.py", "backends/system.py", "backends/compiled.py",
            "backends/vm.py", "integrators/*.py"]
-VM_FUNCTIONS = ("incr_rk4", "project", "fmu_outputs")
+VM_FUNCTIONS = ("incr_rk4", "incr_rk8", "project", "fmu_outputs")
 _IMPORT = re.compile(r"^(\s*)(from|import)\s+mbs(?=[\s.])", re.MULTILINE)
 
 
@@ -118,8 +118,12 @@ def _variables(primary, scene_names) -> list[dict]:
     out.append({**_var("evaluator", "parameter", "fixed", "compiled: the shipped C library (numpy only); "
                        "vm: CasADi's virtual machine (needs casadi on the host)"),
                 "type": "String", "allowed": ["compiled", "vm"]})
-    out.append(_var("max_step", "parameter", "tunable", "largest internal RK4 step (> 0); each communication "
-                    "step is split into equal sub-steps no longer than this; default 1/100 revolution", "s"))
+    out.append({**_var("integrator", "parameter", "fixed", "fixed-step method of the shipped driver: rk4 "
+                       "(classical, the default) or rk8 (Dormand-Prince 8th-order weights, 12 stages)"),
+                "type": "String", "allowed": ["rk4", "rk8"]})
+    out.append(_var("max_step", "parameter", "tunable", "largest internal integrator step (> 0); each "
+                    "communication step is split into equal sub-steps no longer than this; default 1/100 "
+                    "revolution", "s"))
     out += [_var(p["name"], "parameter", "fixed", p["description"], p["unit"] or None,
                  min=_finite(p["low"]), max=_finite(p["high"])) for p in info.parameters if not p["control"]]
     free = [b for b in info.bodies if b["joint"] == "FreeJoint"]

@@ -3,8 +3,9 @@
 A thin adapter over the core: the variables, scenes and models come from the build
 (``resources/heli_models/spec.json`` plus one folder per distinct model with the compiled
 library ``model.so``, ``info.json`` and the CasADi functions for the virtual machine); the
-numerics are the core's fixed-step RK4 driver. Inputs are held constant over a
-communication step, which is split into ``n = ceil(dt / max_step)`` equal RK4 sub-steps.
+numerics are the core's fixed-step driver (RK4, or rk8 by the parameter ``integrator``).
+Inputs are held constant over a communication step, which is split into
+``n = ceil(dt / max_step)`` equal sub-steps.
 
 Errors: pythonfmu turns every Python exception into ``fmi2Fatal``. Bad input therefore
 never raises: a bad value is stored, logged at once with status error (naming the variable
@@ -57,8 +58,8 @@ class Stepper:
     for any evaluator: state ``x`` (nx,), summation compensation ``comp`` (nx,) and
     parameters ``p``, advanced in place."""
 
-    def __init__(self, system, x: np.ndarray, comp: np.ndarray):
-        self.system = system
+    def __init__(self, system, x: np.ndarray, comp: np.ndarray, method: str = "rk4"):
+        self.system, self.method = system, method
         self.x, self.comp = np.array(x, dtype=float), np.array(comp, dtype=float)
         self.p = np.zeros(len(system.info.parameters))
 
@@ -66,10 +67,10 @@ class Stepper:
         self.p[:] = p
 
     def step(self, t: float, h: float, n: int) -> tuple[int, int]:
-        """``n`` RK4 steps of ``h`` from ``t``; on failure (status 1 non-finite, 2 evaluation
+        """``n`` steps of ``h`` from ``t``; on failure (status 1 non-finite, 2 evaluation
         error) the state is left as it was. Returns (status, sub-steps done)."""
         comp = self.comp.copy()
-        rows, status, done = self.system._run("rk4", self.x, t, h, 0, n, n, self.p, comp)
+        rows, status, done = self.system._run(self.method, self.x, t, h, 0, n, n, self.p, comp)
         if not status:
             self.x[:], self.comp[:] = rows[-1], comp
         return status, done
@@ -89,16 +90,16 @@ DRIVER_SIGNATURE = ("int mbs_run_{m}(const casadi_real* x0, double t0, double h,
 class BoundStepper(Stepper):
     """:class:`Stepper` for the compiled evaluator with every C argument bound once to fixed
     buffers: turning numpy arrays into pointers on each call costs about 25 µs, as much as
-    the RK4 step of the Bo105 itself, and an FMU calls twice per communication step."""
+    the integrator step of the Bo105 itself, and an FMU calls twice per communication step."""
 
     usable = DRIVER_SIGNATURE in _compiled.DRIVER
 
-    def __init__(self, system, x, comp):
-        super().__init__(system, x, comp)
+    def __init__(self, system, x, comp, method: str = "rk4"):
+        super().__init__(system, x, comp, method)
         lib = ctypes.CDLL(str(system.folder / "model.so"))
         self._trial, self._t, self._done = np.zeros(self.x.size), np.zeros(1), ctypes.c_longlong()
         ptr = lambda a: a.ctypes.data  # noqa: E731
-        self._drive = lib.mbs_run_rk4
+        self._drive = getattr(lib, f"mbs_run_{method}")
         self._drive.restype = ctypes.c_int
         self._drive.argtypes = [ctypes.c_void_p, ctypes.c_double, ctypes.c_double, *[ctypes.c_longlong] * 3,
                                 *[ctypes.c_void_p] * 3, ctypes.c_int, ctypes.c_void_p]
@@ -265,6 +266,8 @@ class HeliRotorSlave(Fmi2Slave):
             return self._spec["primary"]
         if name == "evaluator":
             return "compiled"
+        if name == "integrator":
+            return "rk4"
         scene = self._scene()
         if name == "max_step":
             omega = self._use("omega") if "omega" in self._vars else scene["omega"]
@@ -376,7 +379,7 @@ class HeliRotorSlave(Fmi2Slave):
             raise BadValue(f"a state of {x.size} entries does not fit scene {self._use('scene')!r} "
                            f"({system.info.nx} states)")
         kind = BoundStepper if isinstance(system, CompiledSystem) and BoundStepper.usable else Stepper
-        self._stepper = kind(system, x, comp)
+        self._stepper = kind(system, x, comp, self._use("integrator"))
         self._p = self._cache = None
 
     def _with_forward_speed(self, scene: dict, x0: np.ndarray, speed: float) -> np.ndarray:
@@ -462,16 +465,16 @@ class HeliRotorSlave(Fmi2Slave):
         """Redo the failed step recording every sub-step, and name the first state that
         became non-finite."""
         st = self._stepper
-        rows, _, done = st.system._run("rk4", st.x, t, h, 0, n, 1, st.p, st.comp.copy())
+        rows, _, done = st.system._run(st.method, st.x, t, h, 0, n, 1, st.p, st.comp.copy())
         x = rows[done - 1] if done else st.x
         tk = t + done * h
         where = f"at t = {tk!r} s (sub-step {done + 1} of {n}, h = {h!r} s)"
         if status != 1:
             return f"the model evaluation failed {where}; the step was discarded"
-        bad = x + st.system._eval("incr_rk4", x, tk, h, st.p)[0]
+        bad = x + st.system._eval(f"incr_{st.method}", x, tk, h, st.p)[0]
         i = int(np.flatnonzero(~np.isfinite(bad))[0]) if not np.all(np.isfinite(bad)) else 0
         return (f"the simulation diverged {where}: state {st.system.info.state_names[i]!r} = {float(bad[i])!r}; "
-                f"max_step = {self._use('max_step')!r} s may be beyond RK4's stability limit, or the inputs "
+                f"max_step = {self._use('max_step')!r} s may be beyond {st.method}'s stability limit, or the inputs "
                 f"drove the model out of its range; the step was discarded (the state stays at t = {t!r} s)")
 
     # -- FMU state -----------------------------------------------------------------------------

@@ -219,9 +219,9 @@ def run_libcosim(fmu: str | Path, stop: float, dt: float, table: np.ndarray, nam
 # -- the core, directly ---------------------------------------------------------------------
 
 def run_core(scene: str, times: list[float], table: np.ndarray, max_step: float | None = None,
-             params: dict | None = None, names: list[str] | None = None) -> dict:
+             params: dict | None = None, names: list[str] | None = None, method: str = "rk4") -> dict:
     """The FMU's computation done directly with the core's public API: per communication
-    step ``[t_k, t_k+1]``, ``system.run`` of ``n = ceil(dt / max_step)`` RK4 steps of
+    step ``[t_k, t_k+1]``, ``system.run`` of ``n = ceil(dt / max_step)`` steps of ``method`` of
     ``dt / n`` with the inputs held; outputs as the FMU defines them (hinge coordinates
     and rates, model outputs, fuselage position, Euler angles and velocities, total energy)."""
     from mbs import scenes
@@ -238,7 +238,7 @@ def run_core(scene: str, times: list[float], table: np.ndarray, max_step: float 
         p = system.params(base, **inputs_at(table, times[k]))
         dt = times[k + 1] - times[k]
         n = max(1, math.ceil(dt / h_max - 1e-12))
-        x = system.run(x, times[k], dt / n, n, every=n, p=p).x[-1]
+        x = system.run(x, times[k], dt / n, n, every=n, p=p, method=method).x[-1]
         rows.append(_core_outputs(system, info, x, times[k + 1], p, quat_to_euler))
     names = names or list(rows[0])
     return {"time": times[1:], **{n: [r[n] for r in rows] for n in names}}

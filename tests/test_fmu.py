@@ -105,7 +105,7 @@ def test_model_description_declares_units_ranges_and_structure(fmu_path, spec):
     initial = [int(u.get("index")) for u in root.find("ModelStructure/InitialUnknowns")]
     assert initial == outputs and len(outputs) == 9 + 9 + 4 + 12 + 1
     assert {sv.get("name"): sv.get("variability") for sv in svs if sv.get("causality") == "parameter"} == {
-        "scene": "fixed", "evaluator": "fixed", "max_step": "tunable", "omega": "fixed",
+        "scene": "fixed", "evaluator": "fixed", "integrator": "fixed", "max_step": "tunable", "omega": "fixed",
         "initial_forward_speed": "fixed"}
     ex = root.find("DefaultExperiment")
     rev = spec["scenes"]["forward-flight"]["revolution"]
@@ -167,6 +167,21 @@ def test_vm_evaluator_agrees_with_the_compiled_one(fmu_path, spec, dt, names, tm
     compiled = host("fmpy", args, tmp_path)
     vm = host("fmpy", {**args, "start_values": {"evaluator": "vm"}}, tmp_path)
     assert_close(vm, compiled, names, rtol=1e-10, atol=1e-10)
+
+
+@pytest.mark.parametrize("evaluator", ["compiled", "vm"])
+def test_rk8_integrator_equals_the_core_run_with_rk8(fmu_path, spec, dt, names, evaluator, tmp_path):
+    """``integrator = "rk8"`` runs the shipped 8th-order driver: equal to the core's rk8 run,
+    and different from RK4 at the same step (by about RK4's error, far above round-off)."""
+    table = hosts.pitch_schedule(trim_inputs(spec), dt, 100, revs=(0.1, 0.2, 0.3, 0.4))
+    stop = 60 * dt
+    run = host("fmpy", {"fmu": str(fmu_path), "stop": stop, "dt": dt, "table": hosts.table_rows(table),
+                        "names": names, "start_values": {"integrator": "rk8", "evaluator": evaluator}}, tmp_path)
+    grid = hosts.grid(stop, dt)
+    assert_close(run, hosts.run_core("forward-flight", grid, table, names=names, method="rk8"), names,
+                 rtol=1e-9, atol=1e-9)
+    rk4 = hosts.run_core("forward-flight", grid, table, names=names)
+    assert np.max(np.abs(np.subtract(run["seesaw.teeter"], rk4["seesaw.teeter"]))) > 1e-7
 
 
 def test_initial_forward_speed_sets_the_flight_speed(fmu_path, tmp_path):
