@@ -6,7 +6,6 @@ import numpy as np
 
 from mbs.backends.info import info_of
 from mbs.backends.system import System
-from mbs.integrators import FIXED_STEP, symbolic_increment, symbolic_step
 
 
 def _flat(dm) -> np.ndarray:
@@ -20,6 +19,10 @@ class VMSystem(System):
     backend = "vm"
 
     def __init__(self, symbolic, dtype: str = "float64"):
+        # imported here: the FMU loads saved functions without this constructor, and needs
+        # neither the integrators' tableaux nor what they import (scipy)
+        from mbs.integrators import FIXED_STEP, symbolic_increment, symbolic_step
+
         if np.dtype(dtype) != np.float64:
             raise ValueError(f"the virtual machine computes in float64 only, not {dtype!r}; "
                              "use backend='compiled' for float32")
