@@ -127,7 +127,7 @@ def test_fmpy_with_input_table_equals_direct_core_run(fmu_path, spec, dt, names,
     table = hosts.pitch_schedule(trim_inputs(spec), dt, 100)
     stop = 700 * dt
     run = host("fmpy", {"fmu": str(fmu_path), "stop": stop, "dt": dt, "table": hosts.table_rows(table),
-                        "names": names, "block": ["mbs", "casadi"]}, tmp_path)
+                        "names": names, "block": ["mbs", "casadi", "scipy"]}, tmp_path)
     assert run["time"][-1] == pytest.approx(stop, abs=1e-12) and len(run["time"]) == 700
     ref = hosts.run_core("forward-flight", hosts.grid(stop, dt), table, names=names)
     assert_close(run, ref, names, rtol=1e-9, atol=1e-9)
