@@ -19,7 +19,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import casadi as ca
-import numpy as np
 
 from mbs import tree as _tree
 from mbs.backends.info import StateSizes

@@ -99,15 +99,15 @@ def run_point(problem, method: str, value: float, span: float, samples: int, ref
     from mbs.solvers import METHODS, solve
 
     m = METHODS[method]
-    t_eval = _sample_times(span, samples)
+    if m.kind == "fixed":
+        n = _whole_steps(int(value), samples)
+        kwargs = {"h": span / n, "every": n // samples}
+    else:
+        kwargs = {"rtol": value, "atol": value, "t_eval": _sample_times(span, samples), "max_wall_s": max_wall_s}
     runs = []
     for _ in range(max(1, repeats)):
         with np.errstate(all="ignore"):
-            if m.kind == "fixed":
-                n = _whole_steps(int(value), samples)
-                sol = solve(problem, method, span, h=span / n, every=n // samples)
-            else:
-                sol = solve(problem, method, span, rtol=value, atol=value, t_eval=t_eval, max_wall_s=max_wall_s)
+            sol = solve(problem, method, span, **kwargs)
         runs.append(sol)
         if not sol.ok or sol.wall_s > REPEAT_BELOW_S:
             break
@@ -202,7 +202,8 @@ def run_scene(problem, scene: str, revs: float, span_per_rev: float, methods=Non
 def _summary(scene, revs, span, samples, ref_info, points, idx, names) -> dict:
     from mbs.solvers import ADAPTIVE, FIXED
 
-    at = {m: time_at([p for p in points if p.method == m], TARGET_ERROR) for m in dict.fromkeys(p.method for p in points)}
+    methods = dict.fromkeys(p.method for p in points)
+    at = {m: time_at([p for p in points if p.method == m], TARGET_ERROR) for m in methods}
     ours = {m: t for m, t in at.items() if m in FIXED and t is not None}
     scipy = {m: t for m, t in at.items() if m in ADAPTIVE and t is not None}
     best_ours, best_scipy = min(ours, key=ours.get, default=None), min(scipy, key=scipy.get, default=None)
