@@ -3,13 +3,15 @@
 The generated source (plus a small driver that loops fixed steps in C, so a whole
 communication step or simulation chunk is one call) is compiled with the machine's C
 compiler into a shared library, cached on disk under a hash of the source and flags.
-The library directory holds ``model.c``, ``model.so`` and ``info.json``; loading it needs
-only numpy and ctypes (no CasADi), which is what the FMU ships.
+The library directory holds ``model.c``, ``model.so`` and ``info.json`` (with the digest
+files of the last two, checked before a cached folder is used); loading it needs only numpy
+and ctypes (no CasADi), which is what the FMU ships.
 """
 from __future__ import annotations
 
 import ctypes
 import hashlib
+import logging
 import os
 import shutil
 import subprocess
@@ -121,29 +123,82 @@ def generate(functions: dict, info: ModelInfo, dtype: str) -> str:
 def compile_source(source: str, info: ModelInfo, directory: Path | None = None) -> Path:
     """Compile ``source`` into ``<cache>/<name>-<hash>/model.so`` unless cached; returns that folder.
 
-    The hash covers the source, the model description and the compiler command.
+    The hash covers the source, the model description and the compiler command. A cached
+    folder is used only when ``model.so`` and ``info.json`` match the digests recorded when
+    they were built (:mod:`mbs.backends.cache`); otherwise the model is compiled again in a
+    fresh folder that then replaces the bad one. Raises
+    :class:`~mbs.backends.cache.CacheNotWritable` when a build is needed and the cache
+    folder cannot be written.
     """
+    from mbs.backends.cache import replace_dir, writable_dir
+
     cc, flags = find_compiler(), compile_flags(source)
     key = hashlib.sha256("\n".join([source, info.to_json(), cc, *flags]).encode()).hexdigest()[:20]
     folder = (directory or cache_dir()) / f"{info.name}-{key}"
-    if (folder / "model.so").exists():
+    bad = library_problem(folder)
+    if bad is None:
         return folder
-    folder.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(dir=folder.parent, prefix=".build-"))
-    (tmp / "model.c").write_text(source)
+    if folder.exists():
+        logging.getLogger(__name__).warning("rebuilding %s: %s", folder, bad)
+    tmp = Path(tempfile.mkdtemp(dir=writable_dir(folder.parent, "compiled-model cache"), prefix=".build-"))
+    try:
+        _compile_into(tmp, cc, flags, source, info)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    if library_problem(folder) is None:  # another process finished a good one first
+        shutil.rmtree(tmp, ignore_errors=True)
+        return folder
+    return replace_dir(tmp, folder)
+
+
+def _compile_into(folder: Path, cc: str, flags: list[str], source: str, info: ModelInfo) -> None:
+    """Write ``model.c``, compile ``model.so`` and write ``info.json`` into ``folder``,
+    recording the digests of the library and of the description."""
+    from mbs.backends.cache import record
+
+    (folder / "model.c").write_text(source)
     start = time.perf_counter()
-    proc = subprocess.run([cc, *flags, "-o", str(tmp / "model.so"), str(tmp / "model.c"), "-lm"],
+    proc = subprocess.run([cc, *flags, "-o", str(folder / "model.so"), str(folder / "model.c"), "-lm"],
                           capture_output=True, text=True)
     if proc.returncode:
         raise RuntimeError(f"compiling {info.name} failed:\n{proc.stderr[-2000:]}")
     info.extra["compile_s"] = time.perf_counter() - start
     info.extra["cflags"] = flags
-    (tmp / "info.json").write_text(info.to_json())
-    try:
-        tmp.rename(folder)
-    except OSError:  # another process finished first; use its result
-        shutil.rmtree(tmp, ignore_errors=True)
-    return folder
+    (folder / "info.json").write_text(info.to_json())
+    for name in LIBRARY_FILES:
+        record(folder / name)
+
+
+LIBRARY_FILES = ("model.so", "info.json")
+"""The files of a compiled model folder whose digests are recorded and checked."""
+
+
+def library_problem(folder: Path) -> str | None:
+    """Why the cached model ``folder`` must not be used (a file missing, without a digest,
+    truncated or changed), or None when every file matches its recorded digest."""
+    from mbs.backends.cache import problem
+
+    for name in LIBRARY_FILES:
+        reason = problem(Path(folder) / name)
+        if reason:
+            return reason
+    return None
+
+
+def check_library(folder: Path) -> None:
+    """Refuse a model ``folder`` whose files have digest files they do not match (raises
+    :class:`~mbs.backends.cache.CacheCorrupt`). A folder without digest files, such as the
+    one shipped inside the FMU, is not checked."""
+    folder = Path(folder)
+    if not any((folder / name).with_name(name + ".digest").exists() for name in LIBRARY_FILES):
+        return
+    from mbs.backends.cache import CacheCorrupt
+
+    reason = library_problem(folder)
+    if reason:
+        raise CacheCorrupt(f"refusing to load the compiled model in {folder}: {reason}; delete the folder "
+                           "to have it rebuilt")
 
 
 class CFunction:
@@ -190,6 +245,7 @@ class CompiledSystem(System):
 
     def __init__(self, folder: Path, dtype: str = "float64"):
         folder = Path(folder)
+        check_library(folder)
         super().__init__(ModelInfo.load(folder / "info.json"), dtype)
         self.folder = folder
         self._lib = ctypes.CDLL(str(folder / "model.so"))

@@ -1,0 +1,300 @@
+"""Periodic trim by shooting: controls, attitude and periodic rotor states together.
+
+A trim is a periodic solution of the driven-rotor model: every rotor state (flap, lag, teeter,
+their rates, inflows) and the fuselage's velocities, rates and attitude return after the
+period, while the aircraft advances along a straight path at the given speed and climb rate
+(equations: :mod:`mbs.analysis.shooting`; period and tail-rotor symmetry:
+:mod:`mbs.analysis.period`). The residual is evaluated by the model's generated fixed-step
+driver, the same run a simulation makes; Newton's Jacobian is the exact derivative of that
+discrete map from forward-mode AD (:mod:`mbs.analysis.monodromy`) chained with the AD
+Jacobians of the small maps ``z -> x(0)`` and ``x(τ) -> r``. A backtracking line search makes
+it robust far from the solution; near it the steps are full and convergence is quadratic.
+
+Start: the closed-form estimate of :func:`mbs.models.bo105.estimate_trim` at the requested
+speed (momentum and blade-element theory), for Bo105 scenes; the scene's defaults otherwise.
+Rotor shaft torque and power are not available: the hubs are driven joints, whose constraint
+torque the minimal-coordinate equations do not compute, and the model publishes no
+aerodynamic torque.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from mbs.analysis.newton import Failure, Iteration, newton
+from mbs.analysis.period import RotorPeriod, rotor_period
+from mbs.analysis.shooting import TrimLayout, residual_function, residual_scales, start_function
+
+TORQUE_NOTE = ("rotor torque and power: not available (the hubs are driven joints; the model computes "
+               "no constraint torque and publishes no aerodynamic torque)")
+
+
+@dataclass
+class Trim:
+    """A periodic trim. Angles in rad, speeds in m/s, ``x0`` (nx,) the state at ``t = 0``,
+    ``params`` (np,) the parameters; ``residual`` the final scaled residual (per
+    ``residual_names``); work: Newton iterations, Jacobians (tangent propagations), residual
+    runs, right-hand sides (``nfev``) and directional derivatives (``nfwd``), wall times (s)."""
+
+    scene: str
+    speed: float
+    climb_rate: float
+    method: str
+    steps_per_rev: int
+    period: RotorPeriod
+    controls: dict[str, float]
+    roll: float
+    pitch: float
+    x0: np.ndarray
+    params: np.ndarray
+    state_names: list[str]
+    converged: bool
+    reason: str
+    residual: np.ndarray
+    residual_names: list[str]
+    history: list[Iteration] = field(default_factory=list)
+    n_jacobian: int = 0
+    n_residual: int = 0
+    nfev: int = 0
+    nfwd: int = 0
+    wall_s: float = 0.0
+    setup_s: float = 0.0
+    thrust: float | None = None
+
+    @property
+    def iterations(self) -> int:
+        return len(self.history)
+
+    @property
+    def residuals(self) -> list[float]:
+        """Max-norm scaled residual at every iterate, the final one included."""
+        return [it.residual for it in self.history] + [float(np.abs(self.residual).max())]
+
+    @property
+    def state(self) -> dict[str, float]:
+        return dict(zip(self.state_names, map(float, self.x0)))
+
+    def summary(self) -> dict:
+        """Plain-data form (JSON)."""
+        return {"scene": self.scene, "speed": self.speed, "climb_rate": self.climb_rate, "method": self.method,
+                "steps_per_rev": self.steps_per_rev, "converged": self.converged, "reason": self.reason,
+                "controls": self.controls, "controls_deg": {k: float(np.degrees(v)) for k, v in self.controls.items()},
+                "roll": self.roll, "pitch": self.pitch, "state": self.state,
+                "roll_deg": float(np.degrees(self.roll)), "pitch_deg": float(np.degrees(self.pitch)),
+                "period": self._period_summary(),
+                "max_abs_residual": float(np.abs(self.residual).max()), "residuals": self.residuals,
+                "steps": [it.step for it in self.history], "iterations": self.iterations,
+                "n_jacobian": self.n_jacobian, "n_residual": self.n_residual, "nfev": self.nfev, "nfwd": self.nfwd,
+                "wall_s": self.wall_s, "setup_s": self.setup_s, "main_rotor_thrust": self.thrust,
+                "torque": None, "power": None, "note": TORQUE_NOTE}
+
+
+    def _period_summary(self) -> dict:
+        per = self.period
+        return {"revs": per.revs, "full_revs": per.full_revs, "duration_s": per.duration,
+                "reversed": [self.state_names[i] for i in per.flip]}
+
+
+class ShootingProblem:
+    """Residual and Jacobian of the trim equations for one system, method and flight path.
+
+    system: the model's :class:`mbs.System`; stepper: its
+    :class:`mbs.analysis.monodromy.TangentStepper`; path: target position (3,) at the end of the
+    shooting interval (m); radius: reference length of the scaled residual (m); speed: m/s.
+    """
+
+    def __init__(self, system, stepper, period: RotorPeriod, steps_per_rev: int, path, radius: float,
+                 speed: float = 0.0):
+        info = system.info
+        self.speed = speed
+        self.system, self.stepper, self.period = system, stepper, period
+        self.lay = TrimLayout.of(info)
+        self.h, self.n = period.revolution / steps_per_rev, period.revs * steps_per_rev
+        self.path, self.p_base = np.asarray(path, dtype=float), system.params()
+        self._start = start_function(self.lay, info.nx, len(self.p_base))
+        self._residual = residual_function(self.lay, info.nx, period.symmetry(info.nx))
+        self.scale = residual_scales(self.lay.residual_names, period.omega, radius)
+        self.nfwd = 0
+
+    def start(self, z) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """``(x0 (nx,), p (np,), dx0/dz, dp/dz)``."""
+        x0, p, dx0, dp = (np.asarray(a, dtype=float) for a in self._start(z, self.p_base))
+        return x0.ravel(), p.ravel(), dx0, dp
+
+    def run(self, z, every: int | None = None):
+        """The model's fixed-step run over the shooting interval from the unknowns ``z``."""
+        x0, p = self.start(z)[:2]
+        try:
+            traj = self.system.run(x0, 0.0, self.h, self.n, every=every or self.n, p=p, method=self.stepper.method)
+        except ValueError as exc:  # a control outside its range
+            raise Failure(str(exc)) from None
+        if not traj.ok:
+            raise Failure(traj.message)
+        return traj
+
+    def residual(self, z) -> np.ndarray:
+        """Scaled residual (nr,) at ``z``."""
+        return self._scaled(self._residual(self.run(z).x[-1], z, self.path)[0])
+
+    def jacobian(self, z) -> np.ndarray:
+        """Scaled ``dr/dz`` (nr, nz): AD of ``x(τ)`` along ``dx0/dz``, ``dp/dz``, chained."""
+        x0, p, dx0, dp = self.start(z)
+        sens = self.stepper.propagate(x0, p, dx0, dp, 0.0, self.h, self.n)
+        self.nfwd += sens.nfwd
+        _, dr_dx, dr_dz = self._residual(sens.x, z, self.path)
+        return (np.asarray(dr_dx) @ sens.dx + np.asarray(dr_dz)) / self.scale[:, None]
+
+    def _scaled(self, r) -> np.ndarray:
+        return np.asarray(r, dtype=float).ravel() / self.scale
+
+
+def trimmable(scene) -> bool:
+    """A scene can be trimmed when it has controls and rotor aerodynamics (an inflow state)."""
+    model = scene.model()
+    return any(p.control for p in model.parameters.values()) and any(n.endswith(".inflow") for n in model.states)
+
+
+def _check_scene(name: str):
+    from mbs import scenes
+
+    sc = scenes.get(name)
+    if not trimmable(sc):
+        ok = sorted(n for n, s in scenes.all_scenes().items() if trimmable(s))
+        raise ValueError(f"scene {name!r} cannot be trimmed: it has no controls or no rotor aerodynamics; "
+                         f"trimmable scenes: {', '.join(ok)}")
+    return sc
+
+
+def _bo105_data():
+    from mbs.models.bo105 import load_data
+
+    return load_data()
+
+
+def estimate(system, lay: TrimLayout, speed: float, climb_rate: float = 0.0) -> np.ndarray:
+    """Starting unknowns ``z``: the Bo105 closed-form estimate at ``speed`` when the model is a
+    free-flying Bo105, the model's initial state and parameters otherwise."""
+    x, p = system.x0(), system.params()
+    if lay.free and system.info.name.startswith("bo105"):
+        x, p = _bo105_estimate(system, lay, speed)
+    if not lay.free:
+        return x[lay.rotor]
+    from mbs import _rotation as rot
+
+    roll, pitch, _ = rot.quat_to_euler(x[lay.quaternion])
+    q = rot.euler_to_quat(roll, pitch, 0.0)
+    body = np.r_[np.asarray(rot.quat_to_matrix(q)).T @ [speed, 0.0, -climb_rate], 0.0, 0.0, 0.0]
+    return np.r_[p[lay.controls], roll, pitch, body, x[lay.rotor]]
+
+
+def _bo105_estimate(system, lay: TrimLayout, speed: float) -> tuple[np.ndarray, np.ndarray]:
+    """Initial state and parameters from :func:`mbs.models.bo105.estimate_trim` at ``speed``."""
+    from mbs import _rotation as rot
+    from mbs.models.bo105 import estimate_trim
+
+    d = _bo105_data()
+    e, omega, names = estimate_trim(d, speed), d["main_rotor"]["omega"], system.info.state_names
+    x = system.x0()
+    x[lay.rotor] = 0.0
+    x[lay.quaternion] = rot.euler_to_quat(e.roll, e.pitch, 0.0)
+    for k in range(int(d["main_rotor"]["n_blades"])):
+        psi = 2 * np.pi * k / d["main_rotor"]["n_blades"]
+        x[names.index(f"blade{k + 1}.flap")] = e.coning - e.a1s * np.cos(psi)
+        x[names.index(f"blade{k + 1}.flap_rate")] = e.a1s * omega * np.sin(psi)
+    for name, value in (("main_rotor.inflow", e.inflow_main), ("tail_rotor.inflow", e.inflow_tail)):
+        if name in names:
+            x[names.index(name)] = value
+    p = system.params({c: getattr(e, c) for c in lay.control_names})
+    return x, p
+
+
+def _scene_speed(system, lay: TrimLayout) -> float:
+    if not lay.free:
+        return 0.0
+    return round(float(np.linalg.norm(system.x0()[lay.body[:3]])), 6)
+
+
+def trim(scene: str = "forward-flight", speed: float | None = None, climb_rate: float = 0.0,
+         method: str = "rk4", steps_per_rev: int | None = None, backend: str = "compiled",
+         tol: float = 1e-10, max_iterations: int = 20, system=None, stepper=None, progress=None) -> Trim:
+    """Trim ``scene`` at ``speed`` (m/s, default the scene's) and ``climb_rate`` (m/s, up).
+
+    method, steps_per_rev: the fixed-step method and step of the periodic solution (the trim
+    is periodic for exactly this discretisation); tol: on the max-norm scaled residual.
+    ``system``/``stepper`` reuse built evaluators (the scene's defaults otherwise).
+    """
+    return periodic_solution(_check_scene(scene), speed, climb_rate, method, steps_per_rev, backend, tol,
+                             max_iterations, system, stepper, progress)
+
+
+def periodic_solution(sc, speed: float | None = None, climb_rate: float = 0.0, method: str = "rk4",
+                      steps_per_rev: int | None = None, backend: str = "compiled", tol: float = 1e-10,
+                      max_iterations: int = 20, system=None, stepper=None, progress=None) -> Trim:
+    """The periodic solution of the scene ``sc`` (a :class:`mbs.scenes.Scene`): a trim when its
+    fuselage is free, the periodic rotor response at the given controls otherwise."""
+    from mbs.analysis.monodromy import TangentStepper
+
+    start = time.perf_counter()
+    system = system or sc.system(backend)
+    stepper = stepper or TangentStepper(sc.model(), method, backend)
+    steps_per_rev = steps_per_rev or sc.steps_per_rev
+    prob = _problem(system, stepper, sc, speed, climb_rate, steps_per_rev)
+    setup_s, nfev0 = time.perf_counter() - start, system.nfev
+    res = newton(prob.residual, prob.jacobian, estimate(system, prob.lay, prob.speed, climb_rate), tol,
+                 max_iterations, progress=progress)
+    return _result(sc.name, prob, res, prob.speed, climb_rate, steps_per_rev, setup_s, system.nfev - nfev0)
+
+
+def _problem(system, stepper, sc, speed, climb_rate, steps_per_rev) -> ShootingProblem:
+    lay = TrimLayout.of(system.info)
+    speed = _scene_speed(system, lay) if speed is None or not lay.free else float(speed)
+    period = rotor_period(system.info, 2 * np.pi / sc.revolution(system))
+    path = np.array([speed, 0.0, -climb_rate]) * period.duration
+    radius = _bo105_data()["main_rotor"]["radius"] if system.info.name.startswith("bo105") else 1.0
+    return ShootingProblem(system, stepper, period, steps_per_rev, path, radius, speed)
+
+
+def _result(scene: str, prob: ShootingProblem, res, speed, climb_rate, steps_per_rev, setup_s, nfev) -> Trim:
+    x0, p = prob.start(res.z)[:2]
+    controls, attitude = prob.lay.split(res.z)[:2]
+    out = Trim(scene, speed, climb_rate, prob.stepper.method, steps_per_rev, prob.period,
+               dict(zip(prob.lay.control_names, map(float, controls))),
+               *(map(float, attitude) if prob.lay.free else (0.0, 0.0)), x0, p, prob.system.info.state_names,
+               res.converged, res.reason, res.r, prob.lay.residual_names, res.history, res.n_jacobian,
+               res.n_residual, nfev, prob.nfwd, res.wall_s, setup_s)
+    out.thrust = _mean_thrust(prob, res.z) if res.converged else None
+    return out
+
+
+def _mean_thrust(prob: ShootingProblem, z) -> float | None:
+    """Main-rotor thrust (N) averaged over the shooting interval, when the model outputs it."""
+    info = prob.system.info
+    if "main_rotor.thrust" not in info.output_names:
+        return None
+    traj = prob.run(z, every=1)
+    y = prob.system.history("outputs", traj, prob.start(z)[1])[1:, info.output_names.index("main_rotor.thrust")]
+    return float(y.mean())
+
+
+def write_trim(result: Trim, path: Path, key: str | None = None) -> Path:
+    """Store ``result`` under ``key`` (default the scene) in the TOML file ``path`` (other
+    entries kept; the format of ``mbs/models/bo105_trim.toml``, which a copy can replace)."""
+    import sys
+
+    tomllib = __import__("tomllib" if sys.version_info >= (3, 11) else "tomli")
+    path = Path(path)
+    entries = tomllib.loads(path.read_text()) if path.exists() else {}
+    entries[key or result.scene] = {"speed": result.speed, **result.controls, "roll": result.roll,
+                                    "pitch": result.pitch,
+                                    **{k: v for k, v in result.state.items() if k.endswith(".inflow")},
+                                    "max_abs_residual": float(np.abs(result.residual).max())}
+    lines = ["# Periodic trims of the Bo105 model (DER): written by `heli trim SCENE --write PATH`",
+             "# (mbs/analysis/trim.py). Angles in rad, speed and inflow in m/s, residual scaled (per R, rev).", ""]
+    for name, e in sorted(entries.items()):
+        lines += [f'["{name}"]'] + [f'"{k}" = {float(v)!r}' for k, v in e.items()] + [""]
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text("\n".join(lines))
+    return path
