@@ -15,6 +15,7 @@ import importlib
 _EXPORTS = {
     "Model": "mbs.tree", "Joint": "mbs.joints", "Fixed": "mbs.joints", "Hinge": "mbs.joints",
     "DrivenHinge": "mbs.joints", "FreeJoint": "mbs.joints", "Serial": "mbs.joints",
+    "Slider": "mbs.joints",
     "ForceElement": "mbs.forces", "SpringDamper": "mbs.forces", "UserForce": "mbs.forces",
     "State": "mbs.forces", "Loads": "mbs.forces", "PointForce": "mbs.forces", "BodyTorque": "mbs.forces",
     "build": "mbs.backends", "BACKENDS": "mbs.backends", "System": "mbs.backends.system",

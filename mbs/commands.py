@@ -88,10 +88,19 @@ def _trim_lines(res) -> list[str]:
 
 
 def cmd_floquet(args) -> int:
+    from mbs.analysis.fanplot import WithParameters, parse_settings
     from mbs.analysis.floquet import floquet
 
+    if args.sweep:
+        return _floquet_sweep(args)
+    system, settings = None, parse_settings(args.set)
+    if settings:
+        from mbs import scenes
+
+        system = WithParameters(scenes.get(args.scene).system(args.backend), **settings)
+        system.params()
     res = floquet(args.scene, speed=args.speed, method=args.method, steps_per_rev=args.steps_per_rev,
-                  backend=args.backend)
+                  backend=args.backend, system=system)
     lines = [f"{res.scene} at {res.speed:g} m/s: Floquet analysis over {res.period_revs} main-rotor revolutions "
              f"(monodromy over {res.interval_revs}; periodic solution in {res.trim.iterations} Newton iterations; "
              f"analysis {res.wall_s:.2f} s)",
@@ -102,6 +111,98 @@ def cmd_floquet(args) -> int:
              f"{max(abs(m.multiplier) for m in res.modes):.6f} over the period"]
     emit(res.summary(), args.json, lines)
     return 0
+
+
+def _floquet_sweep(args) -> int:
+    """``heli floquet SCENE --sweep NAME=LO:HI:N``: the fan plot (PNG) and its table (CSV)."""
+    import time
+
+    from mbs._progress import Progress
+    from mbs.analysis import fanplot as fp
+
+    start = time.perf_counter()
+    name, values = fp.parse_sweep(args.sweep)
+    ana = fp.FanPlotAnalysis(args.scene, fp.parse_settings(args.set), args.method, args.steps_per_rev,
+                             args.backend, fixed_frame=args.frame != "rotating")
+    setup_s = time.perf_counter() - start
+    points = fp.sweep(ana, name, values, Progress(f"floquet sweep {args.scene}", not args.quiet))
+    sweep_s = time.perf_counter() - start - setup_s
+    bands = fp.unstable_bands(points, lambda v: ana.at(**{name: v}))
+    out = Path(args.out)
+    stem = f"fanplot_{args.scene}"
+    files = [fp.write_csv(fp.rows(points, name), out / f"{stem}.csv"),
+             fp.figure(points, name, bands, out / f"{stem}.png", _fan_title(args, ana))]
+    res = {"scene": args.scene, "parameter": name, "values": values.tolist(), "settings": ana.settings,
+           "frame": "rotating" if args.frame == "rotating" else "fixed (multi-blade)",
+           "points": [_sweep_point(p) for p in points], "unstable_bands": bands,
+           "files": [str(f) for f in files], "setup_s": setup_s, "sweep_s": sweep_s,
+           "wall_s": time.perf_counter() - start}
+    emit(res, args.json, _sweep_lines(res, points))
+    return 0 if any(p.floquet for p in points) else 1
+
+
+def _fan_title(args, ana) -> str:
+    settings = ", ".join(f"{k} = {v:g}" for k, v in ana.settings.items())
+    frame = "rotating-frame" if args.frame == "rotating" else "fixed-frame"
+    return f"{args.scene}: fan plot ({frame} frequencies{'; ' + settings if settings else ''})"
+
+
+def _sweep_point(p) -> dict:
+    modes = [{**m.summary(), "name": n} for m, n in zip(p.floquet.modes, p.names)] if p.floquet else []
+    return {"value": p.value, "status": p.status, "stable": not p.unstable if p.floquet else None,
+            "modes": modes, "wall_s": p.wall_s}
+
+
+def _sweep_lines(res: dict, points) -> list[str]:
+    failed = [p for p in points if not p.floquet]
+    bands = "; ".join(f"{lo:.4g} to {hi:.4g}" for lo, hi in res["unstable_bands"]) or "none"
+    return [f"{res['scene']}: Floquet sweep of {res['parameter']} over {len(points)} points "
+            f"({res['frame']} frequencies) in {res['sweep_s']:.2f} s (+ {res['setup_s']:.2f} s set-up)",
+            *[f"  {res['parameter']} = {p.value:g}: {p.status}" for p in failed],
+            f"unstable {res['parameter']} band(s): {bands}", *[f"wrote {f}" for f in res["files"]]]
+
+
+def cmd_derivatives(args) -> int:
+    from mbs.analysis.derivatives import derivatives, write_matrices
+
+    if args.mat and Path(args.mat).suffix not in (".mat", ".npz"):
+        raise ValueError(f"--mat {args.mat}: use a .mat (MATLAB) or .npz file name")
+    res = derivatives(args.scene, speed=args.speed, method=args.method, steps_per_rev=args.steps_per_rev,
+                      backend=args.backend)
+    out, lines = res.summary(), _derivative_lines(res)
+    if args.mat:
+        out["written"] = write_matrices(res, args.mat)
+        lines.append(f"wrote {out['written']}")
+    emit(out, args.json, lines)
+    return 0
+
+
+def _derivative_lines(res) -> list[str]:
+    """The human-readable report of :func:`mbs.analysis.derivatives.derivatives`."""
+    import numpy as np
+
+    from mbs.analysis.derivatives import CONTROL_SYMBOLS, FORCES, VELOCITIES
+
+    ref = res.reference
+    syms = [CONTROL_SYMBOLS.get(c, c) for c in res.controls]
+    lines = [f"{res.scene} at {res.speed:g} m/s: derivatives with the rotor in its periodic equilibrium "
+             f"(quasi-static rotor, implicit-function theorem on the trim; {res.wall_s:.2f} s)",
+             f"  reference: U_e {ref['U_e']:.3f}, V_e {ref['V_e']:.3f}, W_e {ref['W_e']:.3f} m/s, "
+             f"Theta_e {np.degrees(ref['Theta_e']):+.3f} deg, Phi_e {np.degrees(ref['Phi_e']):+.3f} deg",
+             "  forces per unit mass (X, Y, Z), moments per unit inertia (L, M, N; primed), per m/s, rad/s, rad:",
+             "  " + " " * 4 + "".join(f"{v:>11s}" for v in [*VELOCITIES, *syms])]
+    for f in FORCES:
+        row = [res.table[f"{f}_{v}"] for v in [*VELOCITIES, *syms]]
+        lines.append(f"  {f:4s}" + "".join(f"{x:+11.4g}" for x in row))
+    lines += ["  A, x = (u, w, q, theta, v, p, phi, r):",
+              *["    " + " ".join(f"{x:+9.4f}" for x in row) for row in res.A],
+              f"  B, u = ({', '.join(syms)}):", *["    " + " ".join(f"{x:+9.4f}" for x in row) for row in res.B],
+              f"  {'mode':18s} {'Re λ 1/s':>10s} {'Im λ rad/s':>11s} {'ζ':>7s} {'period s':>9s}"]
+    for m in res.modes:
+        period = f"{m.period_s:9.2f}" if m.period_s else " " * 9
+        lines.append(f"  {m.name:18s} {m.eigenvalue.real:+10.4f} {m.eigenvalue.imag:11.4f} "
+                     f"{m.damping_ratio:+7.3f} {period}")
+    return lines
 
 
 def cmd_figures(args) -> int:
@@ -147,8 +248,29 @@ def register(sub, bench) -> None:
     p.add_argument("--method", choices=("rk4", "rk8"), default="rk4", help="fixed-step method (default rk4)")
     p.add_argument("--steps-per-rev", type=int, default=None, help="steps per revolution (default: the scene's)")
     p.add_argument("--backend", choices=["compiled", "vm"], default="compiled")
+    p.add_argument("--set", action="append", metavar="NAME=VALUE",
+                   help="run-time parameter value, e.g. lag_damping=50 (repeatable)")
+    p.add_argument("--sweep", metavar="NAME=LO:HI:N", default=None,
+                   help="fan plot: analyse at N values of a run-time parameter, e.g. omega=20:60:30; writes "
+                        "fanplot_SCENE.png and .csv into --out")
+    p.add_argument("--frame", choices=("fixed", "rotating"), default="fixed",
+                   help="with --sweep: frequencies in the fixed frame (multi-blade coordinates, default) or per blade")
+    p.add_argument("--out", default="out/floquet", help="with --sweep: output folder (default out/floquet)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
     add_json(p)
     p.set_defaults(fn=cmd_floquet)
+
+    p = sub.add_parser("derivatives", help="stability and control derivatives at trim (quasi-static rotor in its "
+                       "periodic equilibrium), the A and B matrices and the flight modes")
+    p.add_argument("scene", nargs="?", default="forward-flight")
+    p.add_argument("--speed", type=float, default=None, help="flight speed in m/s (default: the scene's)")
+    p.add_argument("--method", choices=("rk4", "rk8"), default="rk4", help="fixed-step method (default rk4)")
+    p.add_argument("--steps-per-rev", type=int, default=None, help="steps per revolution (default: the scene's)")
+    p.add_argument("--backend", choices=["compiled", "vm"], default="compiled")
+    p.add_argument("--mat", metavar="FILE", default=None, help="write A, B and the mode names to FILE "
+                   "(.mat for MATLAB, or .npz)")
+    add_json(p)
+    p.set_defaults(fn=cmd_derivatives)
 
     p = sub.add_parser("scenes", help="list the scenes: bodies, degrees of freedom, force elements")
     add_json(p)

@@ -123,7 +123,7 @@ class ForceElement:
 class SpringDamper(ForceElement):
     """Linear spring and damper on a hinge coordinate ``coordinate`` (e.g. ``"blade1.lag"``).
 
-    stiffness N m/rad, damping N m s/rad, rest angle rad.
+    stiffness N m/rad, damping N m s/rad, rest angle rad; on a slider coordinate N/m, N s/m, m.
     """
 
     coordinate: str

@@ -105,6 +105,32 @@ class Hinge(Joint):
 
 
 @dataclass
+class Slider(Joint):
+    """Prismatic joint along a constant unit ``axis`` (joint frame), 1 DOF: displacement (m), rate (m/s).
+
+    ``stiffness`` (N/m), ``damping`` (N s/m) and ``rest_position`` (m) add a linear
+    spring-damper force element on the slider when the model is built.
+    """
+
+    axis: tuple = (1.0, 0.0, 0.0)
+    name: str = "displacement"
+    stiffness: float = 0.0
+    damping: float = 0.0
+    rest_position: float = 0.0
+    nq = 1
+    nv = 1
+
+    def __post_init__(self):
+        self.axis = tuple(_unit(self.axis))
+        self.q_names = (self.name,)
+        self.v_names = (self.name + "_rate",)
+
+    def relative(self, q, v, t, p):
+        a = ca.DM(self.axis)
+        return Relative(a * q[0], ca.DM.eye(3), a * v[0], ZERO3)
+
+
+@dataclass
 class DrivenHinge(Joint):
     """Revolute joint whose angle is prescribed: ``angle(t, p) -> SX`` (rad), no DOF.
 

@@ -13,7 +13,7 @@ from typing import Callable
 import numpy as np
 
 SCENES: dict[str, "Scene"] = {}
-_PROVIDERS = ("mbs.models.demo", "mbs.models.bo105")
+_PROVIDERS = ("mbs.models.demo", "mbs.models.bo105", "mbs.models.ground_resonance")
 
 
 @dataclass

@@ -8,7 +8,14 @@
   (one period) with respect to the initial state and the parameters, by forward-mode AD
   through the generated step;
 * :mod:`mbs.analysis.trim`: periodic trim by shooting, Newton with that Jacobian;
-* :mod:`mbs.analysis.floquet`: Floquet multipliers and characteristic exponents at a trim.
+* :mod:`mbs.analysis.floquet`: Floquet multipliers and characteristic exponents at a trim;
+* :mod:`mbs.analysis.multiblade`: multi-blade coordinates and fixed-frame rotor mode names;
+* :mod:`mbs.analysis.fanplot`: Floquet sweeps over a run-time parameter (rotor speed), the fan
+  plot and its unstable bands;
+* :mod:`mbs.analysis.held`: the rotor's periodic response with the fuselage motion held (the
+  quasi-static rotor) and its derivatives by the implicit-function theorem;
+* :mod:`mbs.analysis.derivatives`: stability and control derivatives at trim, Padfield's A and B;
+* :mod:`mbs.analysis.flight_modes`: the eigenvalues of A named as flight modes.
 
 Only the signal functions (numpy) are imported here; the others need CasADi.
 """

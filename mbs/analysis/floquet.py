@@ -45,6 +45,7 @@ class FloquetMode:
     multiplier: complex
     participation: dict[str, float]
     omega: float  # main-rotor speed, rad/s
+    vector: np.ndarray | None = field(default=None, repr=False)  # eigenvector (ny,) at t = 0, ∝ exp(+i |Im λ| t)
 
     @property
     def damping(self) -> float:
@@ -162,8 +163,12 @@ def _check(sc, trimmable: bool) -> None:
                          "driven rotors and either a trimmable scene or a fuselage that is not free")
 
 
-def analyse(sol, system, stepper, record_every: int = 2) -> Floquet:
-    """Floquet modes of the periodic solution ``sol`` (a :class:`mbs.analysis.trim.Trim`)."""
+def analyse(sol, system, stepper, record_every: int = 2, frame=None) -> Floquet:
+    """Floquet modes of the periodic solution ``sol`` (a :class:`mbs.analysis.trim.Trim`).
+
+    frame: optional ``frame(t) -> (m, ny, ny)``, coordinates along the period in which each
+    mode's frequency is read (e.g. multi-blade coordinates, :func:`mbs.analysis.multiblade.transform`,
+    for fixed-frame frequencies); multipliers and damping do not depend on it."""
     start = time.perf_counter()
     lay = TrimLayout.of(system.info)
     names, from_state = coordinate_functions(lay, system.info.nx)
@@ -176,6 +181,8 @@ def analyse(sol, system, stepper, record_every: int = 2) -> Floquet:
     phi = np.array([np.asarray(from_state(x)[1]) @ d for x, d in zip(sens.xs, sens.dxs)])
     psi = flip[:, None] * (np.asarray(from_state(sens.x)[1]) @ sens.dx)
     t = np.arange(len(phi)) * record_every * per.revolution / sol.steps_per_rev
+    if frame is not None:
+        phi = frame(t) @ phi
     scale = residual_scales(names, per.omega, _radius(system))
     modes = _modes(psi, phi, t, per, names, scale, flip)
     return Floquet(sol.scene, sol.speed, modes, names, per.revs, per.full_revs, sol, sens.nfwd,
@@ -196,7 +203,8 @@ def _modes(psi, phi, t, per, names, scale, flip) -> list[FloquetMode]:
         lam = complex(np.log(complex(rho[j]))) / per.duration
         lam += 1j * _harmonic_shift(phi, vec[:, j], rho[j], lam, t, scale, flip, per)
         out.append(FloquetMode(complex(lam.real, abs(lam.imag)), complex(rho[j]) ** (per.full_revs // per.revs),
-                               _participation(vec[:, j], names, scale), per.omega))
+                               _participation(vec[:, j], names, scale), per.omega,
+                               vec[:, j] if lam.imag >= 0 else vec[:, j].conj()))
     return sorted(out, key=lambda m: m.exponent.real, reverse=True)
 
 

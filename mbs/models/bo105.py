@@ -429,6 +429,11 @@ SCENE_CONFIGS = {
                             dampers=False, shaft_tilt=False, pitch_hinge=False),
                      "hub clamped and driven (vertical shaft), one blade on flap and lag hinges with springs, "
                      "no aerodynamics: for frequency checks", False),
+    "single-blade-aero": (Config(fuselage="none", blades=1, tail_rotor=False, airframe_aero=False, dampers=False,
+                                 shaft_tilt=False, speed=0.0),
+                          "hub clamped and driven (vertical shaft), one blade on flap, lag and driven pitch "
+                          "hinges with blade-element aerodynamics and uniform dynamic inflow, in hover: for the "
+                          "Lock-number check of the flap mode", False),
 }
 
 for _name, (_cfg, _text, _conservative) in SCENE_CONFIGS.items():

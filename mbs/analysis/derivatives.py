@@ -1,0 +1,242 @@
+"""Stability and control derivatives at trim, with the rotor in its periodic equilibrium.
+
+The quasi-static rotor (:mod:`mbs.analysis.held`): for held fuselage velocities, rates and
+attitude and for given controls, the rotor settles on its periodic response, and the
+fuselage feels the period-mean loads; divided by the aircraft's mass and inertia they are
+the mean accelerations ``ā(u, v, w, p, q, r, φ, θ, controls)``. Their total derivatives,
+the rotor's periodic orbit moving with each variable (implicit-function theorem on the
+shooting equations, AD through the generated step), are the rows of Padfield's
+
+    ẋ = A x + B δ,   x = (u, w, q, θ, v, p, φ, r),   δ = (θ0, θ1s, θ1c, θ0T)
+
+(Helicopter Flight Dynamics, 2nd ed., ch. 4: the 8-state form; the heading ψ is left out,
+nothing depends on it). Units: m/s, rad/s, rad; ``A`` in 1/s and its mixed units.
+
+* Reference: the period mean of the periodic trim (:mod:`mbs.analysis.trim`) at the given
+  speed: body velocities ``U_e, V_e, W_e``, rates (zero to round-off), roll ``Φ_e`` and pitch
+  ``Θ_e``; controls of the trim. The rotor's periodic response with that motion held is
+  solved afresh; ``ā`` there (``mean_acceleration_at_reference``) is not exactly zero, by the
+  fuselage vibration that the held motion leaves out.
+* Rows ``u̇, v̇, ẇ, ṗ, q̇, ṙ``: ``dā/d(·)``. They include the rigid-body kinematic terms (``−Q_e``
+  in ``∂u̇/∂w``, ``U_e`` in ``∂ẇ/∂q`` ...) and, in the θ and φ columns, gravity (and the
+  small change of the blades' weight loads with attitude); the moment rows use the inverse of
+  the aircraft's full inertia matrix, so they are Padfield's primed derivatives ``L'``, ``N'``
+  (product of inertia ``I_xz`` absorbed).
+* Rows ``θ̇, φ̇``: the Euler-angle kinematics of the fuselage's quaternion rate, by AD.
+
+The derivative table (:attr:`Derivatives.table`) follows Padfield's names: force derivatives
+per unit mass ``X_u = ∂u̇/∂u`` … with the kinematic terms ``−ω × V`` removed (so ``Z_q`` is
+``∂ẇ/∂q − U_e``), moment derivatives per unit inertia ``L_p = ∂ṗ/∂p`` … (primed), controls
+``X_θ0``, ``M_θ1s``, ``L_θ1c``, ``N_θ0T`` … per rad.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import casadi as ca
+import numpy as np
+
+from mbs.analysis.flight_modes import STATES, FlightMode, flight_modes
+from mbs.analysis.held import HELD, HeldRotor, HeldSolution, HeldStepper
+from mbs.analysis.shooting import TrimLayout, euler_angles, quaternion
+
+FORCES = ("X", "Y", "Z", "L", "M", "N")
+VELOCITIES = ("u", "v", "w", "p", "q", "r")
+CONTROL_SYMBOLS = {"collective": "θ0", "longitudinal_cyclic": "θ1s", "lateral_cyclic": "θ1c",
+                   "tail_collective": "θ0T"}
+CONTROL_ORDER = ("collective", "longitudinal_cyclic", "lateral_cyclic", "tail_collective")
+ROW_SOURCE = {"u": ("a", 0), "w": ("a", 2), "q": ("a", 4), "theta": ("euler", 1), "v": ("a", 1),
+              "p": ("a", 3), "phi": ("euler", 0), "r": ("a", 5)}
+"""Where each row of ``A`` comes from: the mean accelerations (index into ``ā``) or the Euler rates."""
+COLUMN = {s: HELD.index({"theta": "pitch", "phi": "roll"}.get(s, s)) for s in STATES}
+"""Column of each state of ``A`` in the held variables ``b`` (:data:`mbs.analysis.held.HELD`)."""
+
+
+@dataclass
+class Derivatives:
+    """``A`` (8, 8) in :data:`STATES` order and ``B`` (8, nc) in ``controls`` order (SI, rad),
+    the named derivatives (:attr:`table`), the modes of ``A``, the reference flight condition
+    and the work (wall time s, directional derivatives ``nfwd``)."""
+
+    scene: str
+    speed: float
+    A: np.ndarray
+    B: np.ndarray
+    controls: list[str]
+    reference: dict[str, float]
+    mean_acceleration_at_reference: np.ndarray
+    modes: list[FlightMode]
+    held: HeldSolution
+    rotor: HeldRotor | None = None
+    trim: object = None
+    table: dict[str, float] = field(default_factory=dict)
+    units: dict[str, str] = field(default_factory=dict)
+    wall_s: float = 0.0
+    nfwd: int = 0
+
+    @property
+    def states(self) -> list[str]:
+        return list(STATES)
+
+    def summary(self) -> dict:
+        """Plain-data form (JSON)."""
+        return {"scene": self.scene, "speed": self.speed, "states": self.states, "controls": self.controls,
+                "control_symbols": [CONTROL_SYMBOLS.get(c, c) for c in self.controls],
+                "A": self.A.tolist(), "B": self.B.tolist(), "derivatives": self.table, "units": self.units,
+                "reference": self.reference,
+                "mean_acceleration_at_reference": self.mean_acceleration_at_reference.tolist(),
+                "eigenvalues": [m.summary() for m in self.modes],
+                "rotor_periodicity_residual": self.held.residual, "wall_s": self.wall_s, "nfwd": self.nfwd,
+                "convention": "Padfield 8-state x = (u, w, q, theta, v, p, phi, r), u = (theta0, theta1s, "
+                              "theta1c, theta0T); forces per unit mass, moments per unit inertia (primed L, N); "
+                              "quasi-static rotor in its periodic equilibrium"}
+
+
+def euler_rate_function() -> ca.Function:
+    """``euler_rates(b) -> (φ̇, θ̇) (2,), d/db (2, 8)``: the Euler-angle rates of a fuselage
+    with held variables ``b`` (:data:`HELD`), from its quaternion rate, by AD."""
+    from mbs import _rotation as rot
+
+    b, q = ca.SX.sym("b", len(HELD)), ca.SX.sym("q", 4)
+    along = ca.Function("e", [q, b], [ca.jtimes(euler_angles(q), q, rot.quat_rate(q, b[3:6]))[:2]])
+    rates = along(quaternion(b[6], b[7]), b)
+    return ca.Function("euler_rates", [b], [rates, ca.jacobian(rates, b)], ["b"], ["rates", "d_db"])
+
+
+def kinematic_terms(b: np.ndarray) -> np.ndarray:
+    """``d(−ω × V)/d(V, ω)`` (3, 6) at the held ``b``: the rigid-body part of the translational
+    rows, removed from Padfield's force derivatives (AD of the cross product)."""
+    v = ca.SX.sym("v", 6)
+    k = ca.Function("k", [v], [ca.jacobian(-ca.cross(v[3:], v[:3]), v)])
+    return np.asarray(k(b[:6]))
+
+
+def assemble(dmean: np.ndarray, b: np.ndarray, n_controls: int) -> tuple[np.ndarray, np.ndarray]:
+    """``A`` (8, 8) and ``B`` (8, nc) from ``dā/d(b, c)`` (6, 8 + nc) and the Euler kinematics."""
+    euler = np.asarray(euler_rate_function()(b)[1])
+    rows = {"a": np.asarray(dmean), "euler": np.hstack([euler, np.zeros((2, n_controls))])}
+    full = np.array([rows[src][i] for src, i in (ROW_SOURCE[s] for s in STATES)])
+    return full[:, [COLUMN[s] for s in STATES]], full[:, len(HELD):]
+
+
+def derivative_table(dmean: np.ndarray, b: np.ndarray, controls: list[str]) -> tuple[dict, dict]:
+    """Padfield's named derivatives (and their units) from ``dā/d(b, c)`` (6, 8 + nc)."""
+    d = np.array(dmean[:, :6], dtype=float)
+    d[:3] -= kinematic_terms(b)
+    table, units = {}, {}
+    for i, f in enumerate(FORCES):
+        for j, v in enumerate(VELOCITIES):
+            table[f"{f}_{v}"], units[f"{f}_{v}"] = float(d[i, j]), _unit(f, v)
+        for j, c in enumerate(controls):
+            name = f"{f}_{CONTROL_SYMBOLS.get(c, c)}"
+            table[name], units[name] = float(dmean[i, len(HELD) + j]), _unit(f, "control")
+    return table, units
+
+
+def _unit(force: str, by: str) -> str:
+    num = "m/s^2" if force in "XYZ" else "rad/s^2"
+    den = {"u": "m/s", "v": "m/s", "w": "m/s", "control": "rad"}.get(by, "rad/s")
+    simple = {("m/s^2", "m/s"): "1/s", ("rad/s^2", "rad/s"): "1/s", ("m/s^2", "rad/s"): "m/(s rad)",
+              ("rad/s^2", "m/s"): "rad/(m s)", ("m/s^2", "rad"): "m/(s^2 rad)", ("rad/s^2", "rad"): "1/s^2"}
+    return simple[(num, den)]
+
+
+def reference_condition(sol, system) -> np.ndarray:
+    """Held variables ``b`` (8,): the period means over the trim's shooting interval of the body
+    velocities and rates and of roll and pitch (from the quaternion)."""
+    from mbs import _rotation as rot
+
+    lay = TrimLayout.of(system.info)
+    n = sol.period.revs * sol.steps_per_rev
+    x = system.run(sol.x0, 0.0, sol.period.revolution / sol.steps_per_rev, n, every=1, p=sol.params,
+                   method=sol.method).x[:-1]
+    attitude = np.array([rot.quat_to_euler(q)[:2] for q in x[:, lay.quaternion]])
+    return np.r_[x[:, lay.body].mean(axis=0), attitude.mean(axis=0)]
+
+
+def _controls(lay: TrimLayout) -> list[int]:
+    """Indices of the trim's controls in Padfield's order (θ0, θ1s, θ1c, θ0T), others after."""
+    known = [c for c in CONTROL_ORDER if c in lay.control_names]
+    return [lay.control_names.index(c) for c in known + [c for c in lay.control_names if c not in known]]
+
+
+def at_trim(sol, system, held_stepper: HeldStepper, radius: float) -> tuple[HeldRotor, np.ndarray, np.ndarray]:
+    """The held-rotor problem at the trim ``sol``: ``(rotor, b_e (8,), c_e (nc,))``, controls in
+    the model's order."""
+    lay = TrimLayout.of(system.info)
+    rotor = HeldRotor(held_stepper, sol.period, sol.steps_per_rev, sol.params, radius)
+    return rotor, reference_condition(sol, system), sol.params[lay.controls]
+
+
+def derivatives(scene: str = "forward-flight", speed: float | None = None, method: str = "rk4",
+                steps_per_rev: int | None = None, backend: str = "compiled", system=None, stepper=None,
+                held_stepper=None) -> Derivatives:
+    """Stability and control derivatives of ``scene`` (free-flying, trimmable) at ``speed`` m/s."""
+    from mbs import scenes
+    from mbs.analysis.monodromy import TangentStepper
+    from mbs.analysis.trim import _bo105_data, _check_scene, periodic_solution
+
+    sc = _check_scene(scene)
+    system = system or sc.system(backend)
+    if not TrimLayout.of(system.info).free:
+        raise ValueError(f"scene {scene!r} has no free fuselage: derivatives need a free-flying scene; "
+                         f"free-flying trimmable scenes: {', '.join(_free_scenes(scenes))}")
+    stepper = stepper or TangentStepper(sc.model(), method, backend)
+    start = time.perf_counter()
+    sol = periodic_solution(sc, speed, method=method, steps_per_rev=steps_per_rev, system=system, stepper=stepper)
+    if not sol.converged:
+        raise RuntimeError(f"no trim of {scene!r} at {sol.speed:g} m/s: {sol.reason}")
+    held_stepper = held_stepper or HeldStepper(sc.model(), method, backend)
+    radius = _bo105_data()["main_rotor"]["radius"] if system.info.name.startswith("bo105") else 1.0
+    return linearise(sol, system, held_stepper, radius, start)
+
+
+def _free_scenes(scenes) -> list[str]:
+    """Names of the trimmable scenes with a free fuselage."""
+    from mbs.analysis.trim import trimmable
+
+    free = lambda m: any(type(b.joint).__name__ == "FreeJoint" for b in m.bodies.values())  # noqa: E731
+    return sorted(n for n, s in scenes.all_scenes().items() if trimmable(s) and free(s.model()))
+
+
+def linearise(sol, system, held_stepper: HeldStepper, radius: float, start: float | None = None) -> Derivatives:
+    """:class:`Derivatives` at the periodic trim ``sol``."""
+    start = time.perf_counter() if start is None else start
+    rotor, b, c = at_trim(sol, system, held_stepper, radius)
+    lay = rotor.lay
+    held = rotor.solve(b, c, sol.x0[lay.rotor], derivatives=True)
+    if not held.converged:
+        raise RuntimeError(f"the rotor's periodic response with the fuselage held did not converge "
+                           f"(max |scaled residual| {held.residual:.2e})")
+    order = _controls(lay)
+    dmean = np.hstack([held.dmean[:, :len(HELD)], held.dmean[:, len(HELD):][:, order]])
+    controls = [lay.control_names[i] for i in order]
+    a, bm = assemble(dmean, b, len(controls))
+    table, units = derivative_table(dmean, b, controls)
+    ref = dict(zip(("U_e", "V_e", "W_e", "P_e", "Q_e", "R_e", "Phi_e", "Theta_e"), map(float, b)))
+    ref.update({c: float(sol.controls[c]) for c in controls})
+    return Derivatives(sol.scene, sol.speed, a, bm, controls, ref, held.mean, flight_modes(a), held, rotor, sol,
+                       table, units, time.perf_counter() - start, rotor.nfwd)
+
+
+def write_matrices(res: Derivatives, path) -> str:
+    """``A``, ``B``, state and control names, eigenvalues to ``path``: ``.mat`` (MATLAB, via
+    :func:`scipy.io.savemat`) or ``.npz``."""
+    from pathlib import Path
+
+    path = Path(path)
+    data = {"A": res.A, "B": res.B, "states": np.array(res.states, dtype=object),
+            "controls": np.array(res.controls, dtype=object), "speed": res.speed,
+            "eigenvalues": np.array([m.eigenvalue for m in res.modes]),
+            "mode_names": np.array([m.name for m in res.modes], dtype=object)}
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if path.suffix == ".mat":
+        from scipy.io import savemat
+
+        savemat(path, data)
+    elif path.suffix == ".npz":
+        np.savez(path, **{k: (v.astype(str) if getattr(v, "dtype", None) == object else v) for k, v in data.items()})
+    else:
+        raise ValueError(f"unknown matrix file type {path.suffix!r}: use .mat (MATLAB) or .npz")
+    return str(path)

@@ -1,0 +1,90 @@
+"""Flight modes of a 6-DOF linear model: eigenvalues of ``A`` named from participation factors.
+
+States in Padfield's 8-state order ``(u, w, q, θ, v, p, φ, r)``. The participation factor of
+state ``k`` in mode ``i`` is ``|l_ik r_ki|`` (left and right eigenvectors, ``L = R⁻¹``): it does
+not depend on the units of the states. A mode is longitudinal when ``u, w, q, θ`` hold most of
+it, lateral otherwise, and is named as in Padfield (Helicopter Flight Dynamics, ch. 4):
+
+* longitudinal: oscillatory with ``w, q`` dominant "short period", with ``u, θ`` dominant
+  "phugoid"; real: "heave subsidence" (``w``), "pitch subsidence" (``q, θ``), "speed
+  subsidence" (``u``), "divergence" instead of "subsidence" when the eigenvalue is positive;
+* lateral: oscillatory "Dutch roll" (with a quarter or more in ``r``), else "lateral
+  phugoid" (the sway-roll oscillation of the hover); real: "roll subsidence" (``p``), "yaw
+  subsidence" (``r``), "spiral" (``φ, v``).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+STATES = ("u", "w", "q", "theta", "v", "p", "phi", "r")
+LONGITUDINAL = ("u", "w", "q", "theta")
+
+
+@dataclass
+class FlightMode:
+    """One eigenvalue ``λ`` (1/s) of ``A`` (one per conjugate pair, ``Im λ >= 0``) and the
+    share of each state in it (sums to 1)."""
+
+    eigenvalue: complex
+    participation: dict[str, float]
+    name: str
+
+    @property
+    def damping_ratio(self) -> float:
+        return float(-self.eigenvalue.real / max(abs(self.eigenvalue), 1e-300))
+
+    @property
+    def period_s(self) -> float | None:
+        """Period of the oscillation (s); ``None`` for a real eigenvalue."""
+        return 2 * np.pi / self.eigenvalue.imag if self.eigenvalue.imag > 0 else None
+
+    @property
+    def time_to_half_s(self) -> float:
+        """Time to half (positive) or to double (negative) amplitude, s."""
+        return float(np.log(2) / -self.eigenvalue.real) if self.eigenvalue.real else np.inf
+
+    def summary(self) -> dict:
+        return {"name": self.name, "eigenvalue": [self.eigenvalue.real, self.eigenvalue.imag],
+                "damping_ratio": self.damping_ratio, "period_s": self.period_s,
+                "time_to_half_s": self.time_to_half_s, "participation": self.participation}
+
+
+def participation(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Eigenvalues (n,) of ``a`` (n, n) and participation factors (n states, n modes), each
+    column summing to 1."""
+    lam, right = np.linalg.eig(a)
+    left = np.linalg.inv(right)
+    p = np.abs(left.T * right)
+    return lam, p / p.sum(axis=0)
+
+
+def mode_name(lam: complex, share: dict[str, float]) -> str:
+    """Padfield's name of the mode ``lam`` with state shares ``share``."""
+    group = lambda *keys: sum(share[k] for k in keys)  # noqa: E731
+    oscillatory = abs(lam.imag) > 1e-9 * max(abs(lam), 1e-300)
+    if group(*LONGITUDINAL) >= 0.5:
+        if oscillatory:
+            return "short period" if group("w", "q") > group("u", "theta") else "phugoid"
+        return _real(lam, {"heave": share["w"], "pitch": group("q", "theta"), "speed": share["u"]})
+    if oscillatory:
+        return "Dutch roll" if share["r"] >= 0.25 else "lateral phugoid"
+    if group("phi", "v") > max(share["p"], share["r"]):
+        return "spiral"
+    return _real(lam, {"roll": share["p"], "yaw": share["r"]})
+
+
+def _real(lam: complex, weights: dict[str, float]) -> str:
+    """``"<axis> subsidence"`` for the axis with the largest weight, ``divergence`` when growing."""
+    return f"{max(weights, key=weights.get)} {'divergence' if lam.real > 0 else 'subsidence'}"
+
+
+def flight_modes(a: np.ndarray, states=STATES) -> list[FlightMode]:
+    """Modes of ``a`` (8, 8) in ``states`` order, one per conjugate pair, least stable first."""
+    lam, p = participation(a)
+    out = []
+    for i in np.flatnonzero(lam.imag >= 0):
+        share = {s: float(w) for s, w in zip(states, p[:, i])}
+        out.append(FlightMode(complex(lam[i]), share, mode_name(complex(lam[i]), share)))
+    return sorted(out, key=lambda m: m.eigenvalue.real, reverse=True)
