@@ -8,7 +8,12 @@ interpreter so that nothing is shared:
   second call in the process (``fmpy``) and the first one, imports included (``fmpy_cold``);
 - fmpy's low-level loop: the FMU already instantiated, ``setReal`` + ``doStep`` + ``getReal``
   of every output per step (what a co-simulation master pays per step);
-- the core directly: one ``system.run`` of all the steps (compiled evaluator).
+- the core directly: one ``system.run`` of all the steps (compiled evaluator);
+- the native FMU (C only) through ``fmpy.simulate_fmu`` (``fmpy_native``) and through the C
+  host of :mod:`fmu.native.run` (``c_host``: ``setReal`` of the inputs, ``doStep``, ``getReal``
+  of every output per step, the trim inputs held; ``c_host_states``: the same reading only
+  the hinge angles and rates, which the FMU takes from its state without evaluating the model
+  outputs).
 
 Real-time factor = simulated time / wall time. Overhead ratio = core RTF / FMU RTF.
 """
@@ -80,9 +85,11 @@ def run(revs: float = 20.0, repeats: int = 3, scene: str = "forward-flight") -> 
     with tempfile.TemporaryDirectory(prefix="heli-bench-fmu-") as cwd:
         for what in ("core", "loop", "fmpy"):
             runs[what] = [_child({**args, "what": what}, cwd) for _ in range(repeats)]
+        runs.update(_native_runs(args, repeats, cwd))
     sim = steps * facts["step"]
     kinds = {"core": ("core", "warm"), "fmpy_loop": ("loop", "warm"), "fmpy": ("fmpy", "warm"),
-             "fmpy_cold": ("fmpy", "cold")}
+             "fmpy_cold": ("fmpy", "cold"), "fmpy_native": ("fmpy_native", "warm"), "c_host": ("c_host", "warm"),
+             "c_host_states": ("c_host_states", "warm")}
     res = {"scene": scene, "fmu": str(path), "revs": revs, "communication_step_s": facts["step"], "steps": steps,
            "simulated_s": sim, "repeats": repeats, "load_average": os.getloadavg(), "target_fmpy_rtf": 10.0}
     for kind, (what, when) in kinds.items():
@@ -94,4 +101,33 @@ def run(revs: float = 20.0, repeats: int = 3, scene: str = "forward-flight") -> 
     res["overhead_ratio"] = res["realtime_factor_core"] / res["realtime_factor_fmpy"]
     res["overhead_ratio_cpu"] = res["realtime_factor_core_cpu"] / res["realtime_factor_fmpy_cpu"]
     res["meets_target"] = res["realtime_factor_fmpy"] >= 10.0
+    res.update(_native_targets(res))
     return res
+
+
+def _native_runs(args: dict, repeats: int, cwd: str) -> dict:
+    """The native FMU: fmpy (fresh interpreters) and the C host (fresh processes)."""
+    from fmu.native import run as native_run
+    from fmu.native.build import ensure_native_fmu
+
+    path, _ = ensure_native_fmu(build.DEFAULT_SCENES)
+    fmpy_runs = [_child({**args, "what": "fmpy", "fmu": str(path)}, cwd) for _ in range(repeats)]
+    host, folder = native_run.compile_host(Path(cwd) / "heli_fmi_host"), native_run.extract(path, Path(cwd) / "native")
+    facts = native_run.facts(path)
+    so = native_run.library(folder, facts["identifier"])
+    inputs = {n: args["inputs"][n] for n in facts["inputs"]}
+    hinges = [n for n in facts["outputs"] if n.split(".")[-1].split("_")[0] in ("flap", "lag", "teeter")]
+    runs = {"fmpy_native": fmpy_runs}
+    for kind, names in (("c_host", facts["outputs"]), ("c_host_states", hinges)):
+        runs[kind] = [{"warm": native_run.time_host(host, so, facts, args["scene"], args["dt"], args["steps"], inputs,
+                                                    names)} for _ in range(repeats)]
+    return runs
+
+
+def _native_targets(res: dict) -> dict:
+    """C host time per step against the core's (target <= 1.2) and fmpy's real-time factor
+    with the native FMU (target >= 30)."""
+    us, usc = res["us_per_step"], res["us_per_step_cpu"]
+    return {"c_host_over_core": us["c_host"] / us["core"], "c_host_over_core_cpu": usc["c_host"] / usc["core"],
+            "c_host_states_over_core": us["c_host_states"] / us["core"],
+            "meets_native_targets": us["c_host"] / us["core"] <= 1.2 and res["realtime_factor_fmpy_native"] >= 30.0}

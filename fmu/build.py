@@ -2,11 +2,12 @@
 copy of the slave and of the core's run-time files, and call pythonfmu's builder.
 
 ``ensure_fmu(scenes)`` returns a cached ``.fmu`` (``<cache>/fmu/<key>/<identifier>.fmu``,
-keyed by the sources of ``mbs`` and ``fmu``, the scenes, the compiler, CasADi and pythonfmu),
-building it in a fresh interpreter (``python -m fmu.build``) when absent. The staged code
-lives in a package named ``heli_bo105_<digest>`` (digest of the staged code) with every
-``import mbs...`` rewritten to it, so the shipped copy never mixes with an ``mbs`` that the
-host process imported, nor with another build of this FMU loaded in the same process.
+keyed by the sources of ``mbs`` and ``fmu``, the scenes, ``$CC``, CasADi and pythonfmu),
+building it in a fresh interpreter (``python -m fmu.build``) when absent or when it fails
+its recorded digest. The staged code lives in a package named ``heli_bo105_<digest>``
+(digest of the staged code) with every ``import mbs...`` rewritten to it, so the shipped
+copy never mixes with an ``mbs`` that the host process imported, nor with another build of
+this FMU loaded in the same process.
 """
 from __future__ import annotations
 
@@ -14,6 +15,7 @@ import argparse
 import hashlib
 import importlib.metadata
 import json
+import math
 import os
 import platform
 import re
@@ -31,9 +33,18 @@ HERE = Path(__file__).resolve().parent
 DEFAULT_SCENES = ("forward-flight", "hover", "ground-run")
 SLAVE = "heli_bo105_slave"
 RUNTIME = ["backends/__init__.py", "backends/info.py", "backends/system.py", "backends/compiled.py",
-           "backends/vm.py", "integrators/*.py"]
+           "backends/vm.py", "backends/cache.py", "integrators/*.py"]
 VM_FUNCTIONS = ("incr_rk4", "incr_rk8", "project", "fmu_outputs")
 _IMPORT = re.compile(r"^(\s*)(from|import)\s+mbs(?=[\s.])", re.MULTILINE)
+# Ranges shared by every scene (and by the native FMU, which reads spec.json).
+# max_step: with RK4 (the default integrator) over 20 revolutions at the trim, the hinge
+# amplitudes of every scene are those of small steps (0.049-0.051 rad) up to 0.012 s; at
+# 0.013-0.014 s RK4 amplifies them 2.5-6x, at 0.015 s hover diverges, at 0.02 s every scene.
+# Beyond the bound (e.g. 0.05 s) is refused; inside it, extreme inputs at the largest omega
+# can still diverge: doStep then undoes the step (limits.hinge_angle).
+MAX_STEP_RANGE = (1e-6, 0.012)  # s
+FORWARD_SPEED_RANGE = (-20.0, 90.0)  # m/s
+LIMITS = {"max_substeps": 1_000_000, "hinge_angle": math.pi / 2}  # sub-steps per doStep; rad
 
 
 def mbs_dir() -> Path:
@@ -76,8 +87,9 @@ def plan(scene_names) -> tuple[dict, dict]:
     spec = {"model_identifier": identifier(scene_names), "primary": scene_names[0], "family": list(scene_names),
             "description": f"{primary[0].description} (scenes: {', '.join(scene_names)})",
             "version": _version(), "variables": variables, "n_computed": len(computed),
-            "default_experiment": _default_experiment(primary),
+            "default_experiment": _default_experiment(primary), "limits": dict(LIMITS),
             "scenes": {n: _scene_spec(per_scene[n], variables) for n in scene_names}}
+    _add_starts(variables, spec["scenes"][spec["primary"]], spec["primary"])
     functions = {g: (vm, {**vm.functions, "fmu_outputs": fmu_outputs(vm, computed)}) for g, vm in groups.values()}
     return spec, functions
 
@@ -97,6 +109,23 @@ def _default_experiment(primary) -> dict:
     scene, _, vm, _ = primary
     rev = _revolution(scene, vm)
     return {"start": 0.0, "stop": 10 * rev, "step": rev / scene.steps_per_rev}
+
+
+def _add_starts(variables: list[dict], primary: dict, primary_name: str) -> None:
+    """Give every input and parameter its ``start``: its value in the primary scene. An FMU
+    treats a value set equal to the start as "not set" (the scene in use supplies its own)."""
+    for v in variables:
+        if v["causality"] in ("input", "parameter"):
+            v["start"] = _primary_value(v["name"], primary, primary_name)
+
+
+def _primary_value(name: str, scene: dict, scene_name: str):
+    """Default of the variable ``name`` in the scene ``scene`` (a scene spec)."""
+    omega = scene["defaults"].get("omega", scene["omega"])
+    fixed = {"scene": scene_name, "evaluator": "compiled", "integrator": "rk4",
+             "max_step": 2 * math.pi / abs(omega) / scene["steps_per_rev"],  # as the slave computes it
+             "initial_forward_speed": scene["forward_speed"]["default"] if scene["forward_speed"] else 0.0}
+    return fixed[name] if name in fixed else float(scene["defaults"][name])
 
 
 def _var(name, causality, variability, description, unit=None, **extra) -> dict:
@@ -121,16 +150,16 @@ def _variables(primary, scene_names) -> list[dict]:
     out.append({**_var("integrator", "parameter", "fixed", "fixed-step method of the shipped driver: rk4 "
                        "(classical, the default) or rk8 (Dormand-Prince 8th-order weights, 12 stages)"),
                 "type": "String", "allowed": ["rk4", "rk8"]})
-    out.append(_var("max_step", "parameter", "tunable", "largest internal integrator step (> 0); each "
+    out.append(_var("max_step", "parameter", "tunable", "largest internal integrator step; each "
                     "communication step is split into equal sub-steps no longer than this; default 1/100 "
-                    "revolution", "s"))
+                    "revolution", "s", min=MAX_STEP_RANGE[0], max=MAX_STEP_RANGE[1]))
     out += [_var(p["name"], "parameter", "fixed", p["description"], p["unit"] or None,
                  min=_finite(p["low"]), max=_finite(p["high"])) for p in info.parameters if not p["control"]]
     free = [b for b in info.bodies if b["joint"] == "FreeJoint"]
     if free:
         out.append(_var("initial_forward_speed", "parameter", "fixed",
                         f"initial {free[0]['name']} speed north (world x) at the scene's initial attitude; "
-                        "default: the scene's", "m/s"))
+                        "default: the scene's", "m/s", min=FORWARD_SPEED_RANGE[0], max=FORWARD_SPEED_RANGE[1]))
     return out + _computed_variables(model, info, free)
 
 
@@ -182,9 +211,16 @@ def _scene_spec(entry, variables) -> dict:
     return {"group": group, "x0": info.x0, "omega": scene.omega, "steps_per_rev": scene.steps_per_rev,
             "revolution": _revolution(scene, vm), "parameter_order": info.param_names,
             "defaults": {p["name"]: p["default"] for p in info.parameters},
-            "ranges": {p["name"]: [_finite(p["low"]), _finite(p["high"])] for p in info.parameters},
-            "plots": scene.plots, "description": scene.description,
+            "ranges": {**{p["name"]: [_finite(p["low"]), _finite(p["high"])] for p in info.parameters},
+                       "max_step": list(MAX_STEP_RANGE), "initial_forward_speed": list(FORWARD_SPEED_RANGE)},
+            "hinge_states": _hinge_states(info), "plots": scene.plots, "description": scene.description,
             "forward_speed": _forward_speed(info, free[0], x0) if free else None}
+
+
+def _hinge_states(info) -> list[int]:
+    """Indices in x of the hinge coordinates (flap, lag, teeter; rad): the ``q_names`` of
+    every body that is neither free nor clamped (driven hinges have none)."""
+    return [info.state_names.index(q) for b in info.bodies if b["joint"] != "FreeJoint" for q in b["q_names"]]
 
 
 def _forward_speed(info, body: dict, x0: np.ndarray) -> dict:
@@ -320,6 +356,7 @@ def build_here(scene_names, dest: Path) -> Path:
     imports the staged code). Writes ``dest`` (a ``.fmu`` path)."""
     from pythonfmu import FmuBuilder
 
+    shim_library = compiled_shim()  # first: without a C compiler this fails at once, clearly
     spec, groups = plan(list(scene_names))
     with tempfile.TemporaryDirectory(prefix="heli-fmu-stage-") as tmp:
         stage = Path(tmp)
@@ -328,46 +365,99 @@ def build_here(scene_names, dest: Path) -> Path:
         sys.path.insert(0, str(stage))
         built = FmuBuilder.build_FMU(stage / f"{entry}.py", dest=stage / "out", project_files=[package, models],
                                      canGetAndSetFMUstate=True, canSerializeFMUstate=True)
-        _recompress(built, Path(dest))
+        _recompress(built, Path(dest), shim_library)
     return Path(dest)
 
 
-def _recompress(src: Path, dest: Path) -> None:
-    """pythonfmu stores files uncompressed; deflate them (the libraries shrink about 4x)."""
+def compiled_shim() -> bytes:
+    """The FMU's FMI front end (``fmu/shim/fmi2_shim.c``) compiled for this machine; raises
+    :class:`fmu.shim.ShimBuildError` (e.g. no C compiler)."""
+    from fmu import shim
+
+    with tempfile.TemporaryDirectory(prefix="heli-fmu-shim-") as tmp:
+        return shim.compile_shim(Path(tmp) / "shim.so").read_bytes()
+
+
+def _recompress(src: Path, dest: Path, shim_library: bytes | None = None) -> None:
+    """pythonfmu stores files uncompressed; deflate them (the libraries shrink about 4x).
+    With ``shim_library``, the FMI front end takes the place of pythonfmu's library, which
+    moves to ``binaries/linux64/pythonfmu/``, and other platforms' binaries are dropped."""
+    from fmu.shim import relocate
+
     dest.parent.mkdir(parents=True, exist_ok=True)
     with zipfile.ZipFile(src) as zin, zipfile.ZipFile(dest, "w", zipfile.ZIP_DEFLATED) as zout:
         for item in zin.infolist():
-            zout.writestr(item.filename, zin.read(item.filename))
+            data = zin.read(item.filename)
+            entries = relocate(item.filename, data, shim_library) if shim_library else [(item.filename, data)]
+            for name, payload in entries:
+                zout.writestr(name, payload)
 
 
 # -- cache ----------------------------------------------------------------------------------
 
+SOURCE_SUFFIXES = (".py", ".toml", ".c", ".h")
+"""The files of ``mbs`` and ``fmu`` whose content keys the FMU cache."""
+
+
 def cache_key(scene_names) -> str:
-    """Hash of everything the FMU is built from."""
-    from mbs.backends.compiled import CFLAGS, cache_dir, find_compiler  # noqa: F401 (numpy only)
+    """Hash of everything the FMU is built from: the sources, the scenes, CasADi and
+    pythonfmu, the compiler flags, the compiler named by ``$CC`` (if set) and the platform.
+    It needs no compiler, so a cached FMU is found on a machine without one."""
+    from mbs.backends.compiled import CFLAGS  # numpy only
 
     h = hashlib.sha256()
     for root in (mbs_dir(), HERE):
-        for path in sorted(p for p in root.rglob("*") if p.suffix in (".py", ".toml") and "__pycache__" not in p.parts):
+        for path in sorted(p for p in root.rglob("*") if p.suffix in SOURCE_SUFFIXES and "__pycache__" not in p.parts):
             h.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes())
     versions = [importlib.metadata.version(d) for d in ("casadi", "pythonfmu")]
-    h.update(json.dumps([list(scene_names), versions, find_compiler(), CFLAGS, sys.platform,
+    h.update(json.dumps([list(scene_names), versions, os.environ.get("CC") or "", CFLAGS, sys.platform,
                          platform.machine()]).encode())
     return h.hexdigest()[:20]
 
 
 def cached_path(scene_names) -> Path:
+    """Where the FMU of ``scene_names`` is cached: ``<cache>/fmu/<key>/<identifier>.fmu``
+    (its digest file next to it)."""
     from mbs.backends.compiled import cache_dir
 
     return cache_dir() / "fmu" / cache_key(scene_names) / f"{identifier(scene_names)}.fmu"
 
 
+def fmu_problem(path: Path) -> str | None:
+    """Why the cached FMU ``path`` must not be used (missing, no digest, truncated or
+    changed, or a member failing its zip CRC check), or None when it is intact."""
+    from mbs.backends.cache import problem
+
+    reason = problem(path)
+    if reason:
+        return reason
+    try:
+        with zipfile.ZipFile(path) as z:
+            bad = z.testzip()
+    except (OSError, zipfile.BadZipFile) as exc:
+        return f"{path} is not a readable zip file ({exc})"
+    return f"{path} has a corrupt member {bad}" if bad else None
+
+
 def ensure_fmu(scene_names=DEFAULT_SCENES, force: bool = False, log=None) -> tuple[Path, float]:
-    """The cached FMU of ``scene_names`` (built in a subprocess if absent); returns
-    (path, build seconds, 0 if it came from the cache)."""
+    """The cached FMU of ``scene_names`` (built in a subprocess if absent or not intact);
+    returns (path, build seconds, 0 if it came from the cache). The FMU's digest is recorded
+    when it is built and checked (with the zip's CRCs) before a cached one is returned.
+    Raises :class:`~mbs.backends.cache.CacheNotWritable` when a build is needed and the
+    cache folder cannot be written, :class:`~mbs.backends.compiled.CompilerNotFound` when
+    there is no C compiler."""
+    from mbs.backends.cache import record, writable_dir
+    from mbs.backends.compiled import find_compiler
+
     path = cached_path(scene_names)
-    if path.exists() and not force:
-        return path, 0.0
+    if not force:
+        reason = fmu_problem(path)
+        if reason is None:
+            return path, 0.0
+        if log and path.exists():
+            log(f"rebuilding the cached FMU: {reason}")
+    writable_dir(path.parent, "FMU cache")
+    find_compiler()
     if log:
         log(f"building the FMU for {', '.join(scene_names)} (compiles the models once; cached) ...")
     start = time.perf_counter()
@@ -377,8 +467,10 @@ def ensure_fmu(scene_names=DEFAULT_SCENES, force: bool = False, log=None) -> tup
         proc = subprocess.run([sys.executable, "-m", "fmu.build", "--scenes", ",".join(scene_names),
                                "--dest", str(tmp)], cwd=cwd, env=env, capture_output=True, text=True)
     if proc.returncode:
+        tmp.unlink(missing_ok=True)
         raise RuntimeError(f"building the FMU failed:\n{proc.stderr[-4000:]}")
     tmp.replace(path)
+    record(path)
     return path, time.perf_counter() - start
 
 

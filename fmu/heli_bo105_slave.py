@@ -7,12 +7,30 @@ numerics are the core's fixed-step driver (RK4, or rk8 by the parameter ``integr
 Inputs are held constant over a communication step, which is split into
 ``n = ceil(dt / max_step)`` equal sub-steps.
 
-Errors: pythonfmu turns every Python exception into ``fmi2Fatal``. Bad input therefore
-never raises: a bad value is stored, logged at once with status error (naming the variable
-and the value) and the next ``fmi2DoStep`` returns ``fmi2Discard`` without advancing,
-until the value is corrected. Unexpected exceptions are logged with their traceback and
-re-raised (``fmi2Fatal``). Error messages are also written to ``stderr``, because most
-importers drop FMU log messages unless debug logging is on.
+Start values: every input and parameter has the primary scene's value as its XML start. A
+value set equal to its start counts as "not set": the scene in use supplies its own
+default (so a master that applies every start value runs any scene with that scene's trim).
+
+Errors: pythonfmu's wrapper turns a Python exception into ``fmi2Fatal`` and then crashes on
+the next call, so no exception ever leaves this slave. Every entry point (instantiate and
+reset, the setters and getters, the life-cycle calls, ``doStep``, the FMU-state calls)
+catches everything and logs a message with status error naming the call, the variable or
+value reference and the value; the FMU's FMI front end (``fmu/shim``) turns an error logged
+during a call into that call's ``fmi2Error`` and forwards it whatever ``loggingOn`` says.
+A getter answers NaN (Real), ``""`` (String), 0 or false for what it cannot give; setting
+an output is an error and is ignored. A bad value of an input or parameter is stored and
+refused at once (error); while it stands, ``doStep`` returns false (``fmi2Discard``, with a
+message) without advancing, and a bad parameter makes ``exitInitializationMode`` fail
+(error) with the instance left in initialisation mode, so the master can correct the value
+and call it again. ``doStep`` before ``exitInitializationMode`` is an error. ``doStep``
+refuses (Discard) a step needing more than ``limits.max_substeps`` sub-steps, and undoes
+(Discard) a step after which a hinge angle is beyond ``limits.hinge_angle`` or the state or
+the total energy is not finite. A corrupt or foreign FMU state is refused (error) and
+nothing changes. Unexpected exceptions are logged with their traceback. Messages of status
+warning and worse are also written to ``stderr``.
+
+pythonfmu 0.7.0 executes this file again at every instantiate; :func:`_settle_rerun` at the
+end keeps that from leaking memory.
 
 In the shipped FMU this module is the entry module ``heli_bo105_slave_<digest>`` and imports
 the core's run-time files from the package ``heli_bo105_<digest>`` (both names unique to the
@@ -21,6 +39,7 @@ build), never from an ``mbs`` that the host may have imported.
 from __future__ import annotations
 
 import ctypes
+import functools
 import json
 import math
 import sys
@@ -28,7 +47,7 @@ import traceback
 from pathlib import Path
 
 import numpy as np
-from pythonfmu import DefaultExperiment, Fmi2Slave, Real, String
+from pythonfmu import Boolean, DefaultExperiment, Fmi2Slave, Integer, Real, String
 from pythonfmu.enums import Fmi2Causality, Fmi2Initial, Fmi2Status, Fmi2Variability
 
 from mbs.backends import compiled as _compiled
@@ -38,11 +57,15 @@ from mbs.backends.info import ModelInfo
 MODELS = "heli_models"
 STATE_FORMAT = "heli-fmu-state-1"
 TIME_TOLERANCE = 1e-9  # relative mismatch allowed between the master's time and ours
+DIAGNOSTIC_ROWS = 1000  # rows recorded when a failed step is redone to find where it failed
 
 # SI base-unit exponents for <UnitDefinitions>; unknown units are declared by name only.
 BASE_UNITS = {"rad": {"rad": 1}, "rad/s": {"rad": 1, "s": -1}, "m": {"m": 1}, "m/s": {"m": 1, "s": -1},
               "s": {"s": 1}, "J": {"kg": 1, "m": 2, "s": -2}, "N": {"kg": 1, "m": 1, "s": -2},
               "1": {}}
+KINDS = {"Real": Real, "String": String}
+FALLBACK = {Real: math.nan, String: "", Integer: 0, Boolean: False}  # what a failed getter answers
+UNSET = object()  # a setting equal to its start value: the scene in use supplies the value
 
 
 def quat_to_matrix(q) -> np.ndarray:
@@ -74,6 +97,14 @@ class Stepper:
         if not status:
             self.x[:], self.comp[:] = rows[-1], comp
         return status, done
+
+    def snapshot(self) -> tuple[np.ndarray, np.ndarray]:
+        """Copies of the state and the summation compensation (to undo a step)."""
+        return self.x.copy(), self.comp.copy()
+
+    def restore(self, snap: tuple[np.ndarray, np.ndarray]) -> None:
+        """Undo to ``snap`` in place (the compiled driver holds pointers to these buffers)."""
+        self.x[:], self.comp[:] = snap
 
     def outputs(self, t: float) -> list[float]:
         """Every output and local variable of the FMU (generated ``fmu_outputs``)."""
@@ -170,6 +201,92 @@ def _repoint_package(resources: str | None) -> None:
             module.__path__ = [str(own.joinpath(*name.split(".")[1:]))]
 
 
+def _placeholder():
+    """Accessor given to pythonfmu's variables: values go through :class:`HeliRotorSlave`'s
+    own ``get_*``/``set_*``, so no variable holds a closure over the instance (a freed
+    instance is then not kept alive by a reference cycle)."""
+    return None
+
+
+def _is_start(value, start) -> bool:
+    """True when ``value`` is exactly the variable's start value (a number or a string)."""
+    if start is None or isinstance(value, bool):
+        return False
+    if isinstance(start, str):
+        return isinstance(value, str) and value == start
+    return isinstance(value, (int, float)) and value == start
+
+
+def _keep_one(entry: str | None) -> None:
+    """Keep a single ``entry`` in ``sys.path``: pythonfmu inserts the resources folder at
+    every instantiate and never removes it."""
+    hits = [k for k, p in enumerate(sys.path) if entry and p == entry]
+    for k in reversed(hits[1:]):
+        del sys.path[k]
+
+
+def _index(indices: list[int]):
+    """``indices`` as a slice when they are consecutive (indexing then makes a view), else
+    as an integer array."""
+    if indices and list(indices) == list(range(indices[0], indices[-1] + 1)):
+        return slice(indices[0], indices[-1] + 1)
+    return np.array(indices, dtype=int)
+
+
+def _read_spec(path: Path) -> dict:
+    """The build's spec (variables, scenes, limits); raises BadValue naming the file."""
+    try:
+        return json.loads(path.read_text())
+    except (OSError, ValueError) as exc:
+        raise BadValue(f"{path} cannot be read: {type(exc).__name__}: {exc}") from exc
+
+
+def _fallback(value, args):
+    return value(*args) if callable(value) else value
+
+
+def entry_point(call: str, fallback=None):
+    """Decorator of an FMI entry point: nothing escapes it. A refused value (BadValue) is
+    logged with status error as ``"<call>: <message>"``, any other exception with its
+    traceback; then ``fallback`` (or ``fallback(*args)`` if callable) is returned."""
+    def wrap(fn):
+        @functools.wraps(fn)
+        def guarded(self, *args):
+            try:
+                if getattr(self, "_broken", None):
+                    self._report(f"{call}: instance unusable: {self._broken}")
+                    return _fallback(fallback, args)
+                return fn(self, *args)
+            except BadValue as exc:
+                self._report(f"{call}: {exc}")
+            except Exception as exc:
+                self._report(f"{call} failed: {type(exc).__name__}: {exc}\n{traceback.format_exc()}")
+            return _fallback(fallback, args)
+        return guarded
+    return wrap
+
+
+def _nan_list(vrs):
+    return [math.nan] * len(vrs)
+
+
+def _state_problem(state) -> str | None:
+    """Why ``state`` is not a state of this FMU (None when it is one)."""
+    if not isinstance(state, dict):
+        return f"expected a dict, got {type(state).__name__}"
+    if state.get("format") != STATE_FORMAT:
+        reason = state.get("error") or f"format {state.get('format')!r}"
+        return f"{reason} (expected format {STATE_FORMAT!r})"
+    kinds = {"phase": str, "start_time": (int, float), "t": (int, float), "settings": dict, "errors": dict,
+             "frozen": dict, "x": (list, type(None)), "comp": (list, type(None))}
+    wrong = [k for k, kind in kinds.items() if not isinstance(state.get(k), kind)]
+    if wrong:
+        return f"missing or malformed entries {wrong}"
+    if (state["x"] is None) != (state["comp"] is None) or len(state["x"] or []) != len(state["comp"] or []):
+        return "the state x and its compensation differ in length"
+    return None
+
+
 class HeliRotorSlave(Fmi2Slave):
     """Rotor multibody model as an FMI 2.0 co-simulation slave; see the module docstring."""
 
@@ -177,77 +294,167 @@ class HeliRotorSlave(Fmi2Slave):
     license = "MIT"
 
     def __init__(self, **kwargs):
-        super().__init__(**kwargs)
+        """Runs at fmi2Instantiate and at fmi2Reset; never raises (a failure leaves an
+        instance that answers every call with a logged error)."""
+        self._broken = None
+        self.log_queue, self.vars, self.modelName = [], {}, "HeliRotor"
+        self.instance_name = str(kwargs.get("instance_name", ""))
+        try:
+            super().__init__(**kwargs)
+            _keep_one(self.resources)
+            self._setup()
+        except Exception as exc:
+            self._broken = f"the FMU could not be set up: {type(exc).__name__}: {exc}"
+            self._report(f"fmi2Instantiate: {self._broken}\n{traceback.format_exc()}")
+
+    def _setup(self) -> None:
         root = Path(self.resources or Path(__file__).parent) / MODELS
-        self._root = root
-        self._spec = json.loads((root / "spec.json").read_text())
-        self.modelName = self._spec["model_identifier"]
-        self.description = self._spec["description"]
+        self._root, self._spec = root, _read_spec(root / "spec.json")
+        self.modelName, self.description = self._spec["model_identifier"], self._spec["description"]
         self.version = self._spec["version"]
         ex = self._spec["default_experiment"]
         self.default_experiment = DefaultExperiment(ex["start"], ex["stop"], ex["step"])
         _repoint_package(self.resources)
-        self._settings: dict = {}
-        self._errors: dict[str, str] = {}
-        self._frozen: dict = {}
-        self._systems: dict = {}
-        self._phase = "instantiated"
-        self._start_time = 0.0
-        self._stepper = self._p = self._cache = None
-        self._t = 0.0
+        self._limits = {"max_substeps": 1_000_000, "hinge_angle": math.pi / 2, **self._spec.get("limits", {})}
         self._vars = {v["name"]: v for v in self._spec["variables"]}
-        for k, v in enumerate(self._spec["variables"]):
-            self.register_variable(self._variable(v, k))
+        for v in self._spec["variables"]:
+            self.register_variable(self._variable(v))
         self._positions = {vr: self._vars[var.name]["position"] for vr, var in self.vars.items()
                            if "position" in self._vars[var.name]}
+        self._energy = self._vars.get("total_energy", {}).get("position")
+        self._systems: dict = {}
+        self._settings, self._errors, self._frozen = {}, {}, {}
+        self._phase, self._start_time, self._t = "instantiated", 0.0, 0.0
+        self._stepper = self._p = self._cache = None
 
     # -- variables ---------------------------------------------------------------------------
-    def _variable(self, v: dict, k: int):
-        kind = String if v["type"] == "String" else Real
-        name = v["name"]
-        args = dict(causality=Fmi2Causality[v["causality"]], variability=Fmi2Variability[v["variability"]],
-                    description=v["description"])
-        if v["causality"] in ("input", "parameter"):
-            return kind(name, getter=lambda: self._value(name), setter=lambda value: self._set(name, value), **args)
-        pos = v["position"]
-        return kind(name, initial=Fmi2Initial.calculated, getter=lambda: self._computed()[pos],
-                    setter=lambda value: self._refuse_output(name, value), **args)
+    def _variable(self, v: dict):
+        """pythonfmu's variable of the spec entry ``v`` (accessors: :func:`_placeholder`)."""
+        computed = v["causality"] not in ("input", "parameter")
+        return KINDS[v["type"]](v["name"], causality=Fmi2Causality[v["causality"]],
+                                variability=Fmi2Variability[v["variability"]], description=v["description"],
+                                initial=Fmi2Initial.calculated if computed else None,
+                                getter=_placeholder, setter=_placeholder)
 
+    def _lookup(self, vr, kind, call: str):
+        """The spec entry of value reference ``vr`` if it is a ``kind`` variable, else None
+        (after logging an error naming the call and the value reference)."""
+        var = self.vars.get(vr) if isinstance(vr, int) else None
+        if var is None:
+            self._report(f"{call}: unknown value reference {vr!r} (this FMU has 0 to {len(self.vars) - 1})")
+            return None
+        if not isinstance(var, kind):
+            self._report(f"{call}: variable {var.name!r} (value reference {vr}) is a "
+                         f"{type(var).__name__}, not a {kind.__name__}")
+            return None
+        return self._vars[var.name]
+
+    def _get_one(self, vr, kind, call: str):
+        """One value for ``call``; on any failure a logged error and ``FALLBACK[kind]``."""
+        v = self._lookup(vr, kind, call)
+        if v is None:
+            return FALLBACK[kind]
+        try:
+            value = self._value(v["name"]) if v["causality"] in ("input", "parameter") else \
+                self._computed()[v["position"]]
+            return str(value) if kind is String else float(value)
+        except Exception as exc:
+            detail = str(exc) if isinstance(exc, BadValue) else f"{type(exc).__name__}: {exc}\n{traceback.format_exc()}"
+            self._report(f"{call}: variable {v['name']!r} (value reference {vr}) cannot be computed: {detail}")
+            return FALLBACK[kind]
+
+    def _set_one(self, vr, value, kind, call: str) -> None:
+        """Set one value for ``call``; a refusal or failure is logged (status error)."""
+        v = self._lookup(vr, kind, call)
+        if v is None:
+            return
+        if v["causality"] not in ("input", "parameter"):
+            self._report(f"{call}: {v['causality']} {v['name']!r} (value reference {vr}) cannot be set "
+                         f"(attempted {value!r}); the value was ignored")
+            return
+        try:
+            self._set(v["name"], value, call)
+        except Exception as exc:
+            self._report(f"{call}: setting {v['name']!r} (value reference {vr}) to {value!r} failed: "
+                         f"{type(exc).__name__}: {exc}\n{traceback.format_exc()}")
+
+    @entry_point("getReal", _nan_list)
     def get_real(self, vrs: list[int]) -> list[float]:
-        """pythonfmu's ``get_real``, with one evaluation of the outputs for all of them."""
+        """Values of ``vrs``; outputs only: one evaluation of the outputs for all of them."""
         try:
             idx = [self._positions[vr] for vr in vrs]
-        except KeyError:
-            return super().get_real(vrs)
+        except (KeyError, TypeError):
+            return [self._get_one(vr, Real, "getReal") for vr in vrs]
         values = self._computed()
         return [values[k] for k in idx]
 
-    def to_xml(self, model_options=dict()):
-        """pythonfmu's description plus units, ranges, ``<UnitDefinitions>`` and ``<InitialUnknowns>``."""
-        from xml.etree.ElementTree import Element, SubElement
+    @entry_point("getString", lambda vrs: [""] * len(vrs))
+    def get_string(self, vrs: list[int]) -> list[str]:
+        return [self._get_one(vr, String, "getString") for vr in vrs]
 
+    @entry_point("getInteger", lambda vrs: [0] * len(vrs))
+    def get_integer(self, vrs: list[int]) -> list[int]:
+        return [self._get_one(vr, Integer, "getInteger") for vr in vrs]
+
+    @entry_point("getBoolean", lambda vrs: [False] * len(vrs))
+    def get_boolean(self, vrs: list[int]) -> list[bool]:
+        return [self._get_one(vr, Boolean, "getBoolean") for vr in vrs]
+
+    @entry_point("setReal")
+    def set_real(self, vrs: list[int], values: list[float]) -> None:
+        for vr, value in zip(vrs, values):
+            self._set_one(vr, value, Real, "setReal")
+
+    @entry_point("setString")
+    def set_string(self, vrs: list[int], values: list[str]) -> None:
+        for vr, value in zip(vrs, values):
+            self._set_one(vr, value, String, "setString")
+
+    @entry_point("setInteger")
+    def set_integer(self, vrs: list[int], values: list[int]) -> None:
+        for vr, value in zip(vrs, values):
+            self._set_one(vr, value, Integer, "setInteger")
+
+    @entry_point("setBoolean")
+    def set_boolean(self, vrs: list[int], values: list[bool]) -> None:
+        for vr, value in zip(vrs, values):
+            self._set_one(vr, value, Boolean, "setBoolean")
+
+    def to_xml(self, model_options=dict()):
+        """pythonfmu's description plus start values, units, ranges (numbers written with
+        ``repr``: shortest text that reads back bit for bit), ``<UnitDefinitions>`` and
+        ``<InitialUnknowns>``."""
         root = super().to_xml(model_options)
         svs = list(root.find("ModelVariables"))
-        units = set()
-        for sv in svs:
-            v = self._vars[sv.get("name")]
-            real = sv.find("Real")
-            for key in ("unit", "min", "max"):
-                if real is not None and v.get(key) is not None:
-                    real.set(key, v[key] if key == "unit" else f"{v[key]:.16g}")
-            units.add(v.get("unit"))
-        defs = Element("UnitDefinitions")
-        for u in sorted(units - {None}):
-            unit = SubElement(defs, "Unit", name=u)
-            if u in BASE_UNITS:
-                SubElement(unit, "BaseUnit", {k: str(e) for k, e in BASE_UNITS[u].items()})
-        root.insert(list(root).index(root.find("CoSimulation")) + 1, defs)
-        structure = root.find("ModelStructure")
-        initial = SubElement(structure, "InitialUnknowns")
+        units = {self._annotate(sv) for sv in svs}
+        self._unit_definitions(root, units - {None})
+        from xml.etree.ElementTree import SubElement
+
+        initial = SubElement(root.find("ModelStructure"), "InitialUnknowns")
         for i, sv in enumerate(svs, 1):
             if sv.get("causality") == "output":
                 SubElement(initial, "Unknown", index=str(i))
         return root
+
+    def _annotate(self, sv) -> str | None:
+        """Write start, unit, min and max of one ``<ScalarVariable>``; returns its unit."""
+        v = self._vars[sv.get("name")]
+        element = sv.find("Real") if sv.find("Real") is not None else sv.find("String")
+        for key in ("start", "unit", "min", "max"):
+            if v.get(key) is not None and (key == "start" or element.tag == "Real"):
+                element.set(key, v[key] if isinstance(v[key], str) else repr(float(v[key])))
+        return v.get("unit")
+
+    @staticmethod
+    def _unit_definitions(root, units) -> None:
+        from xml.etree.ElementTree import Element, SubElement
+
+        defs = Element("UnitDefinitions")
+        for u in sorted(units):
+            unit = SubElement(defs, "Unit", name=u)
+            if u in BASE_UNITS:
+                SubElement(unit, "BaseUnit", {k: str(e) for k, e in BASE_UNITS[u].items()})
+        root.insert(list(root).index(root.find("CoSimulation")) + 1, defs)
 
     def _scene(self) -> dict:
         """The spec of the scene in use (the primary scene while ``scene`` holds a bad value)."""
@@ -262,12 +469,10 @@ class HeliRotorSlave(Fmi2Slave):
         return self._settings[name] if name in self._settings and name not in self._errors else self._default(name)
 
     def _default(self, name: str):
-        if name == "scene":
-            return self._spec["primary"]
-        if name == "evaluator":
-            return "compiled"
-        if name == "integrator":
-            return "rk4"
+        """The default of ``name`` in the scene in use (rad, rad/s, s, m/s as declared)."""
+        fixed = {"scene": self._spec["primary"], "evaluator": "compiled", "integrator": "rk4"}
+        if name in fixed:
+            return fixed[name]
         scene = self._scene()
         if name == "max_step":
             omega = self._use("omega") if "omega" in self._vars else scene["omega"]
@@ -276,42 +481,67 @@ class HeliRotorSlave(Fmi2Slave):
             return scene["forward_speed"]["default"] if scene["forward_speed"] else 0.0
         return scene["defaults"][name]
 
-    def _set(self, name: str, value) -> None:
+    def _set(self, name: str, value, call: str = "set") -> None:
+        """Store ``value`` for the input or parameter ``name`` (its start value: "not set"),
+        check it (a refusal is stored, and logged as ``"<call>: <message>"``) and invalidate
+        what depends on it."""
         v = self._vars[name]
-        if v["causality"] == "input" and name not in self._errors and self._settings.get(name) == value:
+        new = UNSET if _is_start(value, v.get("start")) else value
+        if v["causality"] == "input" and self._unchanged(name, new):
             return  # a master sets every input before each step; most are unchanged
-        self._settings[name] = value
-        self._errors.pop(name, None)
+        self._store(name, new)
         try:
-            self._check(name, value)
+            if new is not UNSET:
+                self._check(name, value)
         except BadValue as exc:
             self._p = self._cache = None
-            self._errors[name] = self._report(str(exc))
+            self._errors[name] = str(exc)
+            self._report(f"{call}: {exc}")
             return
+        self._apply(name, v, call)
+
+    def _unchanged(self, name: str, new) -> bool:
+        """True when ``name`` already holds ``new`` (or both are "not set") and was accepted."""
+        old = self._settings.get(name, UNSET)
+        return name not in self._errors and (old is new or (UNSET not in (old, new) and old == new))
+
+    def _store(self, name: str, new) -> None:
+        """Record the setting ``new`` of ``name`` (UNSET: forget it) and clear its refusal."""
+        if new is UNSET:
+            self._settings.pop(name, None)
+        else:
+            self._settings[name] = new
+        self._errors.pop(name, None)
+
+    def _apply(self, name: str, v: dict, call: str) -> None:
+        """Make the accepted setting of ``name`` take effect."""
         order = self._scene()["parameter_order"]
         if v["causality"] == "input" and self._p is not None and name in order:
-            self._p[order.index(name)] = value
+            self._p[order.index(name)] = float(self._use(name))
             self._stepper.set_params(self._p)
             self._cache = None
             return
         self._p = self._cache = None
         if v["causality"] == "input" or v["variability"] == "tunable":
             return
-        if self._phase != "stepping":
+        if self._phase not in ("stepping", "terminated") or name not in self._frozen:
             self._stepper = None
-        elif value != self._frozen[name]:
-            self._errors[name] = self._report(
-                f"parameter {name!r} is fixed: it cannot change after initialisation (set to {value!r}, "
-                f"in use {self._frozen[name]!r}); the FMU refuses to step until it is set back")
+        elif self._use(name) != self._frozen[name]:
+            self._errors[name] = (f"parameter {name!r} is fixed: it cannot change after initialisation (set to "
+                                  f"{self._use(name)!r}, in use {self._frozen[name]!r}); the FMU refuses to step "
+                                  "until it is set back")
+            self._report(f"{call}: {self._errors[name]}")
 
     def _check(self, name: str, value) -> None:
+        """Raise BadValue (naming the variable, the value and the unit) unless ``value`` is
+        acceptable for ``name`` in the scene in use."""
         v = self._vars[name]
         if v["type"] == "String":
             if value not in v["allowed"]:
                 raise BadValue(f"parameter {name!r} = {value!r} is not one of: {', '.join(v['allowed'])}")
             return
         what, unit = f"{v['causality']} {name!r}", v.get("unit") or ""
-        if not (isinstance(value, (int, float)) and math.isfinite(value)):
+        if isinstance(value, bool) or not (isinstance(value, (int, float)) and math.isfinite(value)):
             raise BadValue(f"{what} = {value!r} {unit} is not a finite number")
         low, high = self._scene()["ranges"].get(name, (None, None))
         low, high = -math.inf if low is None else low, math.inf if high is None else high
@@ -320,42 +550,34 @@ class HeliRotorSlave(Fmi2Slave):
         if name == "max_step" and value <= 0:
             raise BadValue(f"{what} = {value!r} s must be positive")
 
-    def _refuse_output(self, name: str, value) -> None:
-        self._errors[name] = self._report(f"{self._vars[name]['causality']} {name!r} cannot be set "
-                                          f"(attempted {value!r}); the FMU refuses to step until reset")
-
     # -- logging -----------------------------------------------------------------------------
     def _report(self, message: str, status: Fmi2Status = Fmi2Status.error) -> str:
-        """Log ``message`` through FMI and, unless it is only information, on stderr."""
-        self.log(message, status)
-        if status > Fmi2Status.ok:
-            print(f"{self.modelName} ({self.instance_name}) {status.name}: {message}", file=sys.stderr, flush=True)
+        """Log ``message`` through FMI and, unless it is only information, on stderr; never raises."""
+        try:
+            self.log(message, status)
+            if status > Fmi2Status.ok:
+                print(f"{self.modelName} ({self.instance_name}) {status.name}: {message}", file=sys.stderr,
+                      flush=True)
+        except Exception:
+            pass
         return message
 
-    def _guard(self, what: str, fn, *args):
-        """Run ``fn``; a refused value is logged plainly, anything else with its traceback,
-        and re-raised (pythonfmu answers fmi2Fatal)."""
-        try:
-            return fn(*args)
-        except BadValue as exc:
-            self._report(f"{what} failed: {exc}", Fmi2Status.fatal)
-            raise
-        except Exception as exc:
-            self._report(f"{what} failed: {type(exc).__name__}: {exc}\n{traceback.format_exc()}", Fmi2Status.fatal)
-            raise
-
     # -- FMI life cycle ------------------------------------------------------------------------
+    @entry_point("setupExperiment")
     def setup_experiment(self, start_time: float = 0.0, stop_time=None, tolerance=None):
-        self._start_time = float(start_time or 0.0)
-        self._t = self._start_time
+        start = float(start_time or 0.0)
+        if not math.isfinite(start):
+            raise BadValue(f"startTime = {start!r} s is not finite")
+        self._start_time = self._t = start
 
+    @entry_point("enterInitializationMode")
     def enter_initialization_mode(self):
         self._phase = "initialization"
 
+    @entry_point("exitInitializationMode")
     def exit_initialization_mode(self):
-        self._guard("exitInitializationMode", self._initialise)
-
-    def _initialise(self) -> None:
+        """Initialise; a refused parameter fails it (logged error) and the instance stays in
+        initialisation mode, so the master can correct the value and call it again."""
         refused = [m for n, m in self._errors.items() if self._vars[n]["causality"] == "parameter"]
         if refused:
             raise BadValue("; ".join(refused))
@@ -363,6 +585,10 @@ class HeliRotorSlave(Fmi2Slave):
         self._frozen = {n: self._use(n) for n, v in self._vars.items()
                         if v["causality"] == "parameter" and v["variability"] == "fixed"}
         self._phase = "stepping"
+
+    @entry_point("terminate")
+    def terminate(self):
+        self._phase = "terminated"
 
     def _prepare(self) -> None:
         """Load the scene's evaluator and set the initial state at the start time."""
@@ -380,10 +606,11 @@ class HeliRotorSlave(Fmi2Slave):
                            f"({system.info.nx} states)")
         kind = BoundStepper if isinstance(system, CompiledSystem) and BoundStepper.usable else Stepper
         self._stepper = kind(system, x, comp, self._use("integrator"))
+        self._stepper.hinges = _index(self._scene().get("hinge_states", []))
         self._p = self._cache = None
 
     def _with_forward_speed(self, scene: dict, x0: np.ndarray, speed: float) -> np.ndarray:
-        """Initial body velocity ``R(q0)^T (speed, 0, 0)``: level flight north at the scene's attitude."""
+        """Initial body velocity ``R(q0)^T (speed, 0, 0)`` (m/s): level flight north at the scene's attitude."""
         fs = scene["forward_speed"]
         if fs is None:
             if speed != 0.0:
@@ -397,22 +624,22 @@ class HeliRotorSlave(Fmi2Slave):
     def _system(self, group: str, evaluator: str):
         key = (group, evaluator)
         if key not in self._systems:
-            folder = self._root / group
-            info = ModelInfo.load(folder / "info.json")
-            if evaluator == "compiled":
-                try:
-                    self._systems[key] = CompiledSystem(folder)
-                except OSError as exc:
-                    self._report(f"the compiled model cannot be loaded on this host ({exc}); "
-                                 "falling back to the virtual machine (needs casadi)", Fmi2Status.warning)
-                    self._systems[key] = load_vm(folder, info)
-            else:
-                self._systems[key] = load_vm(folder, info)
+            self._systems[key] = self._open(self._root / group, evaluator)
         return self._systems[key]
+
+    def _open(self, folder: Path, evaluator: str):
+        """The evaluator of the model in ``folder``: the compiled library, else the VM."""
+        if evaluator == "compiled":
+            try:
+                return CompiledSystem(folder)
+            except OSError as exc:
+                self._report(f"the compiled model cannot be loaded on this host ({exc}); "
+                             "falling back to the virtual machine (needs casadi)", Fmi2Status.warning)
+        return load_vm(folder, ModelInfo.load(folder / "info.json"))
 
     def _params(self) -> np.ndarray:
         """Parameter vector of the scene's model (inputs included), handed to the stepper;
-        also caches ``max_step``."""
+        also caches ``max_step`` (s)."""
         if self._p is None:
             self._p = np.array([float(self._use(n)) for n in self._scene()["parameter_order"]])
             self._h_max = float(self._use("max_step"))
@@ -420,39 +647,94 @@ class HeliRotorSlave(Fmi2Slave):
         return self._p
 
     def _computed(self) -> list[float]:
+        """Every output and local variable at the current time (cached until a change)."""
         if self._cache is None:
-            self._cache = self._guard("getReal", self._compute)
+            if self._stepper is None:
+                self._prepare()
+            self._params()
+            self._cache = self._stepper.outputs(self._t)
         return self._cache
 
-    def _compute(self) -> list[float]:
+    # -- stepping ------------------------------------------------------------------------------
+    @entry_point("doStep", False)
+    def do_step(self, current_time: float, step_size: float) -> bool:
+        """One communication step; False (fmi2Discard, with a logged message) when refused
+        or undone, the state then stays at ``current_time``."""
+        t, dt = current_time, step_size
+        if self._phase != "stepping":
+            self._report(f"doStep at t = {t!r} s called while the instance is in {self._phase} "
+                         "(call exitInitializationMode first)")
+            return False
+        refusal = self._refusal(t, dt)
+        if refusal:
+            self._report(f"doStep at t = {t!r} s refused: {refusal}", Fmi2Status.discard)
+            return False
+        return self._advance(t, dt)
+
+    def _refusal(self, t: float, dt: float) -> str | None:
+        """Why the step from ``t`` (s) of ``dt`` (s) must not be taken, or None."""
+        if self._errors:
+            return "; ".join(self._errors.values())
+        problem = self._step_problem(t, dt)
+        if problem:
+            return problem
         if self._stepper is None:
             self._prepare()
         self._params()
-        return self._stepper.outputs(self._t)
+        limit = self._limits["max_substeps"]
+        if not dt / self._h_max <= limit:
+            return (f"communicationStepSize = {dt!r} s needs {dt / self._h_max:.4g} sub-steps of max_step = "
+                    f"{self._h_max!r} s, more than the limit of {limit} per doStep; use shorter "
+                    "communication steps")
+        return None
 
-    def do_step(self, current_time: float, step_size: float) -> bool:
-        return self._guard("doStep", self._step, current_time, step_size)
-
-    def _step(self, t: float, dt: float) -> bool:
-        if self._errors:
-            for msg in self._errors.values():
-                self._report(f"step at t = {t!r} s refused: {msg}", Fmi2Status.discard)
-            return False
-        problem = self._step_problem(t, dt)
-        if problem:
-            self._report(problem, Fmi2Status.discard)
-            return False
-        self._params()
+    def _advance(self, t: float, dt: float) -> bool:
+        """Integrate ``[t, t + dt]`` (s) in ``n`` equal sub-steps, then check the result."""
         n = max(1, math.ceil(dt / self._h_max - 1e-12))
+        before = self._stepper.snapshot()
         status, _ = self._stepper.step(t, dt / n, n)
         if status:
             self._report(self._divergence(t, dt / n, n, status), Fmi2Status.discard)
             return False
         self._t, self._cache = t + dt, None
+        problem = self._after_step_problem()
+        if problem:
+            self._stepper.restore(before)
+            self._t, self._cache = t, None
+            self._report(f"doStep at t = {t!r} s of {dt!r} s undone: {problem}; max_step = {self._h_max!r} s may "
+                         f"be beyond {self._stepper.method}'s stability limit, or the inputs drove the model out of "
+                         f"its range; the state stays at t = {t!r} s", Fmi2Status.discard)
+            return False
         return True
 
+    def _after_step_problem(self) -> str | None:
+        """A non-finite state, a hinge angle beyond ``limits.hinge_angle`` (rad) or a
+        non-finite total energy (J) after a step; None when all is well (the fast path:
+        two dot products, enough to show all is well; the outputs evaluated here serve the
+        next getReal)."""
+        x, hinges, limit = self._stepper.x, self._stepper.hinges, self._limits["hinge_angle"]
+        angles = x[hinges]
+        if not (math.isfinite(x.dot(x)) and angles.dot(angles) <= limit * limit):
+            fault = self._state_fault(x, hinges)
+            if fault:
+                return fault
+        energy = self._computed()[self._energy] if self._energy is not None else 0.0
+        return None if math.isfinite(energy) else f"total_energy = {energy!r} J is not finite"
+
+    def _state_fault(self, x: np.ndarray, hinges) -> str | None:
+        """The first non-finite state, else the first hinge angle beyond the limit (rad)."""
+        names, limit = self._stepper.system.info.state_names, self._limits["hinge_angle"]
+        bad = np.flatnonzero(~np.isfinite(x))
+        if bad.size:
+            return f"state {names[bad[0]]!r} = {float(x[bad[0]])!r} is not finite"
+        beyond = np.arange(x.size)[hinges][np.abs(x[hinges]) > limit]
+        if beyond.size:
+            i = int(beyond[0])
+            return f"hinge angle {names[i]!r} = {float(x[i])!r} rad is beyond ±{limit!r} rad"
+        return None
+
     def _step_problem(self, t: float, dt: float) -> str | None:
-        if not (math.isfinite(dt) and dt > 0):
+        if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0):
             return f"communication step size communicationStepSize = {dt!r} s must be positive and finite"
         if not math.isfinite(t):
             return f"currentCommunicationPoint = {t!r} s is not finite"
@@ -461,43 +743,111 @@ class HeliRotorSlave(Fmi2Slave):
                     "(restore a saved FMU state to go back in time)")
         return None
 
-    def _divergence(self, t, h, n, status) -> str:
-        """Redo the failed step recording every sub-step, and name the first state that
-        became non-finite."""
+    def _last_finite(self, t: float, h: float, n: int) -> tuple[np.ndarray, int]:
+        """Redo the failed step (from ``t``, ``n`` sub-steps of ``h`` s) recording at most
+        about ``2 * DIAGNOSTIC_ROWS`` rows: (last finite state, sub-steps before it)."""
         st = self._stepper
-        rows, _, done = st.system._run(st.method, st.x, t, h, 0, n, 1, st.p, st.comp.copy())
-        x = rows[done - 1] if done else st.x
+        x, k = st.x.copy(), 0
+        for every in sorted({max(1, -(-n // DIAGNOSTIC_ROWS)), 1}, reverse=True):
+            count = n - k if every > 1 else min(n - k, 2 * DIAGNOSTIC_ROWS)
+            rows, _, done = st.system._run(st.method, x, t + k * h, h, 0, count, every, st.p, st.comp.copy())
+            whole = done // every
+            if whole:
+                x, k = rows[whole - 1].copy(), k + whole * every
+        return x, k
+
+    def _divergence(self, t, h, n, status) -> str:
+        """Message for a failed step: where it failed and which state became non-finite."""
+        st = self._stepper
+        x, done = self._last_finite(t, h, n)
         tk = t + done * h
         where = f"at t = {tk!r} s (sub-step {done + 1} of {n}, h = {h!r} s)"
         if status != 1:
-            return f"the model evaluation failed {where}; the step was discarded"
+            return f"doStep at t = {t!r} s: the model evaluation failed {where}; the step was discarded"
         bad = x + st.system._eval(f"incr_{st.method}", x, tk, h, st.p)[0]
         i = int(np.flatnonzero(~np.isfinite(bad))[0]) if not np.all(np.isfinite(bad)) else 0
-        return (f"the simulation diverged {where}: state {st.system.info.state_names[i]!r} = {float(bad[i])!r}; "
-                f"max_step = {self._use('max_step')!r} s may be beyond {st.method}'s stability limit, or the inputs "
-                f"drove the model out of its range; the step was discarded (the state stays at t = {t!r} s)")
+        return (f"doStep at t = {t!r} s: the simulation diverged {where}: state "
+                f"{st.system.info.state_names[i]!r} = {float(bad[i])!r}; max_step = {self._use('max_step')!r} s "
+                f"may be beyond {st.method}'s stability limit, or the inputs drove the model out of its range; "
+                f"the step was discarded (the state stays at t = {t!r} s)")
 
     # -- FMU state -----------------------------------------------------------------------------
+    @entry_point("getFMUstate", {"format": "invalid", "error": "fmi2GetFMUstate failed"})
     def _get_fmu_state(self) -> dict:
-        return self._guard("getFMUstate", self._snapshot)
-
-    def _snapshot(self) -> dict:
         st = self._stepper
         return {"format": STATE_FORMAT, "phase": self._phase, "start_time": self._start_time, "t": self._t,
                 "x": None if st is None else st.x.tolist(), "comp": None if st is None else st.comp.tolist(),
                 "settings": dict(self._settings), "errors": dict(self._errors), "frozen": dict(self._frozen)}
 
+    @entry_point("setFMUstate")
     def _set_fmu_state(self, state: dict) -> None:
-        self._guard("setFMUstate", self._restore, state)
+        """Restore ``state``; a malformed one is refused (logged error) and nothing changes."""
+        problem = _state_problem(state)
+        if problem:
+            raise BadValue(f"not a state of this FMU: {problem}")
+        before = dict(self.__dict__)
+        try:
+            self._restore(state)
+        except Exception:
+            self.__dict__.update(before)
+            raise
 
     def _restore(self, state: dict) -> None:
-        if not isinstance(state, dict) or state.get("format") != STATE_FORMAT:
-            raise BadValue(f"not a state of this FMU (expected format {STATE_FORMAT!r})")
+        """Apply a checked ``state`` (the caller undoes everything if this raises)."""
+        unknown = sorted((set(state["settings"]) | set(state["errors"])) - set(self._vars))
+        if unknown or state["phase"] not in ("instantiated", "initialization", "stepping", "terminated"):
+            raise BadValue(f"not a state of this FMU: unknown variables {unknown} or phase {state['phase']!r}")
         self._settings, self._errors = dict(state["settings"]), dict(state["errors"])
+        for name in set(self._settings) - set(self._errors):
+            self._check(name, self._settings[name])
         self._frozen = dict(state["frozen"])
-        self._phase, self._start_time = state["phase"], state["start_time"]
+        self._phase, self._start_time = state["phase"], float(state["start_time"])
         self._stepper = None
         if state["x"] is not None:
             x, comp = np.array(state["x"], dtype=float), np.array(state["comp"], dtype=float)
             self._load(self._scene()["group"], self._use("evaluator"), x, comp)
-        self._t, self._p, self._cache = state["t"], None, None
+        self._t, self._p, self._cache = float(state["t"]), None, None
+
+    @staticmethod
+    def _fmu_state_to_bytes(state) -> bytes:
+        """The serialised FMU state (JSON); never raises."""
+        try:
+            return json.dumps(state).encode("utf-8")
+        except Exception as exc:
+            return json.dumps({"format": "invalid", "error": f"state not serialisable: {exc}"}).encode("utf-8")
+
+    @staticmethod
+    def _fmu_state_from_bytes(state: bytes):
+        """The FMU state from its bytes; a corrupt blob gives a marker that
+        ``_set_fmu_state`` refuses with a message (this is called without an instance, so it
+        cannot log)."""
+        try:
+            value = json.loads(bytes(state).decode("utf-8"))
+        except Exception as exc:
+            return {"format": "corrupt", "error": f"the serialised state cannot be decoded ({type(exc).__name__}: "
+                                                  f"{str(exc)[:200]})"}
+        return value if isinstance(value, dict) else {"format": "corrupt", "error": "the serialised state is "
+                                                      f"a JSON {type(value).__name__}, not an object"}
+
+
+# -- pythonfmu re-runs this file ----------------------------------------------------------------
+
+def _settle_rerun(scope: dict, module: dict) -> None:
+    """Undo what pythonfmu 0.7.0 does to this module at every instantiate.
+
+    Its ``findClass`` runs this file's source again with the module's dict as globals and
+    a fresh dict ``scope`` as locals, keeps a list of the MRO of every class it finds in
+    ``scope`` (so each run's classes and all their functions would stay alive: about
+    150 kB per instantiate), and releases one reference to the module's dict that it never
+    took. In such a run: hold that one reference (8 bytes per instantiate), and leave only
+    the module's own slave class in ``scope`` so that this run's classes are collected."""
+    if scope is module:
+        return
+    _PINNED.append(module)
+    for name in [n for n, v in scope.items() if isinstance(v, type)]:
+        del scope[name]
+    scope["HeliRotorSlave"] = module["HeliRotorSlave"]
+
+
+_PINNED: list = []  # the module's dict, once per re-run (pythonfmu releases one reference each time)
+_settle_rerun(locals(), globals())

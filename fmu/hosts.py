@@ -18,7 +18,6 @@ from __future__ import annotations
 import json
 import math
 import sys
-from ctypes import byref
 from pathlib import Path
 
 import numpy as np
@@ -88,36 +87,50 @@ def run_fmpy(fmu: str | Path, stop: float, dt: float, table: np.ndarray | None =
     return res
 
 
+def logger_callbacks(messages: list):
+    """fmpy's FMI 2.0 callbacks with a logger that appends ``(status name, text)`` to
+    ``messages``; keep the returned object alive as long as the instance."""
+    from fmpy import calloc, free
+    from fmpy.fmi2 import (fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE, fmi2CallbackFunctions,
+                           fmi2CallbackLoggerTYPE)
+
+    def log(env, instance, status, category, message):
+        messages.append((STATUS.get(status, str(status)), message.decode(errors="replace")))
+
+    cb = fmi2CallbackFunctions()
+    cb.logger = fmi2CallbackLoggerTYPE(log)
+    cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+    cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+    return cb
+
+
+def open_slave(fmu: str | Path, name: str, unzipdir: str | None, logging_on: bool, messages: list):
+    """Instantiate the FMU ``fmu`` (unzipped into ``unzipdir``, else a temporary folder) with
+    fmpy's ``FMU2Slave``, logging into ``messages``; returns (model description, unzip folder,
+    slave, callbacks)."""
+    from fmpy import extract, read_model_description
+    from fmpy.fmi2 import FMU2Slave
+
+    md = read_model_description(str(fmu))
+    unzipdir = unzipdir or extract(str(fmu))
+    slave = FMU2Slave(guid=md.guid, unzipDirectory=unzipdir, modelIdentifier=md.coSimulation.modelIdentifier,
+                      instanceName=name)
+    callbacks = logger_callbacks(messages)
+    slave.instantiate(callbacks=callbacks, loggingOn=logging_on)
+    return md, unzipdir, slave, callbacks
+
+
 class Instance:
     """One FMU instance through fmpy's ``FMU2Slave``, with every log message captured in
     ``messages`` as ``(status name, text)``."""
 
-    def __init__(self, fmu: str | Path, name: str = "instance", unzipdir: str | None = None):
-        from fmpy import extract, read_model_description
-        from fmpy.fmi2 import FMU2Slave
-
-        self.md = read_model_description(str(fmu))
-        self.unzipdir = unzipdir or extract(str(fmu))
-        self.vr = {v.name: v.valueReference for v in self.md.modelVariables}
+    def __init__(self, fmu: str | Path, name: str = "instance", unzipdir: str | None = None,
+                 logging_on: bool = True):
         self.messages: list[tuple[str, str]] = []
-        self.slave = FMU2Slave(guid=self.md.guid, unzipDirectory=self.unzipdir,
-                               modelIdentifier=self.md.coSimulation.modelIdentifier, instanceName=name)
-        self._callbacks = self._make_callbacks()
-        self.slave.instantiate(callbacks=self._callbacks, loggingOn=True)
-
-    def _make_callbacks(self):
-        from fmpy.fmi2 import (fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
-                               fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
-        from fmpy import calloc, free
-
-        def log(env, instance, status, category, message):
-            self.messages.append((STATUS.get(status, str(status)), message.decode(errors="replace")))
-
-        cb = fmi2CallbackFunctions()
-        cb.logger = fmi2CallbackLoggerTYPE(log)
-        cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
-        cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
-        return cb
+        self.md, self.unzipdir, self.slave, self._callbacks = open_slave(fmu, name, unzipdir, logging_on,
+                                                                         self.messages)
+        self.vr = {v.name: v.valueReference for v in self.md.modelVariables}
+        self.c = self.slave.component
 
     def initialise(self, start: float = 0.0, reals: dict | None = None, strings: dict | None = None) -> None:
         self.slave.setupExperiment(startTime=start)
@@ -329,7 +342,7 @@ def _mode_two(a: dict) -> dict:
                                         for rows in out]}
 
 
-def _call(fn, *args) -> int:
+def call_status(fn, *args) -> int:
     from fmpy.fmi1 import FMICallException
 
     try:
@@ -343,11 +356,11 @@ def _bad_case(fmu: str, unzipdir: str, case: dict, dt: float) -> dict:
     """One bad-input case: initialise (``init``), one good step, then ``set`` (reals or
     strings) and a step of ``step`` seconds (default ``dt``); then ``fix`` and step again."""
     inst = Instance(fmu, case["name"], unzipdir=unzipdir)
-    out = {"init_status": _call(inst.initialise, 0.0, case.get("init"), case.get("init_strings"))}
+    out = {"init_status": call_status(inst.initialise, 0.0, case.get("init"), case.get("init_strings"))}
     if out["init_status"]:
         return {**out, "messages": inst.messages}
     out["first_step"] = inst.step(0.0, dt)
-    out["set_status"] = _call(inst.set, case.get("set", {}), case.get("set_strings"))
+    out["set_status"] = call_status(inst.set, case.get("set", {}), case.get("set_strings"))
     out["step_status"] = inst.step(dt, case.get("step", dt))
     if case.get("fix") is not None:
         inst.set(case["fix"])
@@ -372,7 +385,7 @@ def _mode_broken(a: dict) -> dict:
     for info in Path(unzipdir, "resources", "heli_models").glob("*/info.json"):
         info.write_text("{ damaged")
     inst = Instance(a["fmu"], "broken", unzipdir=unzipdir)
-    return {"init_status": _call(inst.initialise), "messages": inst.messages}
+    return {"init_status": call_status(inst.initialise), "messages": inst.messages}
 
 
 MODES = {"fmpy": _mode_fmpy, "libcosim": _mode_libcosim, "save": _mode_save, "restore": _mode_restore,

@@ -219,6 +219,16 @@ def cmd_figures(args) -> int:
     return 0
 
 
+def _add_periodic_arguments(p) -> None:
+    """The arguments of the analyses at a periodic solution (trim, Floquet, derivatives)."""
+    p.add_argument("scene", nargs="?", default="forward-flight")
+    p.add_argument("--speed", type=float, default=None, help="flight speed in m/s (default: the scene's)")
+    p.add_argument("--method", choices=("rk4", "rk8"), default="rk4", help="fixed-step method (default rk4)")
+    p.add_argument("--steps-per-rev", type=int, default=None, help="steps per revolution (default: the scene's)")
+    p.add_argument("--backend", choices=["compiled", "vm"], default="compiled",
+                   help="generated C (default) or CasADi's virtual machine")
+
+
 def register(sub, bench) -> None:
     p = sub.add_parser("figures", help="regenerate the paper's Fig. 2 and Fig. 3")
     p.add_argument("--out", default="out/figures")
@@ -228,12 +238,8 @@ def register(sub, bench) -> None:
 
     p = sub.add_parser("trim", help="periodic trim: controls, attitude and periodic rotor states by Newton "
                        "with the exact AD Jacobian of the period map")
-    p.add_argument("scene", nargs="?", default="forward-flight")
-    p.add_argument("--speed", type=float, default=None, help="flight speed in m/s (default: the scene's)")
+    _add_periodic_arguments(p)
     p.add_argument("--climb-rate", type=float, default=0.0, help="climb rate in m/s, up positive (default 0)")
-    p.add_argument("--method", choices=("rk4", "rk8"), default="rk4", help="fixed-step method (default rk4)")
-    p.add_argument("--steps-per-rev", type=int, default=None, help="steps per revolution (default: the scene's)")
-    p.add_argument("--backend", choices=["compiled", "vm"], default="compiled")
     p.add_argument("--tol", type=float, default=1e-10, help="max |scaled residual| to reach (default 1e-10)")
     p.add_argument("--iterations", type=int, default=20, help="most Newton iterations (default 20)")
     p.add_argument("--write", metavar="PATH", default=None,
@@ -243,11 +249,7 @@ def register(sub, bench) -> None:
     p.set_defaults(fn=cmd_trim)
 
     p = sub.add_parser("floquet", help="Floquet stability at the periodic trim: multipliers, exponents, modes")
-    p.add_argument("scene", nargs="?", default="forward-flight")
-    p.add_argument("--speed", type=float, default=None, help="flight speed in m/s (default: the scene's)")
-    p.add_argument("--method", choices=("rk4", "rk8"), default="rk4", help="fixed-step method (default rk4)")
-    p.add_argument("--steps-per-rev", type=int, default=None, help="steps per revolution (default: the scene's)")
-    p.add_argument("--backend", choices=["compiled", "vm"], default="compiled")
+    _add_periodic_arguments(p)
     p.add_argument("--set", action="append", metavar="NAME=VALUE",
                    help="run-time parameter value, e.g. lag_damping=50 (repeatable)")
     p.add_argument("--sweep", metavar="NAME=LO:HI:N", default=None,
@@ -262,11 +264,7 @@ def register(sub, bench) -> None:
 
     p = sub.add_parser("derivatives", help="stability and control derivatives at trim (quasi-static rotor in its "
                        "periodic equilibrium), the A and B matrices and the flight modes")
-    p.add_argument("scene", nargs="?", default="forward-flight")
-    p.add_argument("--speed", type=float, default=None, help="flight speed in m/s (default: the scene's)")
-    p.add_argument("--method", choices=("rk4", "rk8"), default="rk4", help="fixed-step method (default rk4)")
-    p.add_argument("--steps-per-rev", type=int, default=None, help="steps per revolution (default: the scene's)")
-    p.add_argument("--backend", choices=["compiled", "vm"], default="compiled")
+    _add_periodic_arguments(p)
     p.add_argument("--mat", metavar="FILE", default=None, help="write A, B and the mode names to FILE "
                    "(.mat for MATLAB, or .npz)")
     add_json(p)

@@ -79,18 +79,15 @@ class Fixed(Joint):
 
 
 @dataclass
-class Hinge(Joint):
-    """Revolute joint about a constant unit ``axis`` (joint frame), 1 DOF: angle (rad), rate (rad/s).
-
-    ``stiffness`` (N m/rad), ``damping`` (N m s/rad) and ``rest_angle`` (rad) add a linear
-    spring-damper force element on the hinge when the model is built.
-    """
+class OneAxis(Joint):
+    """A 1-DOF joint along or about a constant unit ``axis`` (joint frame) whose ``stiffness``
+    and ``damping`` add a linear spring-damper force element, about :attr:`rest`, when the
+    model is built. Subclasses state the relative motion."""
 
     axis: tuple = (0.0, 0.0, 1.0)
     name: str = "angle"
     stiffness: float = 0.0
     damping: float = 0.0
-    rest_angle: float = 0.0
     nq = 1
     nv = 1
 
@@ -98,6 +95,23 @@ class Hinge(Joint):
         self.axis = tuple(_unit(self.axis))
         self.q_names = (self.name,)
         self.v_names = (self.name + "_rate",)
+
+    @property
+    def rest(self) -> float:
+        """Coordinate at which the spring is relaxed."""
+        return 0.0
+
+
+@dataclass
+class Hinge(OneAxis):
+    """Revolute joint about ``axis``, 1 DOF: angle (rad), rate (rad/s); ``stiffness`` in
+    N m/rad, ``damping`` in N m s/rad, spring relaxed at ``rest_angle`` (rad)."""
+
+    rest_angle: float = 0.0
+
+    @property
+    def rest(self) -> float:
+        return self.rest_angle
 
     def relative(self, q, v, t, p):
         a = ca.DM(self.axis)
@@ -105,25 +119,17 @@ class Hinge(Joint):
 
 
 @dataclass
-class Slider(Joint):
-    """Prismatic joint along a constant unit ``axis`` (joint frame), 1 DOF: displacement (m), rate (m/s).
-
-    ``stiffness`` (N/m), ``damping`` (N s/m) and ``rest_position`` (m) add a linear
-    spring-damper force element on the slider when the model is built.
-    """
+class Slider(OneAxis):
+    """Prismatic joint along ``axis``, 1 DOF: displacement (m), rate (m/s); ``stiffness`` in
+    N/m, ``damping`` in N s/m, spring relaxed at ``rest_position`` (m)."""
 
     axis: tuple = (1.0, 0.0, 0.0)
     name: str = "displacement"
-    stiffness: float = 0.0
-    damping: float = 0.0
     rest_position: float = 0.0
-    nq = 1
-    nv = 1
 
-    def __post_init__(self):
-        self.axis = tuple(_unit(self.axis))
-        self.q_names = (self.name,)
-        self.v_names = (self.name + "_rate",)
+    @property
+    def rest(self) -> float:
+        return self.rest_position
 
     def relative(self, q, v, t, p):
         a = ca.DM(self.axis)

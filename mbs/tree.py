@@ -12,7 +12,7 @@ from typing import Callable, Iterator
 
 import numpy as np
 
-from mbs.joints import Hinge, Joint, Serial, Slider
+from mbs.joints import Hinge, Joint, OneAxis, Serial  # noqa: F401 (Hinge: doctest)
 
 WORLD = "world"
 
@@ -182,9 +182,8 @@ class Model:
     def _add_hinge_springs(self, body: Body) -> None:
         from mbs.forces import SpringDamper
         for j in leaf_joints(body.joint):
-            if isinstance(j, (Hinge, Slider)) and (j.stiffness or j.damping):
-                rest = j.rest_angle if isinstance(j, Hinge) else j.rest_position
-                self.add_force(SpringDamper(f"{body.name}.{j.name}", j.stiffness, j.damping, rest))
+            if isinstance(j, OneAxis) and (j.stiffness or j.damping):
+                self.add_force(SpringDamper(f"{body.name}.{j.name}", j.stiffness, j.damping, j.rest))
 
     def add_force(self, element) -> None:
         """Add a force element (see :mod:`mbs.forces`)."""

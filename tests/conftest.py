@@ -1,4 +1,6 @@
+import json
 import sys
+import zipfile
 from pathlib import Path
 
 import pytest
@@ -27,3 +29,18 @@ def rotor_compiled(rotor_model):
 @pytest.fixture(scope="session")
 def rotor_compiled32(rotor_model):
     return mbs.build(rotor_model, "compiled", "float32")
+
+
+@pytest.fixture(scope="session")
+def python_fmu() -> Path:
+    """The pythonfmu FMU of the default scene family (built once, cached on disk)."""
+    from fmu import build
+
+    return build.ensure_fmu(build.DEFAULT_SCENES)[0]
+
+
+@pytest.fixture(scope="session")
+def python_spec(python_fmu) -> dict:
+    """The ``spec.json`` shipped in :func:`python_fmu` (variables, scenes, limits)."""
+    with zipfile.ZipFile(python_fmu) as z:
+        return json.loads(z.read("resources/heli_models/spec.json"))

@@ -1,0 +1,470 @@
+"""Build the native FMU of a scene family: C sources generated from ``fmu.build.plan``, our
+FMI 2.0 wrapper (``heli_fmi2.c``), one shared library compiled with the machine's C
+compiler, and ``modelDescription.xml`` with the pythonfmu FMU's variables.
+
+Layout of the ``.fmu``::
+
+    modelDescription.xml
+    binaries/linux64/<identifier>.so
+    sources/heli_fmi2.c heli_model.h          (hand-written, from this folder)
+    sources/heli_config.h heli_data.c         (generated: sizes and tables from the spec)
+    sources/heli_model_<group>.c              (generated: per model group, CasADi code + driver)
+    sources/fmi2*.h                           (the FMI 2.0 headers of the installed fmpy)
+
+Each group's file has its exported names prefixed ``heli_<group>_`` (the CasADi API and the
+driver by renaming, CasADi's internal helpers through its ``CODEGEN_PREFIX``) and hidden, so
+several groups link into one library that exports only the ``fmi2*`` functions.
+"""
+from __future__ import annotations
+
+import argparse
+import hashlib
+import importlib.metadata
+import json
+import math
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+import uuid
+import zipfile
+from pathlib import Path
+from xml.etree import ElementTree as ET
+
+from fmu import build as pybuild
+
+HERE = Path(__file__).resolve().parent
+HAND_WRITTEN = ("heli_fmi2.c", "heli_model.h")
+FMI_HEADERS = ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h")
+FUNCTIONS = ("incr_rk4", "incr_rk8", "project", "energy", "fmu_outputs")
+METHODS = ("rk4", "rk8")
+CFLAGS = ["-O2", "-fPIC", "-fno-math-errno", "-fvisibility=hidden"]
+HINGE = re.compile(r"\.(flap|lag|teeter)$")
+_EXPORT = re.compile(r"^CASADI_SYMBOL_EXPORT\s+[\w\s\*]*?\b(\w+)\s*\(", re.MULTILINE)
+PLATFORM = "linux64"
+DEFAULT_LIMITS = {"max_substeps": 1_000_000, "hinge_angle": math.pi / 2}  # when the spec has no "limits"
+
+
+def identifier(scenes) -> str:
+    """Model identifier (and file name) of the native FMU: ``HeliRotorNative_<primary>``."""
+    return "HeliRotorNative_" + re.sub(r"\W", "_", scenes[0])
+
+
+def fmi_headers_dir() -> Path:
+    """The FMI 2.0 headers shipped with the installed fmpy (``<fmpy>/c-code``)."""
+    import fmpy
+
+    return Path(fmpy.__file__).resolve().parent / "c-code"
+
+
+# -- C literals ------------------------------------------------------------------------------
+
+def c_real(x: float | None) -> str:
+    """A C double literal that reads back exactly (``%.17g``); None is NAN."""
+    if x is None or math.isnan(x):
+        return "NAN"
+    if math.isinf(x):
+        return "INFINITY" if x > 0 else "-INFINITY"
+    text = "%.17g" % x
+    return text if re.search(r"[.eE]", text) else text + ".0"
+
+
+def c_string(s: str | None) -> str:
+    """A C string literal (octal escapes for anything but printable ASCII); None is NULL."""
+    if s is None:
+        return "NULL"
+    out = []
+    for b in s.encode():
+        ch = chr(b)
+        out.append(ch if 32 <= b < 127 and ch not in '"\\?' else "\\%03o" % b)
+    return '"' + "".join(out) + '"'
+
+
+def c_array(ctype: str, name: str, items: list[str]) -> str:
+    return f"static const {ctype} {name}[{max(len(items), 1)}] = {{{', '.join(items) or '0'}}};\n"
+
+
+# -- start values ----------------------------------------------------------------------------
+
+def start_value(spec: dict, v: dict):
+    """The XML start of an input or parameter: the spec's ``start`` if it has one, else the
+    primary scene's default (a String's first allowed value for ``scene``)."""
+    if "start" in v:
+        return v["start"]
+    primary = spec["scenes"][spec["primary"]]
+    name = v["name"]
+    if v["type"] == "String":
+        return {"scene": spec["primary"], "evaluator": "compiled", "integrator": "rk4"}.get(name, v["allowed"][0])
+    if name == "max_step":
+        omega = primary["defaults"].get("omega", primary["omega"])
+        return 2 * math.pi / abs(omega) / primary["steps_per_rev"]
+    if name == "initial_forward_speed":
+        return primary["forward_speed"]["default"] if primary["forward_speed"] else 0.0
+    return primary["defaults"][name]
+
+
+def start_text(spec: dict, v: dict) -> str:
+    value = start_value(spec, v)
+    return value if isinstance(value, str) else "%.17g" % float(value)
+
+
+# -- generated C: the models -----------------------------------------------------------------
+
+def model_source(group: str, functions: dict, nx: int) -> str:
+    """C source of one model group: CasADi's code of :data:`FUNCTIONS` and the core's
+    fixed-step driver per method, every exported name prefixed ``heli_<group>_``."""
+    import casadi as ca
+
+    from mbs.backends.compiled import DRIVER, _REALS
+
+    gen = ca.CodeGenerator("model.c", {"casadi_real": _REALS["float64"][0], "with_header": False})
+    for name in FUNCTIONS:
+        gen.add(functions[name])
+    body = gen.dump() + "".join(DRIVER.format(m=m, nx=nx) for m in METHODS)
+    names = sorted(set(_EXPORT.findall(body)), key=len, reverse=True)
+    body = re.sub(r"\b(" + "|".join(map(re.escape, names)) + r")\b", rf"heli_{group}_\1", body)
+    prologue = (f"/* Model group {group} of the native heli rotor FMU (generated at build time). */\n"
+                "#include <math.h>\n#include <stdlib.h>\n#include <string.h>\n"
+                f"#define CASADI_CODEGEN_PREFIX\n#define CODEGEN_PREFIX heli_{group}_\n"
+                "#define CASADI_SYMBOL_EXPORT\n#if defined(__GNUC__)\n#pragma GCC visibility push(hidden)\n#endif\n")
+    return prologue + body + "#if defined(__GNUC__)\n#pragma GCC visibility pop\n#endif\n"
+
+
+def _group_declarations(group: str) -> str:
+    g = f"heli_{group}_"
+    lines = [f"int {g}mbs_run_{m}(const double*, double, double, long long, long long, long long, const double*, "
+             "double*, double*, int, long long*);" for m in METHODS]
+    for f in ("incr_rk4", "incr_rk8", "energy", "fmu_outputs"):
+        lines += [f"int {g}{f}(const double**, double**, long long*, double*, int);",
+                  f"int {g}{f}_work(long long*, long long*, long long*, long long*);"]
+    return "\n".join(lines) + "\n"
+
+
+def _group_entry(group: str, vm, functions: dict) -> str:
+    g = f"heli_{group}_"
+    return (f"  {{{c_string(group)}, {vm.info.nx}, {{{g}mbs_run_rk4, {g}mbs_run_rk8}}, "
+            f"{{{g}incr_rk4, {g}incr_rk8}}, {{{g}incr_rk4_work, {g}incr_rk8_work}}, "
+            f"{g}fmu_outputs, {g}fmu_outputs_work, {g}energy, {g}energy_work, {functions['energy'].numel_out(0)}, "
+            f"states_{group}, state_of_{group}}}")
+
+
+def _state_of(variables: list[dict], vm) -> list[str]:
+    """Per value reference, the index in x of a computed variable that is a state of this
+    model (read from x directly), else -1 (evaluated by ``fmu_outputs``)."""
+    names = vm.info.state_names
+    return [str(names.index(v["name"])) if v["causality"] in ("output", "local") and v.get("kind") == "state"
+            and v["name"] in names else "-1" for v in variables]
+
+
+# -- generated C: the tables -----------------------------------------------------------------
+
+CAUSALITY = {"input": "HELI_INPUT", "parameter": "HELI_PARAMETER", "output": "HELI_OUTPUT", "local": "HELI_LOCAL"}
+VARIABILITY = {"fixed": "HELI_FIXED", "tunable": "HELI_TUNABLE", "continuous": "HELI_CONTINUOUS"}
+
+
+def _variable_entry(spec: dict, k: int, v: dict) -> str:
+    settable = v["causality"] in ("input", "parameter")
+    string = v["type"] == "String"
+    start = start_value(spec, v) if settable else None
+    allowed = f"allowed_{k}" if string else "NULL"
+    return (f"  {{{c_string(v['name'])}, {'HELI_STRING' if string else 'HELI_REAL'}, {CAUSALITY[v['causality']]}, "
+            f"{VARIABILITY[v['variability']]}, {c_string(v.get('unit') or '')}, {c_real(_bound(v, 'min', -math.inf))}, "
+            f"{c_real(_bound(v, 'max', math.inf))}, {c_real(None if string or start is None else float(start_text(spec, v)))}, "
+            f"{c_string(start if string else None)}, {len(v.get('allowed', [])) if string else 0}, {allowed}, "
+            f"{v.get('position', -1)}, {int(_is_hinge(v))}}}")
+
+
+def _bound(v: dict, key: str, absent: float) -> float:
+    return absent if v.get(key) is None else float(v[key])
+
+
+def _is_hinge(v: dict) -> bool:
+    return v["causality"] == "output" and v.get("unit") == "rad" and bool(HINGE.search(v["name"]))
+
+
+def _scene_tables(spec: dict, name: str, k: int) -> str:
+    sc, variables = spec["scenes"][name], spec["variables"]
+    vr = {v["name"]: i for i, v in enumerate(variables)}
+    defaults = [c_real(sc["defaults"].get(v["name"])) for v in variables]
+    ranges = [sc["ranges"].get(v["name"], [v.get("min"), v.get("max")]) for v in variables]
+    low = [c_real(-math.inf if r[0] is None else r[0]) for r in ranges]
+    high = [c_real(math.inf if r[1] is None else r[1]) for r in ranges]
+    return (c_array("double", f"x0_{k}", [c_real(x) for x in sc["x0"]])
+            + c_array("int", f"params_{k}", [str(vr[p]) for p in sc["parameter_order"]])
+            + c_array("double", f"defaults_{k}", defaults) + c_array("double", f"low_{k}", low)
+            + c_array("double", f"high_{k}", high))
+
+
+def _scene_entry(spec: dict, name: str, k: int, group_index: dict) -> str:
+    sc = spec["scenes"][name]
+    fs = sc["forward_speed"]
+    q, v = (fs["q"], fs["v"]) if fs else ([0] * 4, [0] * 3)
+    return (f"  {{{c_string(name)}, {group_index[sc['group']]}, x0_{k}, {c_real(sc['omega'])}, {sc['steps_per_rev']}, "
+            f"{len(sc['parameter_order'])}, params_{k}, defaults_{k}, low_{k}, high_{k}, {int(fs is not None)}, "
+            f"{{{', '.join(map(str, q))}}}, {{{', '.join(map(str, v))}}}, {c_real(fs['default'] if fs else 0.0)}}}")
+
+
+def data_source(spec: dict, groups: dict, guid: str) -> str:
+    """``heli_data.c``: the variables, scenes and model groups of the family."""
+    variables, names = spec["variables"], list(spec["scenes"])
+    group_index = {g: i for i, g in enumerate(groups)}
+    vr = {v["name"]: i for i, v in enumerate(variables)}
+    out = ["/* Tables of the native heli rotor FMU (generated at build time from the spec). */\n",
+           '#include <math.h>\n#include <stddef.h>\n#include "heli_model.h"\n',
+           "#if defined(__GNUC__)\n#pragma GCC visibility push(hidden)\n#endif\n"]
+    out += [_group_declarations(g) for g in groups]
+    for g, (vm, _) in groups.items():
+        out.append(c_array("char* const", f"states_{g}", [c_string(s) for s in vm.info.state_names]))
+        out.append(c_array("int", f"state_of_{g}", _state_of(variables, vm)))
+    for k, v in enumerate(variables):
+        if v["type"] == "String":
+            out.append(c_array("char* const", f"allowed_{k}", [c_string(a) for a in v["allowed"]]))
+    out += [_scene_tables(spec, n, k) for k, n in enumerate(names)]
+    out.append("static const heli_variable variables[] = {\n"
+               + ",\n".join(_variable_entry(spec, k, v) for k, v in enumerate(variables)) + "\n};\n")
+    out.append("static const heli_scene scenes[] = {\n"
+               + ",\n".join(_scene_entry(spec, n, k, group_index) for k, n in enumerate(names)) + "\n};\n")
+    out.append("static const heli_group groups[] = {\n"
+               + ",\n".join(_group_entry(g, vm, f) for g, (vm, f) in groups.items()) + "\n};\n")
+    limits = {**DEFAULT_LIMITS, **spec.get("limits", {})}
+    special = [vr.get(n, -1) for n in ("scene", "evaluator", "integrator", "max_step", "omega", "initial_forward_speed",
+                                           "total_energy")]
+    out.append(f"const heli_model heli_model_data = {{{c_string(spec['model_identifier'])}, {c_string(guid)}, "
+               f"{names.index(spec['primary'])}, {len(variables)}, variables, {len(names)}, scenes, {len(groups)}, "
+               f"groups, {spec['n_computed']}, {c_real(limits['max_substeps'])}, {c_real(limits['hinge_angle'])}, "
+               f"{', '.join(map(str, special))}}};\n")
+    out.append("#if defined(__GNUC__)\n#pragma GCC visibility pop\n#endif\n")
+    return "".join(out)
+
+
+def config_header(spec: dict, groups: dict) -> str:
+    """``heli_config.h``: the sizes the wrapper's fixed buffers need."""
+    nx = max(vm.info.nx for vm, _ in groups.values())
+    n_energy = max(f["energy"].numel_out(0) for _, f in groups.values())
+    n_params = max(len(s["parameter_order"]) for s in spec["scenes"].values())
+    return ("/* Sizes of the native heli rotor FMU (generated at build time). */\n"
+            "#ifndef HELI_CONFIG_H\n#define HELI_CONFIG_H\n"
+            f"#define HELI_NV {len(spec['variables'])}\n#define HELI_NX {nx}\n#define HELI_NP {n_params}\n"
+            f"#define HELI_NCOMPUTED {spec['n_computed']}\n#define HELI_NENERGY {n_energy}\n#endif\n")
+
+
+# -- modelDescription.xml ----------------------------------------------------------------------
+
+def _fmt16(x: float) -> str:
+    return f"{x:.16g}"
+
+
+def _scalar_variable(spec: dict, k: int, v: dict) -> ET.Element:
+    sv = ET.Element("ScalarVariable", name=v["name"], valueReference=str(k), description=v["description"],
+                    causality=v["causality"], variability=v["variability"])
+    settable = v["causality"] in ("input", "parameter")
+    if not settable:
+        sv.set("initial", "calculated")
+    child = ET.SubElement(sv, v["type"])
+    if settable:
+        child.set("start", start_text(spec, v))
+    if v["type"] == "Real":
+        for key in ("unit", "min", "max"):
+            if v.get(key) is not None:
+                child.set(key, v[key] if key == "unit" else _fmt16(v[key]))
+    return sv
+
+
+def _unit_definitions(spec: dict) -> ET.Element:
+    from fmu.heli_bo105_slave import BASE_UNITS
+
+    defs = ET.Element("UnitDefinitions")
+    for u in sorted({v.get("unit") for v in spec["variables"]} - {None}):
+        unit = ET.SubElement(defs, "Unit", name=u)
+        if u in BASE_UNITS:
+            ET.SubElement(unit, "BaseUnit", {k: str(e) for k, e in BASE_UNITS[u].items()})
+    return defs
+
+
+def _co_simulation(identifier_: str, sources: list[str]) -> ET.Element:
+    cs = ET.Element("CoSimulation", modelIdentifier=identifier_, needsExecutionTool="false",
+                    canHandleVariableCommunicationStepSize="true", canInterpolateInputs="false",
+                    maxOutputDerivativeOrder="0", canRunAsynchronuously="false",
+                    canBeInstantiatedOnlyOncePerProcess="false", canNotUseMemoryManagementFunctions="true",
+                    canGetAndSetFMUstate="true", canSerializeFMUstate="true",
+                    providesDirectionalDerivative="false")
+    files = ET.SubElement(cs, "SourceFiles")
+    for name in sources:
+        ET.SubElement(files, "File", name=name)
+    return cs
+
+
+def _model_structure(spec: dict) -> ET.Element:
+    structure = ET.Element("ModelStructure")
+    outputs = [str(k + 1) for k, v in enumerate(spec["variables"]) if v["causality"] == "output"]
+    for tag in ("Outputs", "InitialUnknowns"):
+        group = ET.SubElement(structure, tag)
+        for index in outputs:
+            ET.SubElement(group, "Unknown", index=index)
+    return structure
+
+
+def model_description(spec: dict, guid: str, sources: list[str]) -> bytes:
+    """``modelDescription.xml`` (UTF-8): the pythonfmu FMU's variables in its order."""
+    root = ET.Element("fmiModelDescription", fmiVersion="2.0", modelName=spec["model_identifier"], guid=guid,
+                      description=spec["description"], author="rotor-mbs", version=spec["version"],
+                      license="MIT", generationTool="rotor-mbs fmu.native", variableNamingConvention="structured",
+                      numberOfEventIndicators="0")
+    root.append(_co_simulation(spec["model_identifier"], sources))
+    root.append(_unit_definitions(spec))
+    cats = ET.SubElement(root, "LogCategories")
+    for name, what in (("logStatusWarning", "fmi2Warning"), ("logStatusDiscard", "fmi2Discard"),
+                       ("logStatusError", "fmi2Error"), ("logStatusFatal", "fmi2Fatal"), ("logAll", "all")):
+        ET.SubElement(cats, "Category", name=name, description=f"Log messages with {what} status."
+                      if what != "all" else "Log all messages.")
+    ex = spec["default_experiment"]
+    ET.SubElement(root, "DefaultExperiment", startTime=repr(float(ex["start"])), stopTime=repr(float(ex["stop"])),
+                  stepSize=repr(float(ex["step"])))
+    variables = ET.SubElement(root, "ModelVariables")
+    variables.extend(_scalar_variable(spec, k, v) for k, v in enumerate(spec["variables"]))
+    root.append(_model_structure(spec))
+    ET.indent(root, "\t")
+    return b'<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, encoding="utf-8") + b"\n"
+
+
+# -- sources, library, archive -----------------------------------------------------------------
+
+def native_spec(scene_names) -> tuple[dict, dict]:
+    """``fmu.build.plan`` with this FMU's identifier."""
+    spec, groups = pybuild.plan(list(scene_names))
+    spec = {**spec, "model_identifier": identifier(scene_names)}
+    for name, sc in spec["scenes"].items():
+        if sc["group"] not in groups:
+            raise ValueError(f"scene {name!r}: model group {sc['group']!r} was not planned")
+    return spec, groups
+
+
+def write_sources(folder: Path, spec: dict, groups: dict, guid: str) -> list[str]:
+    """Write every C file of the library into ``folder``; returns the compiled ones (.c)."""
+    folder.mkdir(parents=True, exist_ok=True)
+    for name in HAND_WRITTEN:
+        shutil.copy2(HERE / name, folder / name)
+    for name in FMI_HEADERS:
+        shutil.copy2(fmi_headers_dir() / name, folder / name)
+    (folder / "heli_config.h").write_text(config_header(spec, groups))
+    (folder / "heli_data.c").write_text(data_source(spec, groups, guid))
+    files = ["heli_fmi2.c", "heli_data.c"]
+    for g, (vm, functions) in groups.items():
+        (folder / f"heli_model_{g}.c").write_text(model_source(g, functions, vm.info.nx))
+        files.append(f"heli_model_{g}.c")
+    return files
+
+
+def compile_library(folder: Path, files: list[str], out: Path) -> None:
+    """Compile ``files`` (in ``folder``) in parallel and link them into ``out``."""
+    from mbs.backends.compiled import find_compiler
+
+    cc = find_compiler()
+    procs = [(f, subprocess.Popen([cc, *CFLAGS, "-I", str(folder), "-c", str(folder / f), "-o", str(folder / (f + ".o"))],
+                                  stderr=subprocess.PIPE, text=True)) for f in files]
+    errors = [f"{f}:\n{p.communicate()[1][-2000:]}" for f, p in procs if p.wait()]
+    if errors:
+        raise RuntimeError("compiling the native FMU failed:\n" + "\n".join(errors))
+    objects = [str(folder / (f + ".o")) for f in files]
+    proc = subprocess.run([cc, "-shared", "-o", str(out), *objects, "-lm"], capture_output=True, text=True)
+    for o in objects:
+        os.unlink(o)
+    if proc.returncode:
+        raise RuntimeError(f"linking the native FMU failed:\n{proc.stderr[-2000:]}")
+
+
+def guid_of(key: str) -> str:
+    """A GUID derived from the cache key: the same inputs give the same FMU."""
+    return "{" + str(uuid.uuid5(uuid.NAMESPACE_URL, "rotor-mbs/native-fmu/" + key)) + "}"
+
+
+def build_native(scene_names, dest: Path, key: str | None = None) -> Path:
+    """Generate, compile and zip the native FMU of ``scene_names`` into ``dest`` (.fmu)."""
+    spec, groups = native_spec(scene_names)
+    guid = guid_of(key or cache_key(scene_names))
+    ident = spec["model_identifier"]
+    with tempfile.TemporaryDirectory(prefix="heli-native-fmu-") as tmp:
+        root = Path(tmp)
+        files = write_sources(root / "sources", spec, groups, guid)
+        (root / "binaries" / PLATFORM).mkdir(parents=True)
+        compile_library(root / "sources", files, root / "binaries" / PLATFORM / f"{ident}.so")
+        (root / "modelDescription.xml").write_bytes(model_description(spec, guid, files))
+        _zip(root, Path(dest))
+    return Path(dest)
+
+
+def _zip(root: Path, dest: Path) -> None:
+    dest.parent.mkdir(parents=True, exist_ok=True)
+    with zipfile.ZipFile(dest, "w", zipfile.ZIP_DEFLATED) as z:
+        for path in sorted(p for p in root.rglob("*") if p.is_file()):
+            z.write(path, path.relative_to(root).as_posix())
+
+
+# -- cache -------------------------------------------------------------------------------------
+
+def cache_key(scene_names) -> str:
+    """Hash of everything the native FMU is built from; like :func:`fmu.build.cache_key` it
+    needs no compiler (``$CC`` counts when set), so a cached FMU is found without one."""
+    h = hashlib.sha256()
+    root = pybuild.mbs_dir()
+    files = [(p.relative_to(root).as_posix(), p) for p in sorted(root.rglob("*"))
+             if p.suffix in pybuild.SOURCE_SUFFIXES and "__pycache__" not in p.parts]
+    files += [(f"fmu/{p.name}", p) for p in (HERE.parent / "build.py", HERE.parent / "heli_bo105_slave.py")]
+    files += [(f"fmu/native/{name}", HERE / name) for name in ("build.py", *HAND_WRITTEN)]
+    for rel, path in files:
+        h.update(rel.encode() + b"\0" + path.read_bytes())
+    for name in FMI_HEADERS:
+        h.update((fmi_headers_dir() / name).read_bytes())
+    h.update(json.dumps([list(scene_names), importlib.metadata.version("casadi"), os.environ.get("CC") or "", CFLAGS,
+                         sys.platform]).encode())
+    return h.hexdigest()[:20]
+
+
+def cached_path(scene_names) -> Path:
+    from mbs.backends.compiled import cache_dir
+
+    return cache_dir() / "fmu-native" / cache_key(scene_names) / f"{identifier(scene_names)}.fmu"
+
+
+def ensure_native_fmu(scene_names=pybuild.DEFAULT_SCENES, force: bool = False, log=None) -> tuple[Path, float]:
+    """The cached native FMU of ``scene_names`` (built here if absent or not intact); returns
+    (path, build seconds, 0 if it came from the cache). Verified like the pythonfmu FMU
+    (:func:`fmu.build.fmu_problem`): a truncated or changed cached FMU is rebuilt."""
+    from mbs.backends.cache import record, writable_dir
+
+    key, path = cache_key(scene_names), cached_path(scene_names)
+    if not force:
+        reason = pybuild.fmu_problem(path)
+        if reason is None:
+            return path, 0.0
+        if log and path.exists():
+            log(f"rebuilding the cached native FMU: {reason}")
+    writable_dir(path.parent, "FMU cache")
+    if log:
+        log(f"building the native FMU for {', '.join(scene_names)} (compiles the models once; cached) ...")
+    start = time.perf_counter()
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        build_native(scene_names, tmp, key)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+    tmp.replace(path)
+    record(path)
+    return path, time.perf_counter() - start
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description="build the native heli rotor FMU")
+    ap.add_argument("--scenes", default=",".join(pybuild.DEFAULT_SCENES))
+    ap.add_argument("--dest", required=True)
+    args = ap.parse_args(argv)
+    build_native(args.scenes.split(","), Path(args.dest))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
