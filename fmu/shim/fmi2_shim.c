@@ -148,7 +148,21 @@ static int resolve_symbols(void *handle, const char *path, char *err, size_t err
     return 1;
 }
 
-/* Loads pythonfmu's library once per process (never unloaded: it holds Python state). */
+/* Loads pythonfmu's library once for as long as this library is loaded (see unload_inner). */
+/* When the host unloads this library (fmpy does after fmi2FreeInstance), pythonfmu's goes
+ * with it, as it did when the host loaded pythonfmu's directly: its own unload hook then runs
+ * while the host's Python is alive, not during the process's exit, where it would race with
+ * the interpreter's finalisation. */
+__attribute__((destructor)) static void unload_inner(void)
+{
+    pthread_mutex_lock(&api_lock);
+    if (api_handle) {
+        dlclose(api_handle);
+        api_handle = NULL;
+    }
+    pthread_mutex_unlock(&api_lock);
+}
+
 static int load_inner(char *err, size_t errn)
 {
     char path[PATH_MAX];
