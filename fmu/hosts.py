@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import sys
 from pathlib import Path
 
@@ -402,5 +403,16 @@ def main(argv: list[str] | None = None) -> int:
     return 0
 
 
+def finish(code: int = 0) -> None:
+    """End a host process once its result is written: flush, then leave without the
+    interpreter's teardown. One host that had run the pythonfmu FMU aborted in that teardown
+    during a full test run (glibc "corrupted double-linked list", after complete results; the
+    symptom reported upstream as PythonFMU issue #228, not reproduced in 300 runs since);
+    the tests check what the FMU computed, and README.md states the problem."""
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(code)
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    finish(main())

@@ -30,11 +30,21 @@ def cmd_scenes(args) -> int:
     return 0
 
 
+def _scene(args):
+    """The scene named on the command line, with the ``--aero`` switches turned on."""
+    if not getattr(args, "aero", None):
+        return args.scene
+    from mbs import scenes
+    from mbs.models.bo105 import with_aero
+
+    return with_aero(scenes.get(args.scene), args.aero)
+
+
 def cmd_simulate(args) -> int:
     from mbs._progress import Progress
     from mbs.simulate import simulate, write
 
-    sim = simulate(args.scene, args.revs, args.steps_per_rev, args.dtype, args.backend,
+    sim = simulate(_scene(args), args.revs, args.steps_per_rev, args.dtype, args.backend,
                    every=args.every, progress=Progress(f"simulate {args.scene}", not args.quiet), method=args.method)
     paths = write(sim, Path(args.out))
     res = sim.summary()
@@ -53,7 +63,7 @@ def cmd_trim(args) -> int:
     from mbs._progress import Progress
     from mbs.trim import trim
 
-    res = trim(args.scene, speed=args.speed, climb_rate=args.climb_rate, method=args.method,
+    res = trim(_scene(args), speed=args.speed, climb_rate=args.climb_rate, method=args.method,
                steps_per_rev=args.steps_per_rev, backend=args.backend, tol=args.tol,
                max_iterations=args.iterations, progress=Progress(f"trim {args.scene}", not args.quiet))
     out, lines = res.summary(), _trim_lines(res)
@@ -79,8 +89,9 @@ def _trim_lines(res) -> list[str]:
              f"  final:       max |scaled residual| {np.abs(res.residual).max():.3e}",
              *[f"  {k:20s} {v:+.6f} rad ({np.degrees(v):+.4f} deg)" for k, v in
                [*res.controls.items(), ("roll", res.roll), ("pitch", res.pitch)]]]
-    if res.thrust is not None:
-        lines.append(f"  main-rotor thrust (mean) {res.thrust:.1f} N")
+    units = {"thrust": "N", "torque": "N m", "power": "W"}
+    lines += [f"  {k:28s} {v:.6g} {units[k.split('.')[-1]] + ' ' if k.split('.')[-1] in units else ''}(period mean)"
+              for k, v in res.output_means.items()]
     verdict = "converged" if res.converged else "NOT CONVERGED"
     return lines + [f"  {res.summary()['note']}",
                     f"{verdict}: {res.reason}; {res.iterations} Newton iterations, {res.n_jacobian} Jacobians, "
@@ -88,29 +99,47 @@ def _trim_lines(res) -> list[str]:
 
 
 def cmd_floquet(args) -> int:
+    from mbs import scenes
     from mbs.analysis.fanplot import WithParameters, parse_settings
     from mbs.analysis.floquet import floquet
+    from mbs.analysis.trim import evaluators
 
     if args.sweep:
         return _floquet_sweep(args)
-    system, settings = None, parse_settings(args.set)
+    settings = parse_settings(args.set)
+    system, stepper = evaluators(scenes.get(args.scene), args.method, args.backend)
     if settings:
-        from mbs import scenes
-
-        system = WithParameters(scenes.get(args.scene).system(args.backend), **settings)
+        system = WithParameters(system, **settings)
         system.params()
     res = floquet(args.scene, speed=args.speed, method=args.method, steps_per_rev=args.steps_per_rev,
-                  backend=args.backend, system=system)
-    lines = [f"{res.scene} at {res.speed:g} m/s: Floquet analysis over {res.period_revs} main-rotor revolutions "
-             f"(monodromy over {res.interval_revs}; periodic solution in {res.trim.iterations} Newton iterations; "
-             f"analysis {res.wall_s:.2f} s)",
-             f"  {'mode':24s} {'Re λ 1/s':>10s} {'Im λ rad/s':>11s} {'Hz':>8s} {'/rev':>7s} {'ζ':>7s} {'|μ|':>9s}",
-             *[f"  {m.name:24s} {m.exponent.real:+10.4f} {m.exponent.imag:11.4f} {m.frequency_hz:8.4f} "
-               f"{m.per_rev:7.4f} {m.damping_ratio:+7.3f} {abs(m.multiplier):9.3e}" for m in res.modes],
-             f"{'stable' if res.stable else 'UNSTABLE'}: largest |multiplier| "
-             f"{max(abs(m.multiplier) for m in res.modes):.6f} over the period"]
-    emit(res.summary(), args.json, lines)
+                  backend=args.backend, system=system, stepper=stepper, frame=args.frame)
+    out, lines = res.summary(), _floquet_lines(res)
+    if args.out:
+        out["files"] = _floquet_files(res, Path(args.out))
+        lines += [f"wrote {f}" for f in out["files"]]
+    emit(out, args.json, lines)
     return 0
+
+
+def _floquet_lines(res) -> list[str]:
+    """The human-readable report of :func:`mbs.analysis.floquet.floquet`."""
+    return [f"{res.scene} at {res.speed:g} m/s: Floquet analysis over {res.period_revs} main-rotor revolutions "
+            f"(monodromy over {res.interval_revs}; periodic solution in {res.trim.iterations} Newton iterations; "
+            f"analysis {res.wall_s:.2f} s); rotor-mode frequencies in the {res.frame} frame",
+            f"  {'mode':30s} {'Re λ 1/s':>10s} {'Im λ rad/s':>11s} {'Hz':>8s} {'/rev':>7s} {'ζ':>7s} {'|μ|':>9s}",
+            *[f"  {m.name:30s} {m.exponent.real:+10.4f} {m.exponent.imag:11.4f} {m.frequency_hz:8.4f} "
+              f"{m.per_rev:7.4f} {m.damping_ratio:+7.3f} {abs(m.multiplier):9.3e}" for m in res.modes],
+            f"{'stable' if res.stable else 'UNSTABLE'}: largest |multiplier| "
+            f"{max(abs(m.multiplier) for m in res.modes):.6f} over the period"]
+
+
+def _floquet_files(res, out: Path) -> list[str]:
+    """``floquet_<scene>.png`` (exponents and multipliers) and ``.csv`` (one row per mode) in ``out``."""
+    from mbs.analysis import floquet_plot
+
+    stem = out / f"floquet_{res.scene}"
+    return [str(floquet_plot.write_csv(res, stem.with_suffix(".csv"))),
+            str(floquet_plot.figure(res, stem.with_suffix(".png")))]
 
 
 def _floquet_sweep(args) -> int:
@@ -128,7 +157,7 @@ def _floquet_sweep(args) -> int:
     points = fp.sweep(ana, name, values, Progress(f"floquet sweep {args.scene}", not args.quiet))
     sweep_s = time.perf_counter() - start - setup_s
     bands = fp.unstable_bands(points, lambda v: ana.at(**{name: v}))
-    out = Path(args.out)
+    out = Path(args.out or "out/floquet")
     stem = f"fanplot_{args.scene}"
     files = [fp.write_csv(fp.rows(points, name), out / f"{stem}.csv"),
              fp.figure(points, name, bands, out / f"{stem}.png", _fan_title(args, ana))]
@@ -244,6 +273,9 @@ def register(sub, bench) -> None:
     p.add_argument("--iterations", type=int, default=20, help="most Newton iterations (default 20)")
     p.add_argument("--write", metavar="PATH", default=None,
                    help="store the converged trim in the TOML file PATH (the format of mbs/models/bo105_trim.toml)")
+    p.add_argument("--aero", metavar="SWITCHES", default=None,
+                   help="rotor-aerodynamics switches to turn on (Bo105 scenes): comma-separated "
+                        "pitt-peters, tip-loss, compressibility, or full")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     add_json(p)
     p.set_defaults(fn=cmd_trim)
@@ -256,8 +288,10 @@ def register(sub, bench) -> None:
                    help="fan plot: analyse at N values of a run-time parameter, e.g. omega=20:60:30; writes "
                         "fanplot_SCENE.png and .csv into --out")
     p.add_argument("--frame", choices=("fixed", "rotating"), default="fixed",
-                   help="with --sweep: frequencies in the fixed frame (multi-blade coordinates, default) or per blade")
-    p.add_argument("--out", default="out/floquet", help="with --sweep: output folder (default out/floquet)")
+                   help="rotor-mode frequencies and names in the fixed frame (multi-blade coordinates, default) "
+                        "or per blade (rotating)")
+    p.add_argument("--out", default=None, help="output folder: writes floquet_SCENE.png and .csv (default: print "
+                   "only); with --sweep the fan plot's files (default out/floquet)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     add_json(p)
     p.set_defaults(fn=cmd_floquet)
@@ -284,6 +318,9 @@ def register(sub, bench) -> None:
     p.add_argument("--backend", choices=["compiled", "vm"], default="compiled")
     p.add_argument("--every", type=int, default=1, help="record every N-th step")
     p.add_argument("--out", default="out/simulate", help="output folder (default out/simulate)")
+    p.add_argument("--aero", metavar="SWITCHES", default=None,
+                   help="rotor-aerodynamics switches to turn on (Bo105 scenes): comma-separated "
+                        "pitt-peters, tip-loss, compressibility, or full")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     add_json(p)
     p.set_defaults(fn=cmd_simulate)

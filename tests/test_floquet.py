@@ -1,5 +1,7 @@
 """Floquet analysis at the periodic solution: the single blade's exponents against the closed
-forms, and the Bo105 in hover (neutral heading, rotor modes named and placed)."""
+forms, and the Bo105 in hover (neutral heading, rotor modes named and placed, in the rotating
+and the fixed frame; the chart and table of ``heli floquet --out``)."""
+import csv
 import json
 
 import numpy as np
@@ -51,9 +53,10 @@ def test_hover_modes(capsys):
     """Hover trim: the heading mode is neutral, the lag modes sit near the blade's 0.68/rev
     with the damper's few per cent, the flap modes near 1/rev are well damped (Lock number 5),
     the teeter near the tail rotor's 1/rev (5.25/rev of the main rotor)."""
-    assert main(["floquet", "hover", "--json"]) == 0
+    assert main(["floquet", "hover", "--frame", "rotating", "--json"]) == 0
     res = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
     modes = res["modes"]
+    assert res["frame"] == "rotating" and "files" not in res
     assert min(abs(np.hypot(*m["multiplier"]) - 1) for m in modes) < 1e-9  # heading
     lag = [m for m in modes if m["name"] == "lag"]
     flap = [m for m in modes if m["name"] == "flap" and m["per_rev"] > 0.5]
@@ -67,3 +70,40 @@ def test_hover_modes(capsys):
 def test_floquet_rejects_scenes_without_a_periodic_solution():
     with pytest.raises(ValueError, match="no periodic solution"):
         floquet("structural")
+
+
+def test_hover_chart_and_table_in_the_fixed_frame(tmp_path, capsys):
+    """``heli floquet hover --out DIR`` (fixed frame by default) writes ``floquet_hover.png``
+    and ``floquet_hover.csv``, whose rows are the JSON output's modes; in the fixed frame the
+    lag modes split into regressing (near 1 - 0.68/rev), advancing (near 1 + 0.68/rev),
+    collective and differential (near 0.68/rev), and the multipliers do not change."""
+    assert main(["floquet", "hover", "--out", str(tmp_path), "--json"]) == 0
+    res = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    assert res["frame"] == "fixed (multi-blade)"
+    png, table = tmp_path / "floquet_hover.png", tmp_path / "floquet_hover.csv"
+    assert res["files"] == [str(table), str(png)]
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 20_000
+    with open(table, newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert len(rows) == len(res["modes"])
+    for row, m in zip(rows, res["modes"]):
+        assert row["mode"] == m["name"]
+        assert [float(row[k]) for k in ("real_per_s", "imag_rad_s", "frequency_hz", "per_rev", "damping_ratio")] \
+            == [*m["exponent"], m["frequency_hz"], m["per_rev"], m["damping_ratio"]]
+        assert float(row["multiplier_modulus"]) == pytest.approx(np.hypot(*m["multiplier"]), rel=1e-15)
+    lag = {m["name"]: m["per_rev"] for m in res["modes"] if m["name"].endswith(" lag")}
+    assert set(lag) == {"regressing lag", "advancing lag", "collective lag", "differential lag"}
+    assert lag["regressing lag"] == pytest.approx(1 - lag["differential lag"], abs=0.05)
+    assert lag["advancing lag"] == pytest.approx(1 + lag["differential lag"], abs=0.15)
+
+
+def test_rk8_tableau_equals_scipys_dop853():
+    """The rk8 coefficients are kept as data (no SciPy import for the integrators); they are
+    SciPy's DOP853 numbers exactly."""
+    from scipy.integrate._ivp import dop853_coefficients as dp
+
+    from mbs.integrators import RK8
+
+    s = dp.N_STAGES
+    assert RK8.a == tuple(tuple(float(v) for v in row[:s]) for row in dp.A[:s])
+    assert RK8.b == tuple(float(v) for v in dp.B) and RK8.c == tuple(float(v) for v in dp.C[:s])

@@ -101,7 +101,7 @@ def test_model_description_declares_units_ranges_and_structure(fmu_path, spec):
         assert unit in units
     outputs = [i + 1 for i, sv in enumerate(svs) if sv.get("causality") == "output"]
     initial = [int(u.get("index")) for u in root.find("ModelStructure/InitialUnknowns")]
-    assert initial == outputs and len(outputs) == 9 + 9 + 4 + 12 + 1
+    assert initial == outputs and len(outputs) == 9 + 9 + 10 + 12 + 1
     assert {sv.get("name"): sv.get("variability") for sv in svs if sv.get("causality") == "parameter"} == {
         "scene": "fixed", "evaluator": "fixed", "integrator": "fixed", "max_step": "tunable", "omega": "fixed",
         "initial_forward_speed": "fixed"}
@@ -242,8 +242,8 @@ def test_bad_input_gives_a_discard_and_a_message_naming_it(fmu_path, dt, tmp_pat
         {"name": "pitch out of range", "set": {"tail_collective": 0.9}, "fix": {"tail_collective": 0.1}},
         {"name": "zero step", "step": 0.0},
         {"name": "negative step", "step": -dt},
-        {"name": "diverging", "init": {"omega": 53.3, "max_step": 0.012},
-         "set": {"collective": 0.412, "longitudinal_cyclic": 0.175, "lateral_cyclic": -0.105}, "step": 3.0},
+        {"name": "diverging", "init_strings": {"scene": "hover"}, "init": {"omega": 53.3, "max_step": 0.012},
+         "set": {"collective": 0.412}, "step": 3.0},
         {"name": "fixed parameter changed", "set": {"omega": 40.0}, "fix": {"omega": 44.4}},
     ]
     res = host("errors", {"fmu": str(fmu_path), "dt": dt, "cases": cases}, tmp_path)

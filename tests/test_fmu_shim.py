@@ -460,3 +460,4 @@ MODES = {"steps": _mode_steps, "simulate": _mode_simulate, "refused": _mode_refu
 if __name__ == "__main__":
     mode, args_path = sys.argv[1], sys.argv[2]
     print(json.dumps(MODES[mode](json.loads(Path(args_path).read_text()))))
+    hosts.finish(0)

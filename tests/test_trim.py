@@ -97,7 +97,9 @@ def test_heli_trim_reports_and_writes_to_a_user_path(tmp_path, capsys):
     assert res["converged"] and res["max_abs_residual"] <= 1e-10 and res["period"]["full_revs"] == 4
     assert set(res["controls"]) == {"collective", "lateral_cyclic", "longitudinal_cyclic", "tail_collective"}
     assert res["controls_deg"]["collective"] == pytest.approx(np.degrees(res["controls"]["collective"]))
-    assert res["power"] is None and "not available" in res["note"]
+    assert res["power"] == pytest.approx(res["outputs"]["main_rotor.power"]) and res["power"] > 1e5
+    assert res["torque"] * 44.4 == pytest.approx(res["power"], rel=1e-12)
+    assert {"main_rotor.inflow_ratio", "tail_rotor.torque", "tail_rotor.power"} <= set(res["outputs"])
     assert any(line.startswith("converged") for line in out) and any("iteration 1" in line for line in out)
     assert '["forward-flight"]' in path.read_text() and "collective" in path.read_text()
 

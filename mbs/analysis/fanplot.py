@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mbs.analysis.floquet import Floquet, analyse, coordinate_functions, group_of
+from mbs.analysis.floquet import Floquet, analyse, coordinate_functions
 from mbs.analysis.shooting import TrimLayout
 
 UNSTABLE = 1e-6  # a multiplier modulus above 1 + UNSTABLE is unstable: neutral modes of undamped
@@ -148,13 +148,9 @@ class FanPlotAnalysis:
         return transform(self.names, omega) if self.fixed_frame else None
 
     def _names(self, res: Floquet) -> list[str]:
-        from mbs.analysis.multiblade import mode_name
+        from mbs.analysis.floquet import fixed_frame_names
 
-        if not self.fixed_frame:
-            return [m.name for m in res.modes]
-        b0 = self._frame(res.modes[0].omega)(0.0)[0] if res.modes else None
-        groups = {n: group_of(n) for n in self.names}
-        return [mode_name(b0 @ m.vector, self.names, m.exponent.imag, m.omega, groups) for m in res.modes]
+        return fixed_frame_names(res) if self.fixed_frame else [m.name for m in res.modes]
 
 
 def sweep(analysis: FanPlotAnalysis, parameter: str, values, progress=None) -> list[SweepPoint]:

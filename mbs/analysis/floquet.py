@@ -18,8 +18,11 @@ value ``λ₀``, and the harmonic ``m`` of ``p`` with the largest energy (states
 radius and revolution) moves the frequency to ``Im λ₀ + 2π m / period``, so that the
 periodic part of the mode is as close to constant as possible. For a time-invariant system
 (the single blade on a vertical shaft) this recovers the natural frequencies in the rotating
-frame. Rotor states are in the rotating frame (per blade), so rotor-mode frequencies are
-rotating-frame frequencies.
+frame. Rotor states are in the rotating frame (per blade), so rotor-mode frequencies read
+in them are rotating-frame frequencies; :func:`floquet` reads them in the fixed frame by
+default (``frame="fixed"``: the periodic part in multi-blade coordinates,
+:mod:`mbs.analysis.multiblade`), which also names the rotor modes (regressing, advancing,
+collective, differential). Multipliers and damping do not depend on the frame.
 
 Mode names from participation: the scaled eigenvector's energy by group (body, flap, lag,
 inflow, tail rotor); the name lists the groups above 25 %.
@@ -46,6 +49,7 @@ class FloquetMode:
     participation: dict[str, float]
     omega: float  # main-rotor speed, rad/s
     vector: np.ndarray | None = field(default=None, repr=False)  # eigenvector (ny,) at t = 0, ∝ exp(+i |Im λ| t)
+    label: str | None = None  # name in the frame the frequency is read in; None: from participation
 
     @property
     def damping(self) -> float:
@@ -66,7 +70,14 @@ class FloquetMode:
         return float(-self.exponent.real / max(abs(self.exponent), 1e-300))
 
     @property
+    def group(self) -> str:
+        """The group with the largest share of the mode's energy."""
+        return max(self.participation.items(), key=lambda kv: kv[1])[0] if self.participation else "body"
+
+    @property
     def name(self) -> str:
+        if self.label:
+            return self.label
         top = [g for g, w in sorted(self.participation.items(), key=lambda kv: -kv[1]) if w >= 0.25]
         return " + ".join(top)
 
@@ -91,13 +102,14 @@ class Floquet:
     nfwd: int = 0
     wall_s: float = 0.0
     extra: dict = field(default_factory=dict)
+    frame: str = "rotating"  # where rotor-mode frequencies are read: "rotating" or "fixed (multi-blade)"
 
     @property
     def stable(self) -> bool:
         return all(abs(m.multiplier) <= 1 + 1e-9 for m in self.modes)
 
     def summary(self) -> dict:
-        return {"scene": self.scene, "speed": self.speed, "interval_revs": self.interval_revs,
+        return {"scene": self.scene, "speed": self.speed, "frame": self.frame, "interval_revs": self.interval_revs,
                 "period_revs": self.period_revs, "coordinates": self.coordinates, "stable": self.stable,
                 "modes": [m.summary() for m in self.modes], "nfwd": self.nfwd, "wall_s": self.wall_s, **self.extra}
 
@@ -138,21 +150,61 @@ def right_inverse(dy_dx: np.ndarray, position: list[int]) -> np.ndarray:
 
 def floquet(scene: str = "forward-flight", speed: float | None = None, method: str = "rk4",
             steps_per_rev: int | None = None, backend: str = "compiled", system=None, stepper=None,
-            record_every: int = 2) -> Floquet:
+            record_every: int = 2, frame: str = "fixed") -> Floquet:
     """Floquet analysis of ``scene`` at its periodic solution (the trim at ``speed`` for a
-    free-flying scene, the periodic rotor response otherwise)."""
+    free-flying scene, the periodic rotor response otherwise).
+
+    frame: ``"fixed"`` reads rotor-mode frequencies in multi-blade coordinates and names the
+    modes there (regressing lag, ...), ``"rotating"`` per blade."""
     from mbs import scenes
     from mbs.analysis.monodromy import TangentStepper
-    from mbs.analysis.trim import periodic_solution, trimmable
+    from mbs.analysis.trim import evaluators, periodic_solution, trimmable
 
+    if frame not in FRAMES:
+        raise ValueError(f"unknown frame {frame!r}; choose one of {FRAMES}")
     sc = scenes.get(scene)
     _check(sc, trimmable(sc))
+    if system is None and stepper is None:
+        system, stepper = evaluators(sc, method, backend)
     system = system or sc.system(backend)
     stepper = stepper or TangentStepper(sc.model(), method, backend)
     sol = periodic_solution(sc, speed, method=method, steps_per_rev=steps_per_rev, system=system, stepper=stepper)
     if not sol.converged:
         raise RuntimeError(f"no periodic solution of {scene!r} to analyse: {sol.reason}")
-    return analyse(sol, system, stepper, record_every)
+    if frame == "rotating":
+        return analyse(sol, system, stepper, record_every)
+    return in_fixed_frame(sol, system, stepper, record_every)
+
+
+FRAMES = ("fixed", "rotating")
+
+
+def in_fixed_frame(sol, system, stepper, record_every: int = 2) -> Floquet:
+    """:func:`analyse` with frequencies read in multi-blade coordinates and the modes named
+    there (:func:`mbs.analysis.multiblade.mode_name`)."""
+    from mbs.analysis.multiblade import transform
+
+    names = coordinate_functions(TrimLayout.of(system.info), system.info.nx)[0]
+    res = analyse(sol, system, stepper, record_every, frame=transform(names, sol.period.omega))
+    scale = residual_scales(names, sol.period.omega, _radius(system))
+    for m, label in zip(res.modes, fixed_frame_names(res, scale)):
+        m.label = label
+    res.frame = "fixed (multi-blade)"
+    return res
+
+
+def fixed_frame_names(res: Floquet, scale: np.ndarray | None = None) -> list[str]:
+    """Fixed-frame names of the modes of ``res`` (analysed in multi-blade coordinates) from
+    their eigenvectors, divided by ``scale`` (ny,) when given (e.g. per radius and revolution,
+    :func:`mbs.analysis.shooting.residual_scales`, so that speeds and angles compare)."""
+    from mbs.analysis.multiblade import mode_name, transform
+
+    if not res.modes:
+        return []
+    b0 = transform(res.coordinates, res.modes[0].omega)(0.0)[0]
+    groups = {n: group_of(n) for n in res.coordinates}
+    s = np.ones(len(res.coordinates)) if scale is None else scale
+    return [mode_name(b0 @ (m.vector / s), res.coordinates, m.exponent.imag, m.omega, groups) for m in res.modes]
 
 
 def _check(sc, trimmable: bool) -> None:

@@ -13,14 +13,24 @@ discrete map the generated driver computes (exact to round-off), never a finite 
 
 The tangent step ``tangent_<method>`` is generated once per model and method and compiled
 into its own library (cached on disk like the model's), or run in CasADi's virtual machine.
+The cached library is found through a key computed without generating C: the SHA-256 of the
+serialized right-hand side and projection (``Function.serialize``), the tableau, the block
+width, the CasADi version, the compiler and the source of the modules that shape the
+generated code. An index in the cache maps the key to the library's folder; only without a
+valid entry is the C generated (and compiled, unless a library of that source is cached).
 The step loop runs in Python, one call per step and block of directions (a few µs of
-overhead against the milliseconds of a block step), so that the number of steps and of
-directions is chosen at run time.
+overhead against the tenths of a millisecond of a block step), so that the number of steps
+and of directions is chosen at run time. Blocks are independent: compiled blocks run in
+parallel threads (the generated code runs without Python's lock), one evaluator per thread.
 """
 from __future__ import annotations
 
+import hashlib
+import os
 import time
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
+from pathlib import Path
 
 import casadi as ca
 import numpy as np
@@ -73,31 +83,31 @@ class TangentStepper:
     C compiler exists) or ``"vm"``.
     """
 
-    def __init__(self, model, method: str = "rk4", backend: str = "compiled"):
-        from mbs.dynamics import symbolic
+    def __init__(self, model, method: str = "rk4", backend: str = "compiled", sym=None,
+                 workers: int | None = None):
+        """sym: the model's :func:`mbs.dynamics.symbolic` when already built; workers: threads
+        for the blocks of directions (compiled backend; default the usable cores, at most 4)."""
         from mbs.integrators import FIXED_STEP
 
         if method not in FIXED_STEP:
             raise ValueError(f"unknown fixed-step method {method!r}; known: {sorted(FIXED_STEP)}")
         tab = FIXED_STEP[method]
-        sym = symbolic(model)
+        if sym is None:
+            from mbs.dynamics import symbolic
+
+            sym = symbolic(model)
         self.method, self.stages = method, tab.stages
         self.block = max(1, DIRECTIONS_PER_RHS_CALL // tab.stages)
         self.nx, self.np = sym["rhs"].size1_in(0), sym["rhs"].size1_in(2)
-        fn = tangent_step(sym["rhs"], sym["project"], tab, self.block)
-        self.backend, self._call = _evaluator(fn, sym, backend)
+        self.backend, self._calls = _evaluators(sym, tab, self.block, backend, workers or _cores())
 
     def propagate(self, x0, p, dx0, dp, t0: float, h: float, n: int, every: int | None = None) -> Sensitivity:
         """``n`` steps of size ``h`` (s) from ``(x0, t0)`` with parameters ``p`` and their
         derivative along the seeds ``dx0`` (nx, nd), ``dp`` (np, nd); recorded every ``every``
         steps when given."""
         dx0, dp = np.atleast_2d(dx0), np.atleast_2d(dp)
-        nd, start, blocks = dx0.shape[1], time.perf_counter(), []
-        for j in range(0, nd, self.block):
-            width = min(self.block, nd - j)
-            xs, ds = self._block(x0, p, _pad(dx0[:, j:j + self.block], self.block),
-                                 _pad(dp[:, j:j + self.block], self.block), t0, h, n, every or n)
-            blocks.append((xs, ds[:, :, :width]))
+        start = time.perf_counter()
+        blocks = self._blocks(x0, p, dx0, dp, t0, h, n, every or n)
         xs = blocks[0][0] if blocks else np.array([x0])
         ds = np.concatenate([b[1] for b in blocks], axis=2) if blocks else np.zeros((len(xs), self.nx, 0))
         work = n * self.stages
@@ -106,15 +116,40 @@ class TangentStepper:
             sens.xs, sens.dxs = xs[:-1], ds[:-1]
         return sens
 
-    def _block(self, x0, p, dx, dp, t0, h, n, every) -> tuple[np.ndarray, np.ndarray]:
-        """States (m + 1, nx) and tangents (m + 1, nx, block) at steps 0, every, ... and n."""
+    def _blocks(self, x0, p, dx0, dp, t0, h, n, every) -> list[tuple[np.ndarray, np.ndarray]]:
+        """:meth:`_block` for each block of ``block`` seed columns, the tangents cut to the
+        block's true width; with several evaluators, evaluator ``w`` runs blocks ``w, w + W, ...``
+        in its own thread."""
+        starts, calls = list(range(0, dx0.shape[1], self.block)), self._callers()
+        workers = max(1, min(len(calls), len(starts)))
+
+        def one(call, j: int) -> tuple[np.ndarray, np.ndarray]:
+            xs, ds = self._block(call, x0, p, _pad(dx0[:, j:j + self.block], self.block),
+                                 _pad(dp[:, j:j + self.block], self.block), t0, h, n, every)
+            return xs, ds[:, :, :min(self.block, dx0.shape[1] - j)]
+
+        def share(w: int) -> list[tuple[np.ndarray, np.ndarray]]:
+            return [one(calls[w], j) for j in starts[w::workers]]
+        if workers == 1:
+            return share(0)
+        with ThreadPoolExecutor(workers) as pool:
+            shares = list(pool.map(share, range(workers)))
+        return [shares[k % workers][k // workers] for k in range(len(starts))]
+
+    def _callers(self) -> list:
+        """The evaluators, one per thread (a subclass may set a single ``_call``)."""
+        return getattr(self, "_calls", None) or [self._call]
+
+    def _block(self, call, x0, p, dx, dp, t0, h, n, every) -> tuple[np.ndarray, np.ndarray]:
+        """States (m + 1, nx) and tangents (m + 1, nx, block) at steps 0, every, ... and n,
+        evaluated by ``call`` (one thread's evaluator)."""
         x, d = np.asarray(x0, dtype=float), dx.ravel(order="F")
         dp, xs, ds = dp.ravel(order="F"), [], []
         for k in range(n):
             if k % every == 0:
                 xs.append(x)
                 ds.append(d)
-            x, d = self._call(x, d, t0 + k * h, h, p, dp)
+            x, d = call(x, d, t0 + k * h, h, p, dp)
         xs.append(x)
         ds.append(d)
         return np.array(xs), np.array(ds).reshape(len(ds), self.nx, self.block, order="F")
@@ -130,8 +165,31 @@ def _pad(a: np.ndarray, width: int) -> np.ndarray:
     return np.hstack([a, np.zeros((a.shape[0], width - a.shape[1]))]) if a.shape[1] < width else a
 
 
+def _cores() -> int:
+    """Usable CPU cores, at most 4 (a Jacobian has 4 blocks of RK4 directions)."""
+    try:
+        return max(1, min(4, len(os.sched_getaffinity(0))))
+    except AttributeError:  # not on Linux
+        return max(1, min(4, os.cpu_count() or 1))
+
+
+def _evaluators(sym, tab, block: int, backend: str, workers: int) -> tuple[str, list]:
+    """``(backend used, [call(x, X, t, h, p, P) -> (x_next, X_next) as flat arrays, ...])``:
+    ``workers`` independent compiled callers, or one in the virtual machine."""
+    if backend == "compiled":
+        from mbs.backends.compiled import CompilerNotFound
+        try:
+            return "compiled", _compiled_keyed(sym, tab, block, workers)
+        except CompilerNotFound:
+            backend = "vm"
+    if backend != "vm":
+        raise ValueError(f"unknown backend {backend!r}; choose 'compiled' or 'vm'")
+    return "vm", [_vm_caller(tangent_step(sym["rhs"], sym["project"], tab, block))]
+
+
 def _evaluator(fn: ca.Function, sym, backend: str):
-    """``(backend used, call(x, X, t, h, p, P) -> (x_next, X_next) as flat arrays)``."""
+    """``(backend used, call(x, X, t, h, p, P) -> (x_next, X_next) as flat arrays)`` for a
+    tangent function ``fn`` built by the caller (its library found by its generated source)."""
     if backend == "compiled":
         from mbs.backends.compiled import CompilerNotFound
         try:
@@ -141,6 +199,13 @@ def _evaluator(fn: ca.Function, sym, backend: str):
     if backend != "vm":
         raise ValueError(f"unknown backend {backend!r}; choose 'compiled' or 'vm'")
     return "vm", _vm_caller(fn)
+
+
+def _compiled(fn: ca.Function, sym):
+    """Generate and compile ``fn`` into its own cached library; returns its caller."""
+    from mbs.backends.compiled import CompiledSystem
+
+    return CompiledSystem(_build(fn, sym, f"monodromy-{fn.name()}")).function(fn.name())
 
 
 def _vm_caller(fn: ca.Function):
@@ -153,16 +218,82 @@ def _vm_caller(fn: ca.Function):
     return call
 
 
-def _compiled(fn: ca.Function, sym):
-    """Generate and compile ``fn`` into its own cached library; returns its caller."""
-    from mbs.backends.compiled import CompiledSystem, compile_source, generate
+GENERATING_MODULES = ("mbs/analysis/monodromy.py", "mbs/integrators/__init__.py", "mbs/integrators/_tableau.py",
+                      "mbs/backends/compiled.py", "mbs/backends/info.py")
+"""Sources whose change can change the generated tangent library (they enter its key)."""
+
+
+def library_key(sym, tab, block: int) -> str:
+    """Hex key of the tangent library of ``sym`` (:func:`mbs.dynamics.symbolic`) for the
+    tableau ``tab`` and ``block`` directions, from the serialized right-hand side and
+    projection and everything else the generated C depends on; no code is generated."""
+    from mbs.backends.compiled import CFLAGS, LARGE_SOURCE_BYTES, find_compiler
+
+    root = Path(__file__).resolve().parents[2]
+    h = hashlib.sha256()
+    for part in (sym["rhs"].serialize(), sym["project"].serialize(), repr(tab), str(block), ca.__version__,
+                 find_compiler(), " ".join(CFLAGS), str(LARGE_SOURCE_BYTES),
+                 *((root / m).read_text() for m in GENERATING_MODULES)):
+        h.update(part.encode())
+        h.update(b"\0")
+    return h.hexdigest()[:16]
+
+
+def _compiled_keyed(sym, tab, block: int, workers: int) -> list:
+    """``workers`` callers of the compiled tangent step (each with its own buffers), from the
+    library that the index maps :func:`library_key` to; generated (and compiled unless a
+    library of the same source is cached) only when the index has no valid entry."""
+    from mbs.backends.compiled import CompiledSystem
+
+    name, key = f"tangent_{tab.name}", library_key(sym, tab, block)
+    folder = _indexed(key)
+    if folder is None:
+        folder = _build(tangent_step(sym["rhs"], sym["project"], tab, block), sym, f"monodromy-{name}")
+        _index(key, folder)
+    return [CompiledSystem(folder).function(name) for _ in range(workers)]
+
+
+def _index_file(key: str) -> Path:
+    from mbs.backends.compiled import cache_dir
+
+    return cache_dir() / "tangent-index" / key
+
+
+def _indexed(key: str) -> Path | None:
+    """The valid library folder recorded under ``key``, or None."""
+    from mbs.backends.compiled import cache_dir, library_problem
+
+    try:
+        folder = cache_dir() / _index_file(key).read_text().strip()
+    except OSError:
+        return None
+    return folder if folder.name and library_problem(folder) is None else None
+
+
+def _index(key: str, folder: Path) -> None:
+    """Record ``folder`` under ``key`` (atomically; skipped when the cache is read-only)."""
+    import tempfile
+
+    target = _index_file(key)
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=".index-")
+        with os.fdopen(fd, "w") as f:
+            f.write(Path(folder).name + "\n")
+        os.replace(tmp, target)
+    except OSError:
+        pass
+
+
+def _build(fn: ca.Function, sym, prefix: str) -> Path:
+    """Generate ``fn`` and compile it into ``<cache>/<prefix>-<source hash>``; returns the folder."""
+    from mbs.backends.compiled import compile_source, generate
     from mbs.backends.info import info_of
 
     info = info_of(sym, {})
     # the library depends on the generated code only: scenes of one model that differ in their
     # initial state or default parameters (hover, forward flight) share it
-    info.name, info.x0 = f"monodromy-{fn.name()}", [0.0] * len(info.x0)
+    info.name, info.x0 = prefix, [0.0] * len(info.x0)
     for q in info.parameters:
         q["default"] = 0.0
-    folder = compile_source(generate({fn.name(): fn}, info, "float64"), info)
-    return CompiledSystem(folder).function(fn.name())
+    return compile_source(generate({fn.name(): fn}, info, "float64"), info)

@@ -12,9 +12,10 @@ it robust far from the solution; near it the steps are full and convergence is q
 
 Start: the closed-form estimate of :func:`mbs.models.bo105.estimate_trim` at the requested
 speed (momentum and blade-element theory), for Bo105 scenes; the scene's defaults otherwise.
-Rotor shaft torque and power are not available: the hubs are driven joints, whose constraint
-torque the minimal-coordinate equations do not compute, and the model publishes no
-aerodynamic torque.
+The trim reports the period means of the model's outputs (rotor thrust, aerodynamic shaft
+torque and power, inflow ratios): the torque is that of the blade-element forces about the
+shaft, the drive's torque in a trim (the hubs are driven joints, whose constraint torque the
+minimal-coordinate equations do not compute).
 """
 from __future__ import annotations
 
@@ -28,8 +29,8 @@ from mbs.analysis.newton import Failure, Iteration, newton
 from mbs.analysis.period import RotorPeriod, rotor_period
 from mbs.analysis.shooting import TrimLayout, residual_function, residual_scales, start_function
 
-TORQUE_NOTE = ("rotor torque and power: not available (the hubs are driven joints; the model computes "
-               "no constraint torque and publishes no aerodynamic torque)")
+TORQUE_NOTE = ("rotor torque and power: aerodynamic shaft torque of the blade-element forces (N m) and "
+               "torque times rotor speed (W), period means")
 
 
 @dataclass
@@ -63,6 +64,7 @@ class Trim:
     wall_s: float = 0.0
     setup_s: float = 0.0
     thrust: float | None = None
+    output_means: dict[str, float] = field(default_factory=dict)
 
     @property
     def iterations(self) -> int:
@@ -89,7 +91,8 @@ class Trim:
                 "steps": [it.step for it in self.history], "iterations": self.iterations,
                 "n_jacobian": self.n_jacobian, "n_residual": self.n_residual, "nfev": self.nfev, "nfwd": self.nfwd,
                 "wall_s": self.wall_s, "setup_s": self.setup_s, "main_rotor_thrust": self.thrust,
-                "torque": None, "power": None, "note": TORQUE_NOTE}
+                "outputs": self.output_means, "torque": self.output_means.get("main_rotor.torque"),
+                "power": self.output_means.get("main_rotor.power"), "note": TORQUE_NOTE}
 
 
     def _period_summary(self) -> dict:
@@ -151,6 +154,24 @@ class ShootingProblem:
         return np.asarray(r, dtype=float).ravel() / self.scale
 
 
+def evaluators(sc, method: str = "rk4", backend: str = "compiled"):
+    """``(system, stepper)`` of the scene ``sc``: its :class:`mbs.System` and
+    :class:`mbs.analysis.monodromy.TangentStepper`, from one symbolic model (built once)."""
+    from mbs.analysis.monodromy import TangentStepper
+    from mbs.backends.vm import VMSystem
+    from mbs.dynamics import symbolic
+
+    model = sc.model()
+    sym = symbolic(model)
+    stepper = TangentStepper(model, method, backend, sym=sym)
+    vm = VMSystem(sym)
+    if stepper.backend == "vm":
+        return vm, stepper
+    from mbs.backends.compiled import CompiledSystem, compile_source, generate
+
+    return CompiledSystem(compile_source(generate(vm.functions, vm.info, "float64"), vm.info)), stepper
+
+
 def trimmable(scene) -> bool:
     """A scene can be trimmed when it has controls and rotor aerodynamics (an inflow state)."""
     model = scene.model()
@@ -160,10 +181,10 @@ def trimmable(scene) -> bool:
 def _check_scene(name: str):
     from mbs import scenes
 
-    sc = scenes.get(name)
+    sc = scenes.get(name) if isinstance(name, str) else name
     if not trimmable(sc):
         ok = sorted(n for n, s in scenes.all_scenes().items() if trimmable(s))
-        raise ValueError(f"scene {name!r} cannot be trimmed: it has no controls or no rotor aerodynamics; "
+        raise ValueError(f"scene {sc.name!r} cannot be trimmed: it has no controls or no rotor aerodynamics; "
                          f"trimmable scenes: {', '.join(ok)}")
     return sc
 
@@ -238,6 +259,8 @@ def periodic_solution(sc, speed: float | None = None, climb_rate: float = 0.0, m
     from mbs.analysis.monodromy import TangentStepper
 
     start = time.perf_counter()
+    if system is None and stepper is None:
+        system, stepper = evaluators(sc, method, backend)
     system = system or sc.system(backend)
     stepper = stepper or TangentStepper(sc.model(), method, backend)
     steps_per_rev = steps_per_rev or sc.steps_per_rev
@@ -265,18 +288,20 @@ def _result(scene: str, prob: ShootingProblem, res, speed, climb_rate, steps_per
                *(map(float, attitude) if prob.lay.free else (0.0, 0.0)), x0, p, prob.system.info.state_names,
                res.converged, res.reason, res.r, prob.lay.residual_names, res.history, res.n_jacobian,
                res.n_residual, nfev, prob.nfwd, res.wall_s, setup_s)
-    out.thrust = _mean_thrust(prob, res.z) if res.converged else None
+    out.output_means = _mean_outputs(prob, res.z) if res.converged else {}
+    out.thrust = out.output_means.get("main_rotor.thrust")
     return out
 
 
-def _mean_thrust(prob: ShootingProblem, z) -> float | None:
-    """Main-rotor thrust (N) averaged over the shooting interval, when the model outputs it."""
+def _mean_outputs(prob: ShootingProblem, z) -> dict[str, float]:
+    """The model's outputs averaged over the shooting interval (azimuths left out)."""
     info = prob.system.info
-    if "main_rotor.thrust" not in info.output_names:
-        return None
+    names = [n for n in info.output_names if not n.endswith(".azimuth")]
+    if not names:
+        return {}
     traj = prob.run(z, every=1)
-    y = prob.system.history("outputs", traj, prob.start(z)[1])[1:, info.output_names.index("main_rotor.thrust")]
-    return float(y.mean())
+    y = prob.system.history("outputs", traj, prob.start(z)[1])[1:]
+    return {n: float(y[:, info.output_names.index(n)].mean()) for n in names}
 
 
 def write_trim(result: Trim, path: Path, key: str | None = None) -> Path:

@@ -26,7 +26,8 @@ import casadi as ca
 import numpy as np
 
 from mbs import _rotation as rot
-from mbs.aero import Airfoil, FuselageAero, LiftingSurface, Rotor, RotorAero, momentum_inflow
+from mbs.aero import (Airfoil, Compressibility, FuselageAero, LiftingSurface, Rotor, RotorAero, RotorModel,
+                      momentum_inflow)
 from mbs.joints import DrivenHinge, Fixed, FreeJoint, Hinge, Serial
 from mbs.scenes import Scene, register
 from mbs.tree import Model
@@ -65,6 +66,11 @@ class Config:
     rotors: "driven" (hubs at constant speed, swashplate pitch) or "free" (every driven joint
     replaced by a free hinge; speeds from the initial condition). blades: main-rotor blades
     built. speed: initial forward speed, m/s.
+
+    Rotor aerodynamics switches (README, "Simplifications"): inflow "uniform" (one state per
+    rotor) or "pitt-peters" (three states on the main rotor); tip_loss (effective blade radius
+    B R on both rotors); compressibility (Prandtl-Glauert lift slope and drag divergence on
+    both rotors). All off: the model of the paper's scenes.
     """
 
     fuselage: str = "free"
@@ -79,6 +85,9 @@ class Config:
     speed: float = 10.0
     elements: int | None = None
     trim: str | None = None  # key of the stored trim (bo105_trim.toml) giving defaults
+    inflow: str = "uniform"
+    tip_loss: bool = False
+    compressibility: bool = False
 
 
 # -- trim estimate -------------------------------------------------------------------------
@@ -292,18 +301,45 @@ def _add_tail_rotor(m: Model, d: Data, cfg: Config, parent: str) -> None:
                    shape={"kind": "box", "size": [big_r, c, t], "offset": [big_r / 2, 0, 0], "color": "#7f7f7f"})
 
 
-def _add_rotor_aero(m: Model, d: Data, cfg: Config, trim: TrimEstimate) -> None:
+def rotor_model(d: Data, cfg: Config, section: str) -> RotorModel:
+    """The switches of ``cfg`` with their data for the rotor ``section`` ("main_rotor" or
+    "tail_rotor"; Pitt-Peters inflow on the main rotor only)."""
+    sec = d[section]
+    comp = Compressibility(d["environment"]["speed_of_sound"], sec["mach_dd"], sec["mach_limit"])
+    return RotorModel(inflow=cfg.inflow if section == "main_rotor" else "uniform",
+                      tip_loss=sec["tip_loss"] if cfg.tip_loss else 1.0,
+                      compressibility=comp if cfg.compressibility else None)
+
+
+INFLOW_TEXT = {"": "uniform induced velocity", "_1s": "induced velocity, sine (lateral) component at the tip",
+               "_1c": "induced velocity, cosine (longitudinal) component at the tip"}
+
+
+def _add_inflow_states(m: Model, name: str, model: RotorModel, v0: float) -> None:
+    what = name.replace("_", "-")
+    for state in model.inflow_states(name):
+        suffix = state[len(name) + len(".inflow"):]
+        m.add_state(state, v0 if not suffix else 0.0, "m/s", f"{what} {INFLOW_TEXT[suffix]}")
+
+
+def _add_rotor_aero(m: Model, d: Data, cfg: Config, trim: TrimEstimate, parent: str) -> None:
     rho = d["environment"]["rho"]
     mr, tr = d["main_rotor"], d["tail_rotor"]
+    tilt = mr["shaft_tilt"] if cfg.shaft_tilt else 0.0
+    shaft_body = None if parent == "world" else parent
     main = Rotor("main_rotor", "main_hub", [f"blade{k + 1}" for k in range(cfg.blades)], mr["radius"], mr["chord"],
-                 mr["twist"], mr["root_cutout"], int(cfg.elements or mr["elements"]), mr["flap_hinge_offset"])
-    m.add_state("main_rotor.inflow", trim.inflow_main, "m/s", "main-rotor uniform induced velocity")
-    m.add_force(RotorAero(main, _airfoil(mr), rho, mr["kappa"]))
+                 mr["twist"], mr["root_cutout"], int(cfg.elements or mr["elements"]), mr["flap_hinge_offset"],
+                 shaft_body, shaft_frame(tilt))
+    main_model = rotor_model(d, cfg, "main_rotor")
+    _add_inflow_states(m, "main_rotor", main_model, trim.inflow_main)
+    m.add_force(RotorAero(main, _airfoil(mr), rho, mr["kappa"], main_model))
     if cfg.tail_rotor:
         tail = Rotor("tail_rotor", "tail_hub", [f"tail_blade{k + 1}" for k in range(int(tr["n_blades"]))],
-                     tr["radius"], tr["chord"], tr["twist"], tr["root_cutout"], int(tr["elements"]))
-        m.add_state("tail_rotor.inflow", trim.inflow_tail, "m/s", "tail-rotor uniform induced velocity")
-        m.add_force(RotorAero(tail, _airfoil(tr), rho, tr["kappa"]))
+                     tr["radius"], tr["chord"], tr["twist"], tr["root_cutout"], int(tr["elements"]), 0.0,
+                     shaft_body, TAIL_FRAME, tr["gear_ratio"])
+        tail_model = rotor_model(d, cfg, "tail_rotor")
+        _add_inflow_states(m, "tail_rotor", tail_model, trim.inflow_tail)
+        m.add_force(RotorAero(tail, _airfoil(tr), rho, tr["kappa"], tail_model))
 
 
 def _airfoil(sec: dict) -> Airfoil:
@@ -349,9 +385,26 @@ def _add_outputs(m: Model, d: Data, cfg: Config) -> None:
         if cfg.tail_rotor:
             m.add_output("tail_rotor.azimuth", lambda s: s.q("tail_hub.azimuth"), "rad", "azimuth of tail blade 1")
     if cfg.rotor_aero:
-        m.add_output("main_rotor.thrust", lambda s: s.signals["main_rotor.thrust"], "N", "main-rotor thrust")
+        _add_rotor_outputs(m, d, cfg, "main_rotor", 1.0)
         if cfg.tail_rotor:
-            m.add_output("tail_rotor.thrust", lambda s: s.signals["tail_rotor.thrust"], "N", "tail-rotor thrust")
+            _add_rotor_outputs(m, d, cfg, "tail_rotor", gear)
+
+
+ROTOR_OUTPUTS = (("thrust", "N", "thrust along the shaft"),
+                 ("torque", "N m", "aerodynamic shaft torque (the drive's torque on the rotor)"),
+                 ("power", "W", "aerodynamic shaft power, torque times rotor speed"))
+
+
+def _add_rotor_outputs(m: Model, d: Data, cfg: Config, name: str, speed_ratio: float) -> None:
+    """Thrust, torque, power (signals of the rotor's aerodynamics) and its inflow ratios
+    ``λ = v / (Ω R)`` (the inflow states made dimensionless)."""
+    what, tip = name.replace("_", "-"), speed_ratio * d[name]["radius"]
+    for key, unit, text in ROTOR_OUTPUTS:
+        m.add_output(f"{name}.{key}", lambda s, k=f"{name}.{key}": s.signals[k], unit, f"{what} {text}")
+    for state in rotor_model(d, cfg, name).inflow_states(name) if "omega" in m.parameters else ():
+        suffix = state[len(name) + len(".inflow"):]
+        m.add_output(f"{name}.inflow_ratio{suffix}", lambda s, z=state: s.z(z) / (tip * s.p["omega"]), "1",
+                     f"{what} inflow ratio: {INFLOW_TEXT[suffix]} per tip speed")
 
 
 def _set_initial(m: Model, d: Data, cfg: Config, trim: TrimEstimate, stored: dict | None) -> None:
@@ -389,7 +442,7 @@ def build(cfg: Config = Config(), data: Data | None = None, name: str = "bo105")
     if cfg.tail_rotor:
         _add_tail_rotor(m, d, cfg, parent)
     if cfg.rotor_aero:
-        _add_rotor_aero(m, d, cfg, trim)
+        _add_rotor_aero(m, d, cfg, trim, parent)
     if cfg.airframe_aero and cfg.fuselage == "free":
         _add_airframe_aero(m, d)
     if cfg.rotors == "driven":
@@ -400,6 +453,21 @@ def build(cfg: Config = Config(), data: Data | None = None, name: str = "bo105")
 
 
 # -- scenes --------------------------------------------------------------------------------
+
+AERO_SWITCHES = {"pitt-peters": {"inflow": "pitt-peters"}, "tip-loss": {"tip_loss": True},
+                 "compressibility": {"compressibility": True}}
+
+
+def with_aero(scene: Scene, switches: str) -> Scene:
+    """``scene`` with the rotor-aerodynamics switches named in ``switches`` (comma-separated
+    names of :data:`AERO_SWITCHES`, or "full" for all) turned on."""
+    names = list(AERO_SWITCHES) if switches.strip() == "full" else [n.strip() for n in switches.split(",") if n.strip()]
+    unknown = [n for n in names if n not in AERO_SWITCHES]
+    if unknown:
+        raise ValueError(f"unknown rotor-aerodynamics switch {unknown[0]!r}; known: {', '.join(AERO_SWITCHES)}, full")
+    options = {k: v for n in names for k, v in AERO_SWITCHES[n].items()}
+    return replace(scene, options={**scene.options, **options})
+
 
 def _builder(cfg: Config, name: str):
     def make(**options) -> Model:

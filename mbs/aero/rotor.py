@@ -1,0 +1,174 @@
+"""Blade-element rotor: quasi-steady strip theory on every blade plus the rotor's inflow states.
+
+Air velocities at each element come from the body kinematics (the AD tree gives them for
+free); no radial flow, no unsteady or dynamic-stall terms. What else is modelled is chosen per
+scene by :class:`RotorModel`: the inflow model, tip loss and compressibility. Units: SI, rad.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import casadi as ca
+import numpy as np
+
+from mbs.aero import inflow as inf
+from mbs.aero.compressibility import Compressibility
+from mbs.aero.sections import Airfoil, section_force, turn
+from mbs.aero.tiploss import lift_factors
+from mbs.forces import ForceElement, Loads, State
+
+
+@dataclass
+class Rotor:
+    """Geometry of a rotor for :class:`RotorAero`; stations are equal-width strips.
+
+    ``shaft_body``/``shaft_frame``: the body carrying the hub joint (``None``: the world) and
+    the hub frame at zero azimuth in its axes (3, 3), i.e. the non-rotating shaft frame (x at
+    ψ = 0, y at ψ = 90°, z the thrust axis); ``speed_ratio``: rotor speed per ``omega``.
+    """
+
+    name: str
+    hub: str
+    blades: list
+    radius: float
+    chord: float
+    twist: float
+    root_cutout: float
+    elements: int
+    hinge_radius: float = 0.0
+    shaft_body: str | None = None
+    shaft_frame: np.ndarray = field(default_factory=lambda: np.eye(3))
+    speed_ratio: float = 1.0
+
+    def stations(self) -> tuple[np.ndarray, float]:
+        """Strip mid-radii (m, from the rotor axis) and width (m)."""
+        r0 = self.root_cutout * self.radius
+        dr = (self.radius - r0) / self.elements
+        return r0 + dr * (np.arange(self.elements) + 0.5), dr
+
+
+@dataclass(frozen=True)
+class RotorModel:
+    """Per-scene switches: ``inflow`` "uniform" | "pitt-peters"; ``tip_loss`` the effective
+    radius factor B (1: off); ``compressibility`` (None: off)."""
+
+    inflow: str = "uniform"
+    tip_loss: float = 1.0
+    compressibility: Compressibility | None = None
+
+    def __post_init__(self):
+        if self.inflow not in inf.INFLOW_MODELS:
+            raise ValueError(f"inflow {self.inflow!r}: choose one of {', '.join(inf.INFLOW_MODELS)}")
+        if not 0.5 < self.tip_loss <= 1.0:
+            raise ValueError(f"tip-loss factor B = {self.tip_loss} outside (0.5, 1]")
+
+    def inflow_states(self, rotor: str) -> list[str]:
+        """Names of the inflow states (m/s): ``<rotor>.inflow`` and, Pitt–Peters, ``_1s``, ``_1c``."""
+        suffixes = inf.HARMONICS if self.inflow == "pitt-peters" else ("",)
+        return [f"{rotor}.inflow{s}" for s in suffixes]
+
+
+@dataclass
+class DiscLoads:
+    """Sums over the elements: thrust (N), shaft torque (N m, positive when the shaft drives
+    the rotor), first moments of the thrust ``Σ dT y/R``, ``Σ dT x/R`` (N, shaft frame)."""
+
+    thrust: object = 0
+    torque: object = 0
+    moment_s: object = 0
+    moment_c: object = 0
+
+    def __add__(self, other: DiscLoads) -> DiscLoads:
+        return DiscLoads(self.thrust + other.thrust, self.torque + other.torque,
+                         self.moment_s + other.moment_s, self.moment_c + other.moment_c)
+
+
+class RotorAero(ForceElement):
+    """Blade-element loads on every blade of ``rotor`` plus its dynamic inflow states.
+
+    Blade body frames: x along the span (from the blade's joint at ``hinge_radius`` from the
+    rotor axis), y towards the leading edge, z the lift direction at zero pitch. The hub
+    frame's z axis is the rotor's thrust axis. The inflow states (m/s) are positive down
+    through the disc (against the thrust axis); the blades see ``κ`` times the induced
+    velocity. Signals: ``<name>.thrust`` (N), ``<name>.torque`` (N m, shaft torque),
+    ``<name>.power`` (W, torque × rotor speed).
+    """
+
+    def __init__(self, rotor: Rotor, airfoil: Airfoil, rho: float, kappa: float, model: RotorModel = RotorModel()):
+        self.rotor, self.airfoil, self.rho, self.kappa, self.model = rotor, airfoil, rho, kappa, model
+        self.name = f"{rotor.name} aerodynamics"
+        self.inflow = f"{rotor.name}.inflow"
+        self.states = model.inflow_states(rotor.name)
+        radii, dr = rotor.stations()
+        self.lift = lift_factors(radii, dr, model.tip_loss * rotor.radius)
+        comp = model.compressibility
+        self.coefficients = comp.coefficients(airfoil) if comp else None
+
+    def apply(self, state: State, loads: Loads) -> None:
+        hub = state.body(self.rotor.hub)
+        axis = hub.rotation[:, 2]
+        v = [state.z(n) for n in self.states]
+        shaft = self._shaft(state)
+        disc = sum((self._blade(state, loads, b, hub, axis, v, shaft) for b in self.rotor.blades), DiscLoads())
+        for name, rate in zip(self.states, self._inflow_rates(hub.velocity, axis, v, disc)):
+            loads.set_rate(name, rate)
+        self._publish(state, hub, disc)
+
+    def _shaft(self, state: State):
+        """Non-rotating shaft frame (3, 3) in world axes."""
+        frame = ca.DM(self.rotor.shaft_frame)
+        return frame if self.rotor.shaft_body is None else ca.mtimes(state.body(self.rotor.shaft_body).rotation, frame)
+
+    def _air(self, state: State, lever, axis, v, shaft):
+        """Induced air velocity (m/s, world) at the element ``lever`` (m from the hub, world)."""
+        if len(v) == 1:
+            return -self.kappa * v[0] * axis
+        big_r = self.rotor.radius
+        x, y = ca.dot(lever, shaft[:, 0]) / big_r, ca.dot(lever, shaft[:, 1]) / big_r
+        return -self.kappa * inf.induced_velocity(v, x, y) * axis
+
+    def _blade(self, state, loads, blade, hub, axis, v, shaft) -> DiscLoads:
+        radii, dr = self.rotor.stations()
+        rot = state.body(blade).rotation
+        out = DiscLoads()
+        for r, lift in zip(radii, self.lift):
+            point = ca.DM([r - self.rotor.hinge_radius, 0, 0])
+            lever = state.point_position(blade, point) - hub.position
+            w = ca.mtimes(rot.T, self._air(state, lever, axis, v, shaft) - state.point_velocity(blade, point))
+            force = self._element_force(w, r, dr, lift)
+            loads.add_force(blade, force, point=point, frame="body", rotation=rot)
+            out = out + self._element_loads(ca.mtimes(rot, force), lever, axis, shaft)
+        return out
+
+    def _element_force(self, w, r: float, dr: float, lift: float):
+        """Element force (3,) (N, blade axes) from the air velocity ``w`` (3,) (m/s, blade axes)."""
+        twist = self.rotor.twist * r / self.rotor.radius
+        f_c, f_n = section_force(*turn(w[1], w[2], twist), self.airfoil, self.rho, self.rotor.chord * dr,
+                                 lift, self.coefficients)
+        f_y, f_z = turn(f_c, f_n, -twist)
+        return ca.vertcat(0, f_y, f_z)
+
+    def _element_loads(self, force, lever, axis, shaft) -> DiscLoads:
+        """Thrust, shaft torque and thrust moments of one element force (3,) (N, world)."""
+        d_thrust = ca.dot(force, axis)
+        big_r = self.rotor.radius
+        return DiscLoads(d_thrust, -ca.dot(axis, ca.cross(lever, force)),
+                         d_thrust * ca.dot(lever, shaft[:, 1]) / big_r, d_thrust * ca.dot(lever, shaft[:, 0]) / big_r)
+
+    def _inflow_rates(self, hub_velocity, axis, v, disc: DiscLoads) -> list:
+        v_normal = ca.dot(hub_velocity, axis)
+        v_inplane2 = ca.dot(hub_velocity, hub_velocity) - v_normal**2
+        area_factor = self.model.tip_loss**2
+        if len(v) == 1:
+            return [inf.uniform_rate(v[0], disc.thrust, v_inplane2, v_normal, self.rho, self.rotor.radius, area_factor)]
+        loads = (disc.thrust, disc.moment_s, disc.moment_c)
+        return inf.pitt_peters_rates(v, loads, v_inplane2, v_normal, self.rho, self.rotor.radius, area_factor)
+
+    def _publish(self, state: State, hub, disc: DiscLoads) -> None:
+        try:
+            speed = self.rotor.speed_ratio * state.p["omega"]
+        except KeyError:  # rotor turning freely: its own angular speed about the shaft
+            speed = hub.omega[2]
+        name = self.rotor.name
+        state.signals.update({f"{name}.thrust": disc.thrust, f"{name}.torque": disc.torque,
+                              f"{name}.power": disc.torque * speed})

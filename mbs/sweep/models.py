@@ -1,0 +1,92 @@
+"""The compiled models of a sweep: built once in the client, loaded from the cache by workers.
+
+The client calls :func:`loaded` before any task is submitted, which generates and compiles
+the model (and, for trims and Floquet analyses, its tangent-step library) into the
+compiled-model cache (``$MBS_CACHE_DIR`` or ``~/.cache/mbs``). Each worker process calls it
+again on its first task with the client's cache folder: the generated source hashes to the
+folder the client built, so the worker loads the library from there and compiles nothing.
+Built models are kept per process, so later tasks on that worker reuse them. A sweep's
+parallelism is its processes: the tangent stepper of a trim runs its blocks in one thread.
+"""
+from __future__ import annotations
+
+import inspect
+import json
+import os
+
+KINDS = ("trim", "simulate", "floquet")
+_LOADED: dict[str, object] = {}
+
+
+def loaded(kind: str, scene: str, options: dict, cache_dir: str = ""):
+    """The built evaluators of ``kind`` for ``scene`` in this process (built on first use):
+    trim: ``(system, tangent stepper)``; simulate: the system; floquet: a
+    :class:`mbs.analysis.fanplot.FanPlotAnalysis`. ``cache_dir`` (when given) becomes
+    ``$MBS_CACHE_DIR`` of this process first."""
+    key = json.dumps([kind, scene, _model_options(kind, options)], sort_keys=True)
+    if key not in _LOADED:
+        if cache_dir:
+            os.environ["MBS_CACHE_DIR"] = cache_dir
+        _LOADED[key] = build(kind, scene, options)
+    return _LOADED[key]
+
+
+def _model_options(kind: str, options: dict) -> dict:
+    """The options that change the built evaluators (not those of a single point)."""
+    names = {"trim": ("backend", "method"), "simulate": ("backend", "dtype"),
+             "floquet": ("backend", "method", "steps_per_rev", "settings", "frame")}[kind]
+    return {n: options.get(n) for n in names}
+
+
+def build(kind: str, scene: str, options: dict):
+    """Build (compile, or load from the cache) what a point of ``kind`` needs."""
+    from mbs import scenes
+
+    if kind not in KINDS:
+        raise ValueError(f"sweep kind {kind!r} unknown; choose one of {', '.join(KINDS)}")
+    sc, backend = scenes.get(scene), options.get("backend", "compiled")
+    if kind == "simulate":
+        return sc.system(backend, options.get("dtype", "float64"))
+    if kind == "trim":
+        return _trim_evaluators(sc, backend, options.get("method", "rk4"))
+    from mbs.analysis.fanplot import FanPlotAnalysis
+
+    ana = FanPlotAnalysis(sc, options.get("settings") or {}, options.get("method", "rk4"),
+                          options.get("steps_per_rev"), backend, options.get("frame", "fixed") != "rotating")
+    ana.stepper = _stepper(sc, options.get("method", "rk4"), backend)
+    return ana
+
+
+def _trim_evaluators(sc, backend: str, method: str):
+    """The system and tangent stepper of a trimmable scene (ValueError naming the scene otherwise)."""
+    from mbs.analysis.trim import _check_scene
+
+    _check_scene(sc.name)
+    return sc.system(backend), _stepper(sc, method, backend)
+
+
+def _stepper(sc, method: str, backend: str):
+    """The scene's tangent stepper, running its blocks of directions in one thread (where it can
+    use more): a sweep's parallelism is its worker processes."""
+    from mbs.analysis.monodromy import TangentStepper
+
+    threads = {"workers": 1} if "workers" in inspect.signature(TangentStepper).parameters else {}
+    return TangentStepper(sc.model(), method, backend, **threads)
+
+
+def system_of(kind: str, built):
+    """The :class:`mbs.System` inside the evaluators returned by :func:`loaded`."""
+    return {"trim": lambda b: b[0], "simulate": lambda b: b, "floquet": lambda b: b.system}[kind](built)
+
+
+def check_axes(kind: str, scene: str, built, names: list[str]) -> None:
+    """Refuse axis names that are not inputs of ``kind`` (ValueError naming them and the known ones)."""
+    info = system_of(kind, built).info
+    params = list(info.param_names)
+    if kind == "trim":
+        controls = [p["name"] for p in info.parameters if p.get("control")]
+        params = ["speed", "climb_rate"] + [p for p in params if p not in controls]
+    bad = [n for n in names if n not in params]
+    if bad:
+        raise ValueError(f"cannot sweep {', '.join(map(repr, bad))} in a {kind} sweep of {scene!r}; "
+                         f"sweepable: {', '.join(params)}")

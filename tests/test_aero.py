@@ -1,0 +1,226 @@
+"""Rotor aerodynamics switches: Pitt–Peters inflow against its closed forms, rotor torque and
+power outputs, tip loss and compressibility against closed-form estimates, figure of merit."""
+import dataclasses
+
+import casadi as ca
+import numpy as np
+import pytest
+
+from mbs import scenes
+from mbs.aero import Compressibility, momentum_inflow, pitt_peters_rates, uniform_rate
+from mbs.aero.inflow import wake_skew
+from mbs.aero.tiploss import effective_radius_factor, lift_factors
+from mbs.models import bo105
+
+RHO, RADIUS, WEIGHT = 1.225, 4.91, 2200 * 9.80665
+
+
+def _equilibrium(loads, v_inplane, v_normal):
+    """Pitt–Peters inflow (m/s) at which the rates vanish for the frozen loads (T, M_s, M_c) (N):
+    Newton with the AD Jacobian, from Glauert's uniform inflow."""
+    v = ca.SX.sym("v", 3)
+    rates = ca.vertcat(*pitt_peters_rates(v, loads, v_inplane**2, v_normal, RHO, RADIUS))
+    step = ca.Function("step", [v], [ca.solve(ca.jacobian(rates, v), rates), rates])
+    x = np.array([momentum_inflow(loads[0], RHO, RADIUS, v_inplane, v_normal), 0.0, 0.0])
+    for _ in range(50):
+        dx = np.ravel(step(x)[0])
+        x = x - dx
+        if np.abs(dx).max() < 1e-13 * np.abs(x).max():
+            break
+    assert np.abs(np.ravel(step(x)[1])).max() < 1e-9
+    return x
+
+
+def test_pitt_peters_hover_equilibrium_is_momentum_theory():
+    v = _equilibrium((WEIGHT, 0.0, 0.0), 0.0, 0.0)
+    assert v[0] == pytest.approx(np.sqrt(WEIGHT / (2 * RHO * np.pi * RADIUS**2)), rel=1e-6)
+    assert abs(v[1]) < 1e-9 and abs(v[2]) < 1e-9
+
+
+@pytest.mark.parametrize("v_inplane, v_normal", [(10.0, 0.0), (30.0, 1.5), (50.0, 3.0), (70.0, -2.0)])
+def test_pitt_peters_forward_flight_gradient_is_the_skewed_wake_closed_form(v_inplane, v_normal):
+    """Thrust only: ``λ1c = (15π/32) tan(χ/2) λ0`` with ``χ = atan(μ / λ)``, ``λ0`` Glauert's."""
+    v = _equilibrium((WEIGHT, 0.0, 0.0), v_inplane, v_normal)
+    chi = np.arctan2(v_inplane, v_normal + v[0])
+    assert v[2] == pytest.approx(15 * np.pi / 32 * np.tan(chi / 2) * v[0], rel=1e-6)
+    assert v[0] == pytest.approx(momentum_inflow(WEIGHT, RHO, RADIUS, v_inplane, v_normal), rel=1e-6)
+    assert abs(v[1]) < 1e-9
+
+
+def test_pitt_peters_moments_drive_their_gradients_with_the_textbook_gains():
+    """Hover: ``L = diag(1/2, 2, 2)``, ``V_T = V_m = v0``: ``v1s = 2 M_s / (ρ A v0)``, ``v1c`` alike."""
+    moment_s, moment_c = 800.0, -500.0
+    v = _equilibrium((WEIGHT, moment_s, moment_c), 0.0, 0.0)
+    area = np.pi * RADIUS**2
+    assert v[1] == pytest.approx(2 * moment_s / (RHO * area * v[0]), rel=1e-6)
+    assert v[2] == pytest.approx(2 * moment_c / (RHO * area * v[0]), rel=1e-6)
+
+
+def test_pitt_peters_uniform_row_equals_the_uniform_model_without_moments():
+    """In axial flight (hover, climb) with zero gradients and moments, the uniform component's
+    rate is the uniform model's (same apparent mass 8/(3π), same mass flow)."""
+    for v_inplane, v_normal, v0 in [(0.0, 0.0, 9.0), (0.0, 3.0, 5.0), (0.0, -1.0, 12.0)]:
+        pp = pitt_peters_rates([v0, 0.0, 0.0], (WEIGHT, 0.0, 0.0), v_inplane**2, v_normal, RHO, RADIUS)
+        uni = uniform_rate(v0, WEIGHT, v_inplane**2, v_normal, RHO, RADIUS)
+        assert float(pp[0]) == pytest.approx(float(uni), rel=1e-12)
+    _, v_m, tan_half, _ = (float(a) for a in wake_skew(3.0, 40.0**2, 2.0))
+    assert tan_half == pytest.approx(np.tan(np.arctan2(40.0, 5.0) / 2), rel=1e-12)
+    assert v_m == pytest.approx((40.0**2 + 5.0 * 7.0) / np.hypot(40.0, 5.0), rel=1e-12)
+
+
+def test_tip_loss_factor_and_strip_shares():
+    assert effective_radius_factor(0.00489, 4) == pytest.approx(0.975, abs=5e-4)
+    radii = 0.2 + 0.1 * (np.arange(8) + 0.5)
+    assert lift_factors(radii, 0.1, 0.975)[:7] == [1.0] * 7
+    assert lift_factors(radii, 0.1, 0.975)[7] == pytest.approx(0.75)
+
+
+def test_compressibility_corrections():
+    comp = Compressibility(340.3, 0.75, 0.8)
+    assert float(comp.glauert_factor(0.5)) == pytest.approx(1 / np.sqrt(1 - 0.25), rel=1e-4)
+    assert float(comp.glauert_factor(3.0)) <= 1 / 0.6 + 1e-9  # bounded
+    assert float(comp.drag_rise(0.64)) == 0.0 and float(comp.drag_rise(0.75)) == pytest.approx(0.002)
+
+
+# -- the Bo105 model with the switches: periodic trims ---------------------------------------
+
+VARIANTS = {"none": {}, "tip-loss": {"tip_loss": True}, "compressibility": {"compressibility": True},
+            "pitt-peters": {"inflow": "pitt-peters"},
+            "full": {"inflow": "pitt-peters", "tip_loss": True, "compressibility": True}}
+
+
+@pytest.fixture(scope="module")
+def trims():
+    """Periodic trims of the forward-flight scene with the switches of ``VARIANTS[variant]``."""
+    from mbs.analysis.trim import periodic_solution
+
+    cache = {}
+
+    def get(variant: str, speed: float = 0.0):
+        if (variant, speed) not in cache:
+            sc = dataclasses.replace(scenes.get("forward-flight"), options=VARIANTS[variant])
+            res = periodic_solution(sc, speed=speed)
+            assert res.converged, res.reason
+            cache[variant, speed] = res
+        return cache[variant, speed]
+    return get
+
+
+def _hover_closed_form(data, tip_loss: float = 1.0):
+    """Blade-element-momentum hover (κ, δ = c_d0 + c_d2 (6 C_T/(σ a))², no cut-out): power (W)."""
+    mr, rho = data["main_rotor"], data["environment"]["rho"]
+    thrust, area, tip = WEIGHT, np.pi * mr["radius"] ** 2, mr["omega"] * mr["radius"]
+    sigma = mr["n_blades"] * mr["chord"] / (np.pi * mr["radius"])
+    ct = thrust / (rho * area * tip**2)
+    delta = mr["cd0"] + mr["cd2"] * (6 * ct / (sigma * mr["lift_slope"])) ** 2
+    induced = mr["kappa"] * thrust * np.sqrt(thrust / (2 * rho * area)) / tip_loss
+    return induced + rho * area * tip**3 * sigma * delta / 8, induced
+
+
+def _figure_of_merit(res) -> float:
+    thrust, power = res.output_means["main_rotor.thrust"], res.output_means["main_rotor.power"]
+    return thrust**1.5 / np.sqrt(2 * RHO * np.pi * RADIUS**2) / power
+
+
+def test_rotor_power_and_torque_outputs_in_hover(trims):
+    """Shaft torque of the blade-element forces and power = torque Ω: within 3 % of momentum
+    plus profile power (reference: 338 kW, 7.6 kN m); the tail rotor's thrust times its arm
+    balances the main-rotor torque to 5 %."""
+    res, data = trims("none"), bo105.load_data()
+    out, omega = res.output_means, data["main_rotor"]["omega"]
+    assert out["main_rotor.power"] == pytest.approx(out["main_rotor.torque"] * omega, rel=1e-12)
+    assert out["main_rotor.power"] == pytest.approx(_hover_closed_form(data)[0], rel=0.03)
+    arm = data["main_rotor"]["hub_x"] - data["tail_rotor"]["hub_x"]
+    assert out["tail_rotor.thrust"] * arm == pytest.approx(out["main_rotor.torque"], rel=0.05)
+    gear = data["tail_rotor"]["gear_ratio"]
+    assert out["tail_rotor.power"] == pytest.approx(out["tail_rotor.torque"] * gear * omega, rel=1e-12)
+    assert out["main_rotor.inflow_ratio"] == pytest.approx(np.sqrt(WEIGHT / (2 * RHO * np.pi * RADIUS**2))
+                                                           / (omega * RADIUS), rel=0.01)
+
+
+def _hover_collective(data, tip_loss: float = 1.0, glauert=lambda x: 1.0) -> float:
+    """Root collective (rad) from strip theory integrated over the blade from the cut-out to B R,
+    uniform inflow κ v_h / B, lift slope times ``glauert(r/R)`` (a closed-form estimate)."""
+    mr = data["main_rotor"]
+    tip, sigma = mr["omega"] * mr["radius"], mr["n_blades"] * mr["chord"] / (np.pi * mr["radius"])
+    ct = WEIGHT / (RHO * np.pi * mr["radius"] ** 2 * tip**2)
+    lam = mr["kappa"] * np.sqrt(ct / 2) / tip_loss
+    x = np.linspace(mr["root_cutout"], tip_loss, 20001)
+    k = np.array([glauert(xi) for xi in x]) * x**2
+    integral = lambda f: np.trapezoid(k * f, x)
+    return (2 * ct / (sigma * mr["lift_slope"]) - integral(mr["twist"] * x - lam / x)) / integral(np.ones_like(x))
+
+
+def test_tip_loss_raises_collective_and_power_as_the_closed_form_predicts(trims):
+    data = bo105.load_data()
+    b = data["main_rotor"]["tip_loss"]
+    d_theta = trims("tip-loss").controls["collective"] - trims("none").controls["collective"]
+    expected = _hover_collective(data, b) - _hover_collective(data)
+    assert d_theta > 0 and d_theta == pytest.approx(expected, rel=0.2)
+    d_power = trims("tip-loss").output_means["main_rotor.power"] - trims("none").output_means["main_rotor.power"]
+    induced = _hover_closed_form(data)[1]
+    assert d_power > 0 and d_power == pytest.approx(induced * (1 / b - 1), rel=0.2)
+
+
+def test_compressibility_lowers_the_hover_collective_as_prandtl_glauert_predicts(trims):
+    """Hover tip Mach 0.64: below drag divergence, so only the lift slope rises, by
+    ``1/sqrt(1 − (x M_tip)²)`` along the blade."""
+    data = bo105.load_data()
+    tip_mach = data["main_rotor"]["omega"] * data["main_rotor"]["radius"] / data["environment"]["speed_of_sound"]
+    d_theta = trims("compressibility").controls["collective"] - trims("none").controls["collective"]
+    expected = (_hover_collective(data, glauert=lambda x: 1 / np.sqrt(1 - (x * tip_mach) ** 2))
+                - _hover_collective(data))
+    assert d_theta < 0 and d_theta == pytest.approx(expected, rel=0.2)
+
+
+def test_hover_figure_of_merit_between_0_6_and_0_8(trims):
+    """``FM = T^{3/2} / sqrt(2 ρ A) / P`` of the main rotor, with and without every switch."""
+    for variant in ("none", "full"):
+        assert 0.6 < _figure_of_merit(trims(variant)) < 0.8, variant
+    assert _figure_of_merit(trims("full")) < _figure_of_merit(trims("none"))  # tip loss costs power
+
+
+def test_compressibility_drag_rise_costs_power_at_70_m_s(trims):
+    """Advancing tip Mach 0.85: the power rise equals the profile power of Lock's drag rise over
+    the disc on the model's strips, ``N_b/(2π) ∮ Σ ½ ρ c U³ Δc_d(U/a) Δr dψ`` with
+    ``U = Ω r + V sin ψ``, within 20 % (the Prandtl–Glauert lift slope changes the rest)."""
+    data = bo105.load_data()
+    mr = data["main_rotor"]
+    comp = Compressibility(data["environment"]["speed_of_sound"], mr["mach_dd"], mr["mach_limit"])
+    r0, dr = mr["root_cutout"] * mr["radius"], (1 - mr["root_cutout"]) * mr["radius"] / mr["elements"]
+    r, psi = r0 + dr * (np.arange(mr["elements"]) + 0.5), np.linspace(0, 2 * np.pi, 4001)
+    speed = np.abs(mr["omega"] * r[None, :] + 70.0 * np.sin(psi)[:, None])
+    rise = np.array(comp.drag_rise(ca.DM(speed / comp.speed_of_sound)))
+    power = 0.5 * RHO * mr["chord"] * speed**3 * rise
+    expected = mr["n_blades"] * np.trapezoid(power.sum(axis=1) * dr, psi) / (2 * np.pi)
+    d_power = (trims("compressibility", 70.0).output_means["main_rotor.power"]
+               - trims("none", 70.0).output_means["main_rotor.power"])
+    assert d_power > 0 and d_power == pytest.approx(expected, rel=0.2)
+
+
+def test_pitt_peters_trim_at_30_m_s_has_the_skewed_wake_gradient(trims):
+    """The trimmed longitudinal inflow gradient is the skewed-wake one, ``(15π/32) tan(χ/2) λ0``
+    at the trim's own wake skew, within 20 % (the rest is driven by the rotor's pitching
+    moment); the lateral gradient is small against it."""
+    res = trims("pitt-peters", 30.0)
+    out, x, tilt = res.output_means, res.state, bo105.load_data()["main_rotor"]["shaft_tilt"]
+    u, w = x["fuselage.u"], x["fuselage.w"]
+    v_normal = u * np.sin(tilt) - w * np.cos(tilt)
+    v_inplane = np.sqrt(u**2 + w**2 - v_normal**2)
+    v0 = x["main_rotor.inflow"]
+    chi = np.arctan2(v_inplane, v_normal + v0)
+    ratio = out["main_rotor.inflow_ratio_1c"] / out["main_rotor.inflow_ratio"]
+    assert ratio == pytest.approx(15 * np.pi / 32 * np.tan(chi / 2), rel=0.2)
+    assert abs(out["main_rotor.inflow_ratio_1s"]) < 0.1 * out["main_rotor.inflow_ratio_1c"]
+
+
+def test_heli_trim_turns_the_switches_on_from_the_command_line(capsys):
+    import json
+
+    from mbs.cli import main
+
+    assert main(["trim", "forward-flight", "--speed", "30", "--aero", "pitt-peters", "--quiet", "--json"]) == 0
+    res = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    assert res["converged"] and res["outputs"]["main_rotor.inflow_ratio_1c"] > 0
+    with pytest.raises(ValueError, match="unknown rotor-aerodynamics switch 'tiploss'"):
+        bo105.with_aero(scenes.get("hover"), "tiploss")
