@@ -40,6 +40,14 @@ def test_trim_converges_from_the_estimate(trims, speed):
         assert ranges[name][0] <= value <= ranges[name][1], name
 
 
+def test_where_newton_from_the_estimate_fails_continuation_in_speed_trims(trims):
+    """At 60 m/s the first Newton step from the closed-form estimate rolls the aircraft by 24°
+    and the line search stalls; the continuation 10, 20, ... 60 m/s converges."""
+    res = trims(60.0)
+    assert res.converged and "continuation in speed over 6 steps" in res.reason, res.reason
+    assert np.abs(res.residual).max() <= 1e-10 and res.n_jacobian > res.iterations
+
+
 @pytest.mark.parametrize("speed", [0.0, 30.0, 70.0])
 def test_residual_converges_quadratically(trims, speed):
     r = trims(speed).residuals

@@ -268,7 +268,34 @@ def periodic_solution(sc, speed: float | None = None, climb_rate: float = 0.0, m
     setup_s, nfev0 = time.perf_counter() - start, system.nfev
     res = newton(prob.residual, prob.jacobian, estimate(system, prob.lay, prob.speed, climb_rate), tol,
                  max_iterations, progress=progress)
+    if not res.converged and prob.lay.free and prob.speed > CONTINUATION_STEP:
+        res = _continuation(system, stepper, sc, prob, climb_rate, steps_per_rev, tol, max_iterations, res)
     return _result(sc.name, prob, res, prob.speed, climb_rate, steps_per_rev, setup_s, system.nfev - nfev0)
+
+
+CONTINUATION_STEP = 10.0
+"""m/s: speed step of the continuation that takes over when Newton from the estimate fails."""
+
+
+def _continuation(system, stepper, sc, prob: ShootingProblem, climb_rate: float, steps_per_rev: int, tol: float,
+                  max_iterations: int, failed):
+    """Newton from the estimate at ``prob.speed`` failed (``failed``): trim at speeds rising to
+    it in steps of at most :data:`CONTINUATION_STEP`, each Newton solve starting from the
+    previous solution. Returns the last solve with the work of all of them (the failed attempt
+    included) counted, or ``failed`` when a step does not converge either."""
+    speeds = np.linspace(0.0, prob.speed, int(np.ceil(prob.speed / CONTINUATION_STEP)) + 1)[1:]
+    z, work = estimate(system, prob.lay, speeds[0], climb_rate), [failed]
+    for v in speeds:
+        step = _problem(system, stepper, sc, v, climb_rate, steps_per_rev)
+        work.append(newton(step.residual, step.jacobian, z, tol, max_iterations))
+        if not work[-1].converged:
+            return failed
+        z = work[-1].z
+    res = work[-1]
+    res.n_jacobian, res.n_residual = sum(w.n_jacobian for w in work), sum(w.n_residual for w in work)
+    res.wall_s = sum(w.wall_s for w in work)
+    res.reason += f" (by continuation in speed over {len(speeds)} steps: Newton from the estimate failed)"
+    return res
 
 
 def _problem(system, stepper, sc, speed, climb_rate, steps_per_rev) -> ShootingProblem:
