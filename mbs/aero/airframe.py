@@ -1,7 +1,10 @@
-"""Airframe aerodynamics: Padfield's Bo105 fuselage polynomials and single-section tail surfaces.
+"""Airframe aerodynamics: Padfield's Bo105 fuselage polynomials, single-section tail surfaces,
+the fuselage download in the rotor's wake and the hub drag.
 
-Both act in the free stream of the fuselage motion (still air, no rotor downwash on the
-airframe). Units: SI, angles in rad; loads in the fuselage body axes (x forward, y starboard,
+The fuselage polynomials and the hub drag act in the free stream of the fuselage motion; the tail
+surfaces see the main rotor's wake (downwash, swirl) when the scene switches it on
+(:mod:`mbs.aero.wake`), and :class:`Download` adds the vertical drag the wake puts on the
+fuselage. Units: SI, angles in rad; loads in the fuselage body axes (x forward, y starboard,
 z down).
 """
 from __future__ import annotations
@@ -40,25 +43,76 @@ class FuselageAero(ForceElement):
         loads.add_torque(self.body, torque)
 
 
+def wake_velocity(state, rotor: str | None, body: str, point):
+    """The wake of ``rotor`` (m/s, world) at ``point`` (m, ``body`` frame); 0 without a rotor."""
+    if rotor is None:
+        return 0
+    key = f"{rotor}.wake"
+    if key not in state.signals:
+        raise ValueError(f"no wake of {rotor!r}: its rotor aerodynamics must come first and have a wake geometry")
+    return state.signals[key].velocity(state.point_position(body, point))
+
+
 class LiftingSurface(ForceElement):
     """One aerofoil section (horizontal tail, fin) fixed to ``body`` at ``point`` (m).
 
     ``chord_axis``: body-frame direction towards the leading edge; ``normal``: the lift
     direction at zero incidence; ``incidence`` (rad) turns the section nose-up about
-    ``normal x chord_axis``; ``area`` m².
+    ``normal x chord_axis``; ``area`` m²; ``wake``: the rotor whose wake it sees (None: free
+    stream only).
     """
 
     def __init__(self, name: str, body: str, point, chord_axis, normal, incidence: float,
-                 area: float, airfoil: Airfoil, rho: float):
+                 area: float, airfoil: Airfoil, rho: float, wake: str | None = None):
         self.name, self.body, self.point = name, body, np.asarray(point, dtype=float)
         self.c, self.n = np.asarray(chord_axis, dtype=float), np.asarray(normal, dtype=float)
-        self.incidence, self.area, self.airfoil, self.rho = incidence, area, airfoil, rho
+        self.incidence, self.area, self.airfoil, self.rho, self.wake = incidence, area, airfoil, rho, wake
 
     def apply(self, state, loads):
         rot = state.body(self.body).rotation
-        w = ca.mtimes(rot.T, -state.point_velocity(self.body, self.point))
+        air = wake_velocity(state, self.wake, self.body, self.point) - state.point_velocity(self.body, self.point)
+        w = ca.mtimes(rot.T, air)
         w_c, w_n = ca.dot(w, ca.DM(self.c)), ca.dot(w, ca.DM(self.n))
         f_c, f_n = turn(*section_force(*turn(w_c, w_n, self.incidence), self.airfoil, self.rho, self.area),
                            -self.incidence)
         force = f_c * ca.DM(self.c) + f_n * ca.DM(self.n)
         loads.add_force(self.body, force, point=self.point, frame="body", rotation=rot)
+
+
+class Download(ForceElement):
+    """Vertical drag of fuselage panels in the rotor's wake: the fuselage download.
+
+    ``panels``: rows ``(x, y, z, area, c_d)`` (m, m², –): a point of ``body``, its plan area and
+    its drag coefficient in flow along the body z axis. Each panel adds the increment of its
+    vertical drag ``½ ρ S c_d (|w| w − |w_0| w_0)`` (N, along body z), ``w`` the air velocity's
+    z component with the wake of ``rotor`` and ``w_0`` without it: the free-stream part stays
+    in the fuselage polynomials, and out of the wake the increment is zero.
+    """
+
+    def __init__(self, body: str, rotor: str, panels, rho: float):
+        self.name, self.body, self.rotor, self.rho = "fuselage download", body, rotor, rho
+        self.panels = [(np.asarray(row[:3], dtype=float), float(row[3]), float(row[4])) for row in panels]
+
+    def apply(self, state, loads):
+        rot = state.body(self.body).rotation
+        for point, area, cd in self.panels:
+            own = -state.point_velocity(self.body, point)
+            w0 = ca.dot(rot[:, 2], own)
+            w = w0 + ca.dot(rot[:, 2], wake_velocity(state, self.rotor, self.body, point))
+            drag = 0.5 * self.rho * area * cd * (w * ca.sqrt(w**2 + EPS**2) - w0 * ca.sqrt(w0**2 + EPS**2))
+            loads.add_force(self.body, ca.vertcat(0, 0, drag), point=point, frame="body", rotation=rot)
+
+
+class HubDrag(ForceElement):
+    """Drag of the main-rotor hub and mast, ``−½ ρ f |V| V`` (N) at ``point`` (m) of ``body``
+    (the non-rotating airframe), ``V`` the point's velocity through still air, ``f`` the hub's
+    equivalent flat-plate area (m²)."""
+
+    def __init__(self, body: str, point, flat_plate_area: float, rho: float):
+        self.name, self.body, self.point = "hub drag", body, np.asarray(point, dtype=float)
+        self.f, self.rho = flat_plate_area, rho
+
+    def apply(self, state, loads):
+        v = state.point_velocity(self.body, self.point)
+        drag = -0.5 * self.rho * self.f * ca.sqrt(ca.dot(v, v) + EPS**2) * v
+        loads.add_force(self.body, drag, point=self.point, frame="world", rotation=state.body(self.body).rotation)

@@ -15,6 +15,7 @@ from mbs.aero import inflow as inf
 from mbs.aero.compressibility import Compressibility
 from mbs.aero.sections import Airfoil, section_force, turn
 from mbs.aero.tiploss import lift_factors
+from mbs.aero.wake import Wake, WakeGeometry
 from mbs.forces import ForceElement, Loads, State
 
 
@@ -50,11 +51,13 @@ class Rotor:
 @dataclass(frozen=True)
 class RotorModel:
     """Per-scene switches: ``inflow`` "uniform" | "pitt-peters"; ``tip_loss`` the effective
-    radius factor B (1: off); ``compressibility`` (None: off)."""
+    radius factor B (1: off); ``compressibility`` (None: off); ``wake`` the geometry of the
+    wake the rotor publishes for the airframe (None: no wake on the airframe)."""
 
     inflow: str = "uniform"
     tip_loss: float = 1.0
     compressibility: Compressibility | None = None
+    wake: WakeGeometry | None = None
 
     def __post_init__(self):
         if self.inflow not in inf.INFLOW_MODELS:
@@ -91,7 +94,8 @@ class RotorAero(ForceElement):
     frame's z axis is the rotor's thrust axis. The inflow states (m/s) are positive down
     through the disc (against the thrust axis); the blades see ``κ`` times the induced
     velocity. Signals: ``<name>.thrust`` (N), ``<name>.torque`` (N m, shaft torque),
-    ``<name>.power`` (W, torque × rotor speed).
+    ``<name>.power`` (W, torque × rotor speed) and, when the model has a wake geometry,
+    ``<name>.wake`` (:class:`mbs.aero.wake.Wake`).
     """
 
     def __init__(self, rotor: Rotor, airfoil: Airfoil, rho: float, kappa: float, model: RotorModel = RotorModel()):
@@ -113,6 +117,9 @@ class RotorAero(ForceElement):
         for name, rate in zip(self.states, self._inflow_rates(hub.velocity, axis, v, disc)):
             loads.set_rate(name, rate)
         self._publish(state, hub, disc)
+        if self.model.wake is not None:
+            state.signals[f"{self.rotor.name}.wake"] = Wake(hub.position, shaft, v, -hub.velocity, disc.torque,
+                                                            self.rotor.radius, self.rho, self.model.wake)
 
     def _shaft(self, state: State):
         """Non-rotating shaft frame (3, 3) in world axes."""

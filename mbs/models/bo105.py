@@ -26,8 +26,8 @@ import casadi as ca
 import numpy as np
 
 from mbs import _rotation as rot
-from mbs.aero import (Airfoil, Compressibility, FuselageAero, LiftingSurface, Rotor, RotorAero, RotorModel,
-                      momentum_inflow)
+from mbs.aero import (Airfoil, Compressibility, Download, FuselageAero, HubDrag, LiftingSurface, Rotor,
+                      RotorAero, RotorModel, WakeGeometry, momentum_inflow)
 from mbs.joints import DrivenHinge, Fixed, FreeJoint, Hinge, Serial
 from mbs.scenes import Scene, register
 from mbs.tree import Model
@@ -70,7 +70,9 @@ class Config:
     Rotor aerodynamics switches (README, "Simplifications"): inflow "uniform" (one state per
     rotor) or "pitt-peters" (three states on the main rotor); tip_loss (effective blade radius
     B R on both rotors); compressibility (Prandtl-Glauert lift slope and drag divergence on
-    both rotors). All off: the model of the paper's scenes.
+    both rotors); tail_wake (the main rotor's wake on the horizontal tail and fin); download
+    (the wake's vertical drag on the fuselage); hub_drag (drag of the main-rotor hub). All off:
+    the model of the paper's scenes.
     """
 
     fuselage: str = "free"
@@ -88,6 +90,17 @@ class Config:
     inflow: str = "uniform"
     tip_loss: bool = False
     compressibility: bool = False
+    tail_wake: bool = False
+    download: bool = False
+    hub_drag: bool = False
+
+    def __post_init__(self):
+        needs_rotor = [n for n in ("tail_wake", "download") if getattr(self, n)]
+        if needs_rotor and not self.rotor_aero:
+            raise ValueError(f"{needs_rotor[0]} needs the main rotor's aerodynamics, which this scene does not model")
+        needs_airframe = [n for n in ("tail_wake", "download", "hub_drag") if getattr(self, n)]
+        if needs_airframe and not (self.airframe_aero and self.fuselage == "free"):
+            raise ValueError(f"{needs_airframe[0]} acts on the airframe's aerodynamics, which this scene does not model")
 
 
 # -- trim estimate -------------------------------------------------------------------------
@@ -306,9 +319,21 @@ def rotor_model(d: Data, cfg: Config, section: str) -> RotorModel:
     "tail_rotor"; Pitt-Peters inflow on the main rotor only)."""
     sec = d[section]
     comp = Compressibility(d["environment"]["speed_of_sound"], sec["mach_dd"], sec["mach_limit"])
+    wake = main_rotor_wake(d)
     return RotorModel(inflow=cfg.inflow if section == "main_rotor" else "uniform",
                       tip_loss=sec["tip_loss"] if cfg.tip_loss else 1.0,
-                      compressibility=comp if cfg.compressibility else None)
+                      compressibility=comp if cfg.compressibility else None,
+                      wake=wake if section == "main_rotor" and (cfg.tail_wake or cfg.download) else None)
+
+
+def main_rotor_wake(d: Data) -> WakeGeometry:
+    """The main rotor's wake geometry: Landgrebe's coefficients at the hover thrust coefficient."""
+    mr, w = d["main_rotor"], d["wake"]
+    tip = mr["omega"] * mr["radius"]
+    ct = d["aircraft"]["mass"] * d["environment"]["g"] / (d["environment"]["rho"] * np.pi * mr["radius"] ** 2 * tip**2)
+    sigma = mr["n_blades"] * mr["chord"] / (np.pi * mr["radius"])
+    return WakeGeometry.landgrebe(w["width"], w["core"] * mr["radius"], ct, sigma, np.degrees(mr["twist"]),
+                                  mr["n_blades"])
 
 
 INFLOW_TEXT = {"": "uniform induced velocity", "_1s": "induced velocity, sine (lateral) component at the tip",
@@ -347,13 +372,18 @@ def _airfoil(sec: dict) -> Airfoil:
                    sec.get("cd_stalled", Airfoil.cd_stalled))
 
 
-def _add_airframe_aero(m: Model, d: Data) -> None:
+def _add_airframe_aero(m: Model, d: Data, cfg: Config) -> None:
     fa, ht, fin, rho = d["fuselage_aero"], d["horizontal_tail"], d["vertical_fin"], d["environment"]["rho"]
+    wake = "main_rotor" if cfg.tail_wake else None
     m.add_force(FuselageAero("fuselage", {k: fa[k] for k in "XYZMN"}, fa["v_ref"], fa["angle_limit"]))
     m.add_force(LiftingSurface("horizontal tail", "fuselage", (ht["x"], 0, ht["z"]), (1, 0, 0), (0, 0, -1),
-                               ht["incidence"], ht["area"], _airfoil(ht), rho))
+                               ht["incidence"], ht["area"], _airfoil(ht), rho, wake))
     m.add_force(LiftingSurface("fin", "fuselage", (fin["x"], 0, fin["z"]), (1, 0, 0), (0, 1, 0),
-                               fin["incidence"], fin["area"], _airfoil(fin), rho))
+                               fin["incidence"], fin["area"], _airfoil(fin), rho, wake))
+    if cfg.download:
+        m.add_force(Download("fuselage", "main_rotor", d["download"]["panels"], rho))
+    if cfg.hub_drag:
+        m.add_force(HubDrag("fuselage", main_hub_position(d), d["hub_drag"]["flat_plate_area"], rho))
 
 
 def _add_parameters(m: Model, d: Data, cfg: Config, trim: TrimEstimate, stored: dict | None) -> None:
@@ -444,7 +474,7 @@ def build(cfg: Config = Config(), data: Data | None = None, name: str = "bo105")
     if cfg.rotor_aero:
         _add_rotor_aero(m, d, cfg, trim, parent)
     if cfg.airframe_aero and cfg.fuselage == "free":
-        _add_airframe_aero(m, d)
+        _add_airframe_aero(m, d, cfg)
     if cfg.rotors == "driven":
         _add_parameters(m, d, cfg, trim, stored)
     _add_outputs(m, d, cfg)
@@ -455,7 +485,8 @@ def build(cfg: Config = Config(), data: Data | None = None, name: str = "bo105")
 # -- scenes --------------------------------------------------------------------------------
 
 AERO_SWITCHES = {"pitt-peters": {"inflow": "pitt-peters"}, "tip-loss": {"tip_loss": True},
-                 "compressibility": {"compressibility": True}}
+                 "compressibility": {"compressibility": True}, "tail-wake": {"tail_wake": True},
+                 "download": {"download": True}, "hub-drag": {"hub_drag": True}}
 
 
 def with_aero(scene: Scene, switches: str) -> Scene:

@@ -1,0 +1,134 @@
+"""The main rotor's wake at points of the airframe: downwash, swirl, and whether it reaches them.
+
+The wake is the skewed tube that leaves the disc with the total through-flow ``λ = V_normal + v0``
+(m/s, down through the disc) and the in-plane air velocity ``a`` (m/s, relative to the hub): at
+the depth ``h`` below the disc plane its centre lies ``h a / λ`` downstream of the hub (wake skew
+``tan χ = |a| / λ``, the angle of the Pitt–Peters gains). A point is in the wake when its
+in-plane distance ``e`` from that centre is inside the tube's radius; the edge is smoothed over
+``width`` (m) by ``K = ½ (1 − tanh((e − R_w)/width))``, times ``½ (1 + tanh(h/width))`` so that
+nothing above the disc is reached. Along the wake the induced velocity develops as on the axis of
+a semi-infinite vortex cylinder, ``v(s) = v_disc (1 + s / sqrt(s² + R²))`` at the distance
+``s = h V_T / λ`` along the skewed axis (``2 v_disc`` far downstream, Glauert). The tube's
+radius is that of the tip vortices: in hover Landgrebe's prescribed wake, which contracts to
+0.87 R within 0.13 R below the disc (much faster than the far-wake 1/√2 of momentum theory
+suggests), blended towards no contraction as the wake skews, ``R_w = R (1 − (1 − r_L(h)) cos² χ)``
+(:func:`landgrebe_radius`). ``v_disc`` is the rotor's
+induced velocity where the streamline left the disc (Pitt–Peters: ``v0 + v1s y/R + v1c x/R`` at
+the point ``e``), so the longitudinal gradient reaches the tail. The downwash is along the shaft
+axis (the rings of a vortex cylinder induce no in-plane velocity inside it). The swirl is the
+angular momentum the rotor torque ``Q`` puts into the wake, ``v_θ = Q e / (ρ A λ (e² + r_c²))``
+about the wake's centre in the rotor's sense of rotation, with a core ``r_c`` at the root cut-out
+(no torque is produced inboard of it); it gives the sidewash at the fin.
+
+Sources: H. Glauert, *Aerodynamic Theory* IV (1935), wake velocity; W. Johnson, *Helicopter
+Theory* §2.2 and §5.2 (momentum theory, the vortex-cylinder wake and its skew); G.D. Padfield,
+*Helicopter Flight Dynamics* §3.2.5 (the tailplane in the wake beyond a transition speed, set by
+the wake-skew geometry); A.J. Landgrebe, J. AHS 17(4) (1972) 3-15, the contraction of the
+hovering rotor's tip-vortex wake. Units: SI, rad; vectors in world components.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+
+MIN_THROUGH_FLOW = 0.5  # m/s: smooth floor of λ, so the skew stays finite in a descent through λ = 0
+
+
+@dataclass(frozen=True)
+class WakeGeometry:
+    """Edge smoothing ``width`` (m) and swirl core radius ``core`` (m) of a rotor's wake, and the
+    coefficients of Landgrebe's hover wake (:func:`landgrebe_radius`): far-wake radius ``a``,
+    contraction rate ``decay`` (1/rad), tip-vortex descent rates ``k1``, ``k2`` (per rad of wake
+    age, positive down) before and after the next blade passes, ``n_blades``."""
+
+    width: float
+    core: float
+    a: float = 0.78
+    decay: float = 0.277
+    k1: float = 0.0155
+    k2: float = 0.0642
+    n_blades: int = 4
+
+    @classmethod
+    def landgrebe(cls, width: float, core: float, thrust_coefficient: float, solidity: float,
+                  twist_deg: float, n_blades: int) -> "WakeGeometry":
+        """Landgrebe's coefficients at the hover ``C_T`` and ``σ`` for a blade twist in degrees:
+        ``Λ = 0.145 + 27 C_T``, ``k1 = 0.25 (C_T/σ + 0.001 θ_tw)``,
+        ``k2 = (1.41 + 0.0141 θ_tw) sqrt(C_T/2)``."""
+        ct = thrust_coefficient
+        return cls(width, core, 0.78, 0.145 + 27 * ct, 0.25 * (ct / solidity + 0.001 * twist_deg),
+                   (1.41 + 0.0141 * twist_deg) * np.sqrt(ct / 2), int(n_blades))
+
+
+def landgrebe_radius(depth, geo: WakeGeometry, smoothing: float = 0.1):
+    """Tip-vortex radius per R of a hovering rotor at ``depth`` per R below the disc: the wake
+    age ``ψ_w`` at which the tip vortex has descended that far (``k1`` per rad until the next
+    blade passes at ``2π/N_b``, ``k2`` after; the kink rounded over ``smoothing`` rad), then
+    ``r_L = a + (1 − a) exp(−Λ ψ_w)``. Above the disc it is 1."""
+    z = 0.5 * (depth + ca.sqrt(depth**2 + 1e-8))
+    passage = 2 * np.pi / geo.n_blades
+    first, later = z / geo.k1, passage + (z - geo.k1 * passage) / geo.k2
+    age = 0.5 * (first + later - ca.sqrt((first - later) ** 2 + smoothing**2))
+    return geo.a + (1 - geo.a) * ca.exp(-geo.decay * age)
+
+
+@dataclass
+class Wake:
+    """The wake of one rotor in the current state (symbolic), published by its
+    :class:`mbs.aero.RotorAero` as the signal ``<rotor>.wake``.
+
+    ``hub`` (3,) m and ``shaft`` (3, 3) the non-rotating shaft frame (x at ψ = 0, y at 90°,
+    z the thrust axis), world; ``inflow`` the rotor's inflow states (m/s: ``[v0]`` or
+    ``[v0, v1s, v1c]``); ``air`` (3,) the air velocity relative to the hub (m/s, world);
+    ``torque`` N m; ``radius`` m (the effective disc with tip loss); ``rho`` kg/m³.
+    """
+
+    hub: object
+    shaft: object
+    inflow: list
+    air: object
+    torque: object
+    radius: float
+    rho: float
+    geometry: WakeGeometry
+
+    def velocity(self, point):
+        """Induced air velocity (3,) (m/s, world) of the wake at ``point`` (3,) (m, world)."""
+        axis = self.shaft[:, 2]
+        r = point - self.hub
+        depth = -ca.dot(r, axis)
+        lam = self._through_flow(axis)
+        air_xy = self.air - ca.dot(self.air, axis) * axis
+        offset = r + depth * axis - depth / lam * air_xy  # in-plane, from the wake's centre
+        e_x, e_y = ca.dot(offset, self.shaft[:, 0]), ca.dot(offset, self.shaft[:, 1])
+        e2 = e_x**2 + e_y**2
+        v_total = ca.sqrt(ca.dot(air_xy, air_xy) + lam**2)
+        along = depth * v_total / lam
+        grow = along / ca.sqrt(along**2 + self.radius**2)
+        immersion = self.immersion(ca.sqrt(e2 + 1e-12), depth, lam / v_total)
+        v_disc = self._disc_inflow(e_x, e_y)
+        swirl = self.torque / (self.rho * np.pi * self.radius**2 * lam * (e2 + self.geometry.core**2))
+        tangential = ca.cross(axis, e_x * self.shaft[:, 0] + e_y * self.shaft[:, 1])
+        return immersion * (-(1 + grow) * v_disc * axis + swirl * tangential)
+
+    def immersion(self, distance, depth, cos_skew):
+        """Share (0..1) of the wake's velocity at a point ``distance`` (m) from its centre,
+        ``depth`` (m) below the disc, wake skew ``χ``: the smoothed edge of the tube."""
+        geo = self.geometry
+        contraction = 1 - landgrebe_radius(depth / self.radius, geo)
+        edge = self.radius * (1 - contraction * cos_skew**2)
+        return 0.25 * (1 - ca.tanh((distance - edge) / geo.width)) * (1 + ca.tanh(depth / geo.width))
+
+    def _through_flow(self, axis):
+        """``λ`` (m/s), floored smoothly at :data:`MIN_THROUGH_FLOW`."""
+        lam = -ca.dot(self.air, axis) + self.inflow[0]
+        return 0.5 * (lam + ca.sqrt(lam**2 + 4 * MIN_THROUGH_FLOW**2))
+
+    def _disc_inflow(self, x, y):
+        """Induced velocity (m/s) at the disc point ``(x, y)`` (m, shaft frame)."""
+        if len(self.inflow) == 1:
+            return self.inflow[0]
+        v0, v1s, v1c = self.inflow
+        return v0 + (v1s * y + v1c * x) / self.radius
