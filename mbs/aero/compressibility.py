@@ -34,7 +34,7 @@ class Compressibility:
 
     def mach(self, speed):
         """Section Mach number of the air speed ``speed`` (m/s)."""
-        return speed / self.speed_of_sound
+        return speed * (1.0 / self.speed_of_sound)
 
     def glauert_factor(self, mach):
         """``1 / sqrt(1 − M_b²)`` with ``M_b`` bounded below ``mach_limit``."""
@@ -46,9 +46,9 @@ class Compressibility:
         return LOCK_RISE * ca.fmax(0, mach - (self.mach_dd - CRITICAL_MARGIN)) ** 4
 
     def coefficients(self, airfoil: Airfoil):
-        """``(alpha, speed) -> (c_L, c_D)`` of ``airfoil`` with these corrections."""
-        def corrected(alpha, speed):
-            cl, cd = airfoil.coefficients(alpha)
+        """``(alpha, sin²alpha, speed) -> (c_L, c_D)`` of ``airfoil`` with these corrections."""
+        def corrected(alpha, sin2_alpha, speed):
+            cl, cd = airfoil.coefficients_of(alpha, sin2_alpha)
             mach = self.mach(speed)
             return self.glauert_factor(mach) * cl, cd + self.drag_rise(mach)
         return corrected

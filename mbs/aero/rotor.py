@@ -126,25 +126,34 @@ class RotorAero(ForceElement):
         frame = ca.DM(self.rotor.shaft_frame)
         return frame if self.rotor.shaft_body is None else ca.mtimes(state.body(self.rotor.shaft_body).rotation, frame)
 
-    def _air(self, state: State, lever, axis, v, shaft):
-        """Induced air velocity (m/s, world) at the element ``lever`` (m from the hub, world)."""
+    def _air(self, disc_point, axis, v):
+        """Induced air velocity (m/s) along ``axis`` at the element whose position in the disc
+        is ``disc_point = (x/R, y/R)`` (shaft frame)."""
         if len(v) == 1:
             return -self.kappa * v[0] * axis
-        big_r = self.rotor.radius
-        x, y = ca.dot(lever, shaft[:, 0]) / big_r, ca.dot(lever, shaft[:, 1]) / big_r
-        return -self.kappa * inf.induced_velocity(v, x, y) * axis
+        return -self.kappa * inf.induced_velocity(v, *disc_point) * axis
 
     def _blade(self, state, loads, blade, hub, axis, v, shaft) -> DiscLoads:
+        """Loads of one blade's elements, computed in blade axes: the blade's own velocity,
+        thrust axis and shaft axes are turned into them once, and the element forces are summed
+        into one force and torque on the blade."""
         radii, dr = self.rotor.stations()
-        rot = state.body(blade).rotation
-        out = DiscLoads()
+        m = state.body(blade)
+        turn_in = m.rotation.T
+        origin, axis_b = ca.mtimes(turn_in, m.velocity), ca.mtimes(turn_in, axis)
+        shaft_b, hinge = ca.mtimes(turn_in, shaft[:, :2]), ca.mtimes(turn_in, m.position - hub.position)
+        force, torque, out = ca.SX.zeros(3), ca.SX.zeros(3), DiscLoads()
+        per_radius = 1.0 / self.rotor.radius
         for r, lift in zip(radii, self.lift):
-            point = ca.DM([r - self.rotor.hinge_radius, 0, 0])
-            lever = state.point_position(blade, point) - hub.position
-            w = ca.mtimes(rot.T, self._air(state, lever, axis, v, shaft) - state.point_velocity(blade, point))
-            force = self._element_force(w, r, dr, lift)
-            loads.add_force(blade, force, point=point, frame="body", rotation=rot)
-            out = out + self._element_loads(ca.mtimes(rot, force), lever, axis, shaft)
+            arm = r - self.rotor.hinge_radius
+            lever = hinge + ca.DM([arm, 0, 0])
+            disc_point = (ca.dot(lever, shaft_b[:, 0]) * per_radius, ca.dot(lever, shaft_b[:, 1]) * per_radius)
+            velocity = origin + arm * ca.vertcat(0, m.omega[2], -m.omega[1])  # + ω × (arm, 0, 0)
+            f = self._element_force(self._air(disc_point, axis_b, v) - velocity, r, dr, lift)
+            force, torque = force + f, torque + arm * ca.vertcat(0, -f[2], f[1])  # + (arm, 0, 0) × f
+            out = out + self._element_loads(f, lever, axis_b, disc_point)
+        loads.add_force(blade, force, point=[0.0, 0.0, 0.0], frame="body", rotation=m.rotation)
+        loads.add_torque(blade, torque)
         return out
 
     def _element_force(self, w, r: float, dr: float, lift: float):
@@ -155,12 +164,13 @@ class RotorAero(ForceElement):
         f_y, f_z = turn(f_c, f_n, -twist)
         return ca.vertcat(0, f_y, f_z)
 
-    def _element_loads(self, force, lever, axis, shaft) -> DiscLoads:
-        """Thrust, shaft torque and thrust moments of one element force (3,) (N, world)."""
+    @staticmethod
+    def _element_loads(force, lever, axis, disc_point) -> DiscLoads:
+        """Thrust, shaft torque and thrust moments of one element force (3,) (N) at ``lever`` (m
+        from the hub), both in the frame of ``axis``; ``disc_point`` its ``(x/R, y/R)``."""
         d_thrust = ca.dot(force, axis)
-        big_r = self.rotor.radius
-        return DiscLoads(d_thrust, -ca.dot(axis, ca.cross(lever, force)),
-                         d_thrust * ca.dot(lever, shaft[:, 1]) / big_r, d_thrust * ca.dot(lever, shaft[:, 0]) / big_r)
+        return DiscLoads(d_thrust, -ca.dot(axis, ca.cross(lever, force)), d_thrust * disc_point[1],
+                         d_thrust * disc_point[0])
 
     def _inflow_rates(self, hub_velocity, axis, v, disc: DiscLoads) -> list:
         v_normal = ca.dot(hub_velocity, axis)

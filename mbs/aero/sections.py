@@ -14,8 +14,18 @@ EPS = 1e-9  # m/s; keeps derivatives finite at exactly zero airspeed
 
 
 def soft_clip(a, limit: float, n: int = 8):
-    """``a`` for ``|a| << limit``, tending smoothly to ``±limit`` beyond it."""
-    return a / (1 + (a / limit) ** n) ** (1.0 / n)
+    """``a / (1 + (a/limit)^n)^(1/n)``: ``a`` for ``|a| << limit``, tending smoothly to ``±limit``
+    beyond it. ``n`` a power of 2 (even, so the sign of ``a`` does not matter): the power is
+    repeated squaring and the root repeated square roots, which cost a fraction of ``pow``."""
+    if n < 2 or n & (n - 1):
+        raise ValueError(f"soft_clip order n = {n} must be a power of 2")
+    y = a * (1.0 / limit)
+    for _ in range(n.bit_length() - 1):
+        y = y * y
+    y = 1 + y
+    for _ in range(n.bit_length() - 1):
+        y = ca.sqrt(y)
+    return a / y
 
 
 @dataclass
@@ -35,18 +45,26 @@ class Airfoil:
 
     def coefficients(self, alpha):
         """``(c_L, c_D)`` at angle of attack ``alpha`` (rad, within ±π/2)."""
+        return self.coefficients_of(alpha, ca.sin(alpha) ** 2)
+
+    def coefficients_of(self, alpha, sin2_alpha):
+        """:meth:`coefficients` given ``sin²(alpha)`` as well (which a section computes without
+        trigonometry from its air velocity)."""
         a = soft_clip(alpha, self.alpha_stall)
-        cd = self.cd0 + self.cd2 * a**2 + self.cd_stalled * (ca.sin(alpha) ** 2 - ca.sin(a) ** 2)
+        cd = self.cd0 + self.cd2 * a**2 + self.cd_stalled * (sin2_alpha - ca.sin(a) ** 2)
         return self.lift_slope * a, cd
 
 
 def flow_angle(w_c, w_n):
-    """Angle of attack (rad) of the air velocity ``(w_c, w_n)``, reverse flow folded to ±π/2.
+    """Angle of attack (rad) of the air velocity ``(w_c, w_n)``, reverse flow folded to ±π/2,
+    and ``sin²`` of it.
 
     Air from the trailing edge sees the angle between the flow and the chord line, as a flat
-    plate does.
+    plate does. ``α = ½ atan2(Y, X)`` with ``X = w_c² − w_n²``, ``Y = −2 w_n w_c``, so
+    ``sin² α = (1 − cos 2α)/2 = (1 − X/sqrt(X² + Y²))/2``, without a sine.
     """
-    return 0.5 * ca.atan2(-2 * w_n * w_c, w_c**2 - w_n**2 + EPS)
+    x, y = w_c**2 - w_n**2 + EPS, -2 * w_n * w_c
+    return 0.5 * ca.atan2(y, x), 0.5 * (1 - x / ca.sqrt(x**2 + y**2))
 
 
 def section_force(w_c, w_n, airfoil: Airfoil, rho: float, area: float, lift_factor: float = 1.0,
@@ -55,12 +73,12 @@ def section_force(w_c, w_n, airfoil: Airfoil, rho: float, area: float, lift_fact
 
     ``w_c``: component along the chord towards the leading edge; ``w_n``: along the
     section normal (the lift direction at zero incidence); ``area`` m². ``lift_factor``
-    scales the lift only (tip loss); ``coefficients(alpha, speed) -> (c_L, c_D)`` replaces the
-    aerofoil's (compressibility). Returns ``(f_c, f_n)``.
+    scales the lift only (tip loss); ``coefficients(alpha, sin²alpha, speed) -> (c_L, c_D)``
+    replaces the aerofoil's (compressibility). Returns ``(f_c, f_n)``.
     """
-    alpha = flow_angle(w_c, w_n)
+    alpha, sin2 = flow_angle(w_c, w_n)
     speed = ca.sqrt(w_c**2 + w_n**2 + EPS**2)
-    cl, cd = airfoil.coefficients(alpha) if coefficients is None else coefficients(alpha, speed)
+    cl, cd = airfoil.coefficients_of(alpha, sin2) if coefficients is None else coefficients(alpha, sin2, speed)
     if lift_factor != 1.0:  # exactly 1.0 leaves the expression as it was without tip loss
         cl = lift_factor * cl
     k = 0.5 * rho * area * speed
