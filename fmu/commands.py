@@ -5,6 +5,7 @@ import shutil
 import sys
 from pathlib import Path
 
+from mbs import arguments as A
 from mbs.cli import add_json, emit
 
 
@@ -22,8 +23,7 @@ def cmd_fmu_build(args) -> int:
         path, seconds = ensure_native_fmu(scenes, force=args.force, log=_log)
     else:
         path, seconds = build.ensure_fmu(scenes, force=args.force, log=_log)
-    out = Path(args.out)
-    dest = out / path.name if out.suffix != ".fmu" else out
+    dest = args.out / path.name if args.out.suffix != ".fmu" else args.out
     try:
         dest.parent.mkdir(parents=True, exist_ok=True)
         shutil.copy2(path, dest)
@@ -76,12 +76,35 @@ def cmd_bench_fmu(args) -> int:
     return 0
 
 
+def fmu_destination(text: str) -> Path:
+    """Argument type of ``fmu build --out``: a ``.fmu`` file, or else a folder, that can be written."""
+    return A.output_file(".fmu")(text) if text.lower().endswith(".fmu") else A.output_folder(text)
+
+
+def scene_family(text: str) -> str:
+    """Argument type of ``fmu build --scenes``: comma-separated registered scenes, none twice."""
+    names, known = [n.strip() for n in text.split(",")], A.scene_names()
+    bad = [n for n in names if n not in known]
+    if bad or len(set(names)) != len(names):
+        raise A.Bad(f"{text!r}: " + (f"unknown scene {bad[0]!r}; known scenes: {', '.join(known)}" if bad
+                                     else "a scene is named twice"))
+    return ",".join(names)
+
+
+def demo_revs(text: str) -> float:
+    """Argument type of the FMU runs' ``--revs``: at least one communication step (1/100 rev)."""
+    revs = A.positive(text)
+    if round(revs * 100) < 1:
+        raise A.Bad(f"{text} is less than one communication step (0.01 revolutions)")
+    return revs
+
+
 def register(sub, bench) -> None:
     p = sub.add_parser("fmu", help="the FMI 2.0 co-simulation FMU")
     fsub = p.add_subparsers(dest="fmu_command", required=True, metavar="ACTION")
     b = fsub.add_parser("build", help="build the .fmu (cached; in a fresh interpreter from a staged copy)")
-    b.add_argument("--out", default="out/fmu", help="output .fmu file or folder (default out/fmu/)")
-    b.add_argument("--scenes", default=None,
+    b.add_argument("--out", type=fmu_destination, default="out/fmu", help="output .fmu file or folder (default out/fmu/)")
+    b.add_argument("--scenes", type=scene_family, default=None,
                    help="comma-separated scene family, the first one the default (default forward-flight,hover,ground-run)")
     b.add_argument("--force", action="store_true", help="rebuild even if a cached FMU exists")
     b.add_argument("--native", action="store_true",
@@ -91,13 +114,14 @@ def register(sub, bench) -> None:
 
     p = sub.add_parser("demo", help="the main job: build the FMU, run forward flight through fmpy, write "
                        "results.csv, hinge_angles.png, viewer.html")
-    p.add_argument("--out", default="out/demo", help="output folder (default out/demo)")
-    p.add_argument("--revs", type=float, default=10.0, help="main-rotor revolutions (default 10)")
+    p.add_argument("--out", type=A.output_folder, default="out/demo", help="output folder (default out/demo)")
+    p.add_argument("--revs", type=demo_revs, default=10.0,
+                   help="main-rotor revolutions, at least one communication step of 1/100 (default 10)")
     add_json(p)
     p.set_defaults(fn=cmd_demo)
 
     p = bench.add_parser("fmu", help="FMU under fmpy against the core: real-time factors and overhead")
-    p.add_argument("--revs", type=float, default=20.0, help="revolutions per run (default 20)")
-    p.add_argument("--repeats", type=int, default=3, help="fresh-process runs per kind (median; default 3)")
+    p.add_argument("--revs", type=demo_revs, default=20.0, help="revolutions per run (default 20)")
+    p.add_argument("--repeats", type=A.positive_int, default=3, help="fresh-process runs per kind (median; default 3)")
     add_json(p)
     p.set_defaults(fn=cmd_bench_fmu)

@@ -4,6 +4,11 @@ Each area registers its subcommands from its own module (``register(sub, bench)`
 core, the benchmarks, the FMU and the viewer stay independent. Every subcommand prints
 human-readable lines; with ``--json`` the last line on stdout is one JSON object.
 Progress bars go to stderr.
+
+Every argument is checked while the command line is parsed (types in :mod:`mbs.arguments`),
+before any work starts. A user's mistake, found then or later, ends with one line on stderr,
+``heli <command>: error: <what, naming the option and the value>``, and exit status 2;
+never with a traceback.
 """
 from __future__ import annotations
 
@@ -34,8 +39,32 @@ def add_json(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", action="store_true", help="print one machine-readable JSON object last")
 
 
+class Parser(argparse.ArgumentParser):
+    """argparse's parser with a one-line error: the message and where to find the usage
+    (subcommand parsers are of this class too)."""
+
+    def error(self, message: str):
+        self.exit(2, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
+
+
+def version() -> str:
+    """``rotor-mbs <version>`` with the versions of Python and CasADi."""
+    import importlib.metadata as md
+    import platform
+
+    def of(dist: str) -> str:
+        try:
+            return md.version(dist)
+        except md.PackageNotFoundError:
+            return "not installed"
+
+    return f"rotor-mbs {of('rotor-mbs')} (Python {platform.python_version()}, CasADi {of('casadi')})"
+
+
 def parser() -> argparse.ArgumentParser:
-    ap = argparse.ArgumentParser(prog="heli", description="Rotor multibody simulation (Bo105).")
+    ap = Parser(prog="heli", description="Rotor multibody simulation (Bo105).")
+    ap.add_argument("--version", action="version", version=f"%(prog)s: {version()}",
+                    help="print the version of rotor-mbs, Python and CasADi and exit")
     sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND")
     bench = sub.add_parser("bench", help="benchmarks (speed, accuracy, stability, scaling)")
     bench_sub = bench.add_subparsers(dest="bench", required=True, metavar="BENCHMARK")
@@ -50,13 +79,25 @@ def parser() -> argparse.ArgumentParser:
     return ap
 
 
+USER_ERRORS = (ValueError, RuntimeError, OSError, KeyError, argparse.ArgumentTypeError)
+"""What a command raises for a bad input or setting (a bad scene, parameter or file, an
+unwritable folder, a missing compiler): reported in one line, exit status 2."""
+
+
 def main(argv: list[str] | None = None) -> int:
-    args = parser().parse_args(argv)
+    ap = parser()
+    args = ap.parse_args(argv)
+    prog = " ".join(["heli", *(getattr(args, k) for k in ("command", "bench", "fmu_command", "kind")
+                               if isinstance(getattr(args, k, None), str))])
     try:
         return int(args.fn(args) or 0)
-    except (ValueError, RuntimeError, FileNotFoundError, KeyError) as exc:
-        print(f"heli: error: {exc}", file=sys.stderr)
+    except USER_ERRORS as exc:
+        text = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
+        print(f"{prog}: error: {text}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        print(f"{prog}: interrupted", file=sys.stderr)
+        return 130
 
 
 if __name__ == "__main__":

@@ -1,8 +1,10 @@
 """Core subcommands of ``heli``: scenes, simulate, trim, figures (``heli demo`` is in :mod:`fmu.commands`)."""
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
+from mbs import arguments as A
 from mbs.cli import add_json, emit
 
 FIXED_METHODS = ("euler", "rk4", "rk8")  # mbs.integrators.FIXED_STEP, named here to keep casadi out of start-up
@@ -10,24 +12,49 @@ FIXED_METHODS = ("euler", "rk4", "rk8")  # mbs.integrators.FIXED_STEP, named her
 
 def cmd_scenes(args) -> int:
     from mbs import scenes
-    from mbs.dynamics import Layout
 
-    rows, lines = [], []
-    for sc in scenes.all_scenes().values():
-        model = sc.model()
-        lay = Layout.of(model)
-        row = {"scene": sc.name, "description": sc.description, "bodies": [b.name for b in lay.bodies],
-               "dof": lay.nv, "position_coordinates": lay.nq, "conservative": sc.conservative,
-               "forces": [f.name for f in model.forces],
-               "parameters": {p.name: p.default for p in model.parameters.values()}}
-        rows.append(row)
-        lines += [f"{sc.name}: {sc.description}",
-                  f"  {len(lay.bodies)} bodies: {', '.join(row['bodies'])}",
-                  f"  {lay.nv} degrees of freedom: {', '.join(lay.v_names)}",
+    rows = [_scene_row(sc) for sc in scenes.all_scenes().values()]
+    if args.markdown:
+        print(scene_table(rows))
+        return 0
+    lines = []
+    for row in rows:
+        extra = f" + {_extra(row)} ({', '.join(row['extra_states'])})" if row["extra_states"] else ""
+        lines += [f"{row['scene']}: {row['description']}",
+                  f"  {len(row['bodies'])} bodies: {', '.join(row['bodies'])}",
+                  f"  {row['dof']} degrees of freedom{extra}",
+                  f"  {len(row['coordinates'])} position coordinates: {', '.join(row['coordinates'])}",
+                  f"  {len(row['velocities'])} velocities: {', '.join(row['velocities'])}",
                   f"  force elements: {', '.join(row['forces']) or 'none'} (+ gravity)",
-                  f"  {'conservative' if sc.conservative else 'not conservative'}", ""]
+                  f"  {'conservative' if row['conservative'] else 'not conservative'}", ""]
     emit({"scenes": rows}, args.json, lines)
     return 0
+
+
+def _scene_row(sc) -> dict:
+    """What ``heli scenes`` says of the scene ``sc``."""
+    from mbs.dynamics import Layout
+
+    model = sc.model()
+    lay = Layout.of(model)
+    return {"scene": sc.name, "description": sc.description, "bodies": [b.name for b in lay.bodies],
+            "dof": lay.nv, "position_coordinates": lay.nq, "coordinates": lay.q_names, "velocities": lay.v_names,
+            "extra_states": lay.z_names, "conservative": sc.conservative, "forces": [f.name for f in model.forces],
+            "parameters": {p.name: p.default for p in model.parameters.values()}}
+
+
+def _extra(row: dict) -> str:
+    n = len(row["extra_states"])
+    return f"{n} extra state{'s' if n != 1 else ''}"
+
+
+def scene_table(rows: list[dict]) -> str:
+    """The README's scene table (Markdown) from the rows of :func:`_scene_row`."""
+    lines = ["| scene | what it models | degrees of freedom |", "|---|---|---|"]
+    for r in rows:
+        extra = f" + {_extra(r)}" if r["extra_states"] else ""
+        lines.append(f"| `{r['scene']}` | {r['description']} | {r['dof']}{extra} |")
+    return "\n".join(lines)
 
 
 def _scene(args):
@@ -37,7 +64,10 @@ def _scene(args):
     from mbs import scenes
     from mbs.models.bo105 import with_aero
 
-    return with_aero(scenes.get(args.scene), args.aero)
+    try:
+        return with_aero(scenes.get(args.scene), args.aero)
+    except ValueError as exc:
+        raise ValueError(f"--aero {args.aero!r}: {exc}") from None
 
 
 def cmd_simulate(args) -> int:
@@ -70,8 +100,10 @@ def cmd_trim(args) -> int:
     if args.write and res.converged:
         from mbs.trim import write_trim
 
-        out["written"] = str(write_trim(res, Path(args.write)))
+        out["written"] = str(write_trim(res, args.write))
         lines.append(f"wrote {out['written']}")
+    elif args.write:
+        lines.append(f"{args.write} not written: the trim did not converge")
     emit(out, args.json, lines)
     return 0 if res.converged else 1
 
@@ -194,8 +226,6 @@ def _sweep_lines(res: dict, points) -> list[str]:
 def cmd_derivatives(args) -> int:
     from mbs.analysis.derivatives import derivatives, write_matrices
 
-    if args.mat and Path(args.mat).suffix not in (".mat", ".npz"):
-        raise ValueError(f"--mat {args.mat}: use a .mat (MATLAB) or .npz file name")
     res = derivatives(args.scene, speed=args.speed, method=args.method, steps_per_rev=args.steps_per_rev,
                       backend=args.backend)
     out, lines = res.summary(), _derivative_lines(res)
@@ -248,79 +278,128 @@ def cmd_figures(args) -> int:
     return 0
 
 
+def user_trims() -> Path:
+    """The user's trim file, ``$XDG_DATA_HOME/rotor-mbs/trims.toml`` (default
+    ``~/.local/share/rotor-mbs/trims.toml``): where ``heli trim --write`` stores a trim."""
+    return Path(os.environ.get("XDG_DATA_HOME") or Path.home() / ".local" / "share") / "rotor-mbs" / "trims.toml"
+
+
+def trim_file(text: str) -> Path:
+    """Argument type of ``trim --write``: a writable ``.toml`` file outside the installed package."""
+    path, package = A.output_file(".toml")(text), Path(__file__).resolve().parent
+    if path.resolve().is_relative_to(package):
+        raise A.Bad(f"{text!r} is inside the installed package ({package}); give a file of your own "
+                    f"(without PATH: {user_trims()})")
+    return path
+
+
+def _setting(text: str) -> dict:
+    from mbs.analysis.fanplot import parse_settings
+
+    return parse_settings([text])
+
+
+def _sweep(text: str):
+    from mbs.analysis.fanplot import parse_sweep
+
+    return parse_sweep(text)
+
+
 def _add_periodic_arguments(p) -> None:
     """The arguments of the analyses at a periodic solution (trim, Floquet, derivatives)."""
-    p.add_argument("scene", nargs="?", default="forward-flight")
-    p.add_argument("--speed", type=float, default=None, help="flight speed in m/s (default: the scene's)")
+    A.add_scene(p, nargs="?", default="forward-flight", what="scene (default forward-flight)")
+    p.add_argument("--speed", type=A.finite, default=None, help="flight speed in m/s (default: the scene's)")
     p.add_argument("--method", choices=("rk4", "rk8"), default="rk4", help="fixed-step method (default rk4)")
-    p.add_argument("--steps-per-rev", type=int, default=None, help="steps per revolution (default: the scene's)")
-    p.add_argument("--backend", choices=["compiled", "vm"], default="compiled",
-                   help="generated C (default) or CasADi's virtual machine")
+    _steps_per_rev(p)
+    _backend(p)
+
+
+def _steps_per_rev(p) -> None:
+    p.add_argument("--steps-per-rev", type=A.positive_int, default=None,
+                   help="fixed steps per main-rotor revolution (default: the scene's, 100 for the Bo105 scenes)")
+
+
+def _backend(p) -> None:
+    p.add_argument("--backend", choices=("compiled", "vm"), default="compiled",
+                   help="evaluator: generated C compiled by the machine's compiler (default) or CasADi's "
+                        "virtual machine (no compiler needed, slower)")
+
+
+def _aero(p) -> None:
+    p.add_argument("--aero", metavar="SWITCHES", default=None,
+                   help="rotor-aerodynamics switches to turn on (Bo105 scenes): comma-separated "
+                        "pitt-peters, tip-loss, compressibility, ..., or full")
+
+
+def _quiet(p) -> None:
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
 def register(sub, bench) -> None:
     p = sub.add_parser("figures", help="regenerate the paper's Fig. 2 and Fig. 3")
-    p.add_argument("--out", default="out/figures")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--out", type=A.output_folder, default="out/figures",
+                   help="output folder (default out/figures)")
+    _quiet(p)
     add_json(p)
     p.set_defaults(fn=cmd_figures)
 
     p = sub.add_parser("trim", help="periodic trim: controls, attitude and periodic rotor states by Newton "
                        "with the exact AD Jacobian of the period map")
     _add_periodic_arguments(p)
-    p.add_argument("--climb-rate", type=float, default=0.0, help="climb rate in m/s, up positive (default 0)")
-    p.add_argument("--tol", type=float, default=1e-10, help="max |scaled residual| to reach (default 1e-10)")
-    p.add_argument("--iterations", type=int, default=20, help="most Newton iterations (default 20)")
-    p.add_argument("--write", metavar="PATH", default=None,
-                   help="store the converged trim in the TOML file PATH (the format of mbs/models/bo105_trim.toml)")
-    p.add_argument("--aero", metavar="SWITCHES", default=None,
-                   help="rotor-aerodynamics switches to turn on (Bo105 scenes): comma-separated "
-                        "pitt-peters, tip-loss, compressibility, or full")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--climb-rate", type=A.finite, default=0.0, help="climb rate in m/s, up positive (default 0)")
+    p.add_argument("--tol", type=A.positive, default=1e-10, help="max |scaled residual| to reach (default 1e-10)")
+    p.add_argument("--iterations", type=A.positive_int, default=20,
+                   help="most Newton iterations before giving up (default 20)")
+    p.add_argument("--write", metavar="PATH", nargs="?", const=str(user_trims()), default=None,
+                   type=trim_file, help="store the converged trim in the TOML file PATH (other entries kept; the "
+                   f"format of mbs/models/bo105_trim.toml); without PATH in {user_trims()}")
+    _aero(p)
+    _quiet(p)
     add_json(p)
     p.set_defaults(fn=cmd_trim)
 
     p = sub.add_parser("floquet", help="Floquet stability at the periodic trim: multipliers, exponents, modes")
     _add_periodic_arguments(p)
-    p.add_argument("--set", action="append", metavar="NAME=VALUE",
+    p.add_argument("--set", action="append", metavar="NAME=VALUE", type=A.checked_by(_setting),
                    help="run-time parameter value, e.g. lag_damping=50 (repeatable)")
-    p.add_argument("--sweep", metavar="NAME=LO:HI:N", default=None,
+    p.add_argument("--sweep", metavar="NAME=LO:HI:N", default=None, type=A.checked_by(_sweep),
                    help="fan plot: analyse at N values of a run-time parameter, e.g. omega=20:60:30; writes "
                         "fanplot_SCENE.png and .csv into --out")
     p.add_argument("--frame", choices=("fixed", "rotating"), default="fixed",
                    help="rotor-mode frequencies and names in the fixed frame (multi-blade coordinates, default) "
                         "or per blade (rotating)")
-    p.add_argument("--out", default=None, help="output folder: writes floquet_SCENE.png and .csv (default: print "
-                   "only); with --sweep the fan plot's files (default out/floquet)")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--out", type=A.output_folder, default=None, help="output folder: writes floquet_SCENE.png and "
+                   ".csv (default: print only); with --sweep the fan plot's files (default out/floquet)")
+    _quiet(p)
     add_json(p)
     p.set_defaults(fn=cmd_floquet)
 
     p = sub.add_parser("derivatives", help="stability and control derivatives at trim (quasi-static rotor in its "
                        "periodic equilibrium), the A and B matrices and the flight modes")
     _add_periodic_arguments(p)
-    p.add_argument("--mat", metavar="FILE", default=None, help="write A, B and the mode names to FILE "
-                   "(.mat for MATLAB, or .npz)")
+    p.add_argument("--mat", metavar="FILE", default=None, type=A.output_file(".mat", ".npz"),
+                   help="write A, B and the mode names to FILE (.mat for MATLAB, or .npz)")
     add_json(p)
     p.set_defaults(fn=cmd_derivatives)
 
     p = sub.add_parser("scenes", help="list the scenes: bodies, degrees of freedom, force elements")
+    p.add_argument("--markdown", action="store_true", help="print the README's scene table instead")
     add_json(p)
     p.set_defaults(fn=cmd_scenes)
 
     p = sub.add_parser("simulate", help="run a scene and write results.csv, run.json and plots")
-    p.add_argument("scene")
-    p.add_argument("--revs", type=float, default=1.0, help="main-rotor revolutions (default 1)")
-    p.add_argument("--steps-per-rev", type=int, default=None, help="steps per revolution (default: the scene's)")
+    A.add_scene(p)
+    p.add_argument("--revs", type=A.positive, default=1.0, help="main-rotor revolutions (default 1)")
+    _steps_per_rev(p)
     p.add_argument("--method", choices=FIXED_METHODS, default="rk4",
                    help="fixed-step method of the generated driver (default rk4, the paper's)")
-    p.add_argument("--dtype", choices=["float64", "float32"], default="float64")
-    p.add_argument("--backend", choices=["compiled", "vm"], default="compiled")
-    p.add_argument("--every", type=int, default=1, help="record every N-th step")
-    p.add_argument("--out", default="out/simulate", help="output folder (default out/simulate)")
-    p.add_argument("--aero", metavar="SWITCHES", default=None,
-                   help="rotor-aerodynamics switches to turn on (Bo105 scenes): comma-separated "
-                        "pitt-peters, tip-loss, compressibility, or full")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--dtype", choices=("float64", "float32"), default="float64",
+                   help="floating-point precision of the compiled code (default float64; float32 needs "
+                        "--backend compiled)")
+    _backend(p)
+    p.add_argument("--every", type=A.positive_int, default=1, help="record every N-th step (default 1: all)")
+    p.add_argument("--out", type=A.output_folder, default="out/simulate", help="output folder (default out/simulate)")
+    _aero(p)
+    _quiet(p)
     add_json(p)
     p.set_defaults(fn=cmd_simulate)

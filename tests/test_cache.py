@@ -233,5 +233,5 @@ def test_fmu_build_with_an_unwritable_cache_is_a_one_line_error(tmp_path, where)
                 MBS_CACHE_DIR=folder)
     assert proc.returncode == 2, proc.stderr
     lines = proc.stderr.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("heli: error: ") and folder in lines[0], lines
+    assert len(lines) == 1 and lines[0].startswith("heli fmu build: error: ") and folder in lines[0], lines
     assert "MBS_CACHE_DIR" in lines[0] and "Traceback" not in proc.stderr

@@ -5,11 +5,17 @@ import signal
 import time
 from pathlib import Path
 
+from mbs import arguments as A
 from mbs.cli import add_json, emit
 
 
 def _terminate_as_exit(signum, frame):
     raise SystemExit(128 + signum)
+
+
+def _follows(args) -> bool:
+    """Whether the view starts following the fuselage (--camera follow, not --no-follow)."""
+    return args.camera == "follow" and not args.no_follow
 
 
 def cmd_view(args) -> int:
@@ -24,11 +30,12 @@ def cmd_view(args) -> int:
     results = Path(args.results)
     out = Path(args.html) if args.html else (results if results.is_dir() else results.parent) / "viewer.html"
     exp = export_html(results, out, revs=None if args.revs == 0 else args.revs, start=args.start, every=args.every,
-                      slow=args.slow, trace=not args.no_trace, follow=not args.no_follow, backend=args.backend)
+                      slow=args.slow, trace=not args.no_trace, follow=_follows(args), backend=args.backend,
+                      max_bytes=args.max_mb * 1e6)
     res = exp.summary()
-    emit(res, args.json, [f"{res['scene']}: {exp.keys} keyframes, t = {exp.sim_time[0]:.4g} to {exp.sim_time[1]:.4g} s "
-                          f"shown in {exp.duration:.3g} s ({exp.slow:g} times slower), largest joint turn between "
-                          f"keys {exp.max_key_angle_deg:.1f} deg", f"wrote {exp.path} ({exp.size / 1e6:.2f} MB)"])
+    emit(res, args.json, [f"{res['scene']}: t = {exp.sim_time[0]:.4g} to {exp.sim_time[1]:.4g} s, {exp.keys} keyframes "
+                          f"(every {exp.every} row(s)), plot of {exp.plot_rows} rows; largest joint turn between keys "
+                          f"{exp.max_key_angle_deg:.1f} deg", f"wrote {exp.path} ({exp.size / 1e6:.2f} MB)"])
     return 0
 
 
@@ -38,7 +45,7 @@ def _serve(args) -> int:
 
     mo = motion(Path(args.results), None if args.revs == 0 else args.revs, args.start, args.every, backend=args.backend)
     signal.signal(signal.SIGTERM, _terminate_as_exit)
-    with LiveViewer(mo.recording.system, follow=not args.no_follow, web_port=args.port) as live:
+    with LiveViewer(mo.recording.system, follow=_follows(args), web_port=args.port) as live:
         emit({"url": live.url, "pid": live.pid, "keys": len(mo.t)}, args.json,
              [f"meshcat viewer at {live.url} (Ctrl-C to stop)"])
         end = time.monotonic() + args.duration if args.duration else None
@@ -58,7 +65,7 @@ def _live_simulation(args) -> int:
     scene = scenes.get(args.simulate)
     system = scene.system(args.backend)
     signal.signal(signal.SIGTERM, _terminate_as_exit)
-    with LiveViewer(system, follow=not args.no_follow, web_port=args.port) as live:
+    with LiveViewer(system, follow=_follows(args), web_port=args.port) as live:
         print(f"meshcat viewer at {live.url}", flush=True)
         if args.wait:
             time.sleep(args.wait)
@@ -78,21 +85,27 @@ def register(sub, bench) -> None:
                                    "'heli simulate') as one self-contained HTML file (--html, the default) or on "
                                    "a local meshcat server (--serve); --simulate SCENE streams a run as it computes.")
     p.add_argument("results", nargs="?", help="results folder or results.csv (with run.json beside it)")
-    p.add_argument("--html", metavar="OUT.html", help="output file (default: viewer.html beside the results)")
+    p.add_argument("--html", metavar="OUT.html", type=A.output_file(".html"), help="output file (default: viewer.html beside the results)")
     p.add_argument("--serve", action="store_true", help="stream to a meshcat server on 127.0.0.1 until Ctrl-C")
-    p.add_argument("--simulate", metavar="SCENE", help="run SCENE and stream each step live (implies a server)")
-    p.add_argument("--revs", type=float, default=1.0,
-                   help="main-rotor revolutions shown (default 1: the last one; 0: all)")
-    p.add_argument("--start", type=float, default=None, help="first time shown, s (default: last --revs revolutions)")
-    p.add_argument("--every", type=int, default=1, help="keep every N-th recorded row (keys are added back where "
+    A.add_scene(p, "--simulate", what="run this scene and stream each step live (implies a server)")
+    p.add_argument("--revs", type=A.non_negative, default=0.0,
+                   help="main-rotor revolutions shown, the last ones (default 0: the whole run)")
+    p.add_argument("--start", type=A.finite, default=None, help="first time shown, s (default: last --revs revolutions)")
+    p.add_argument("--every", type=A.positive_int, default=1, help="keep every N-th recorded row (keys are added back where "
                                                          "a joint would turn 60 deg or more)")
-    p.add_argument("--slow", type=float, default=10.0, help="slow-motion factor (default 10; 1 = real time)")
+    p.add_argument("--slow", type=A.positive, default=10.0,
+                   help="the page starts playing F times slower than real time (default 10; it has a speed control)")
     p.add_argument("--no-trace", action="store_true", help="no blade tip-path trace")
-    p.add_argument("--no-follow", action="store_true", help="fixed world instead of following the fuselage")
-    p.add_argument("--backend", choices=["vm", "compiled"], default="vm", help="evaluator for the poses (default vm)")
-    p.add_argument("--port", type=int, default=None, help="web port of the live server (default: first free from 7000)")
-    p.add_argument("--duration", type=float, default=None, help="with --serve: stop after this many seconds")
-    p.add_argument("--wait", type=float, default=0.0, help="with --simulate: seconds to wait before running "
+    p.add_argument("--no-follow", action="store_true", help="same as --camera fixed")
+    p.add_argument("--camera", choices=["follow", "fixed"], default="follow",
+                   help="the view starts following the fuselage (default) or fixed to the ground; the page has a toggle")
+    p.add_argument("--max-mb", type=float, default=5.0, metavar="MB",
+                   help="size limit of the page in MB (default 5): longer runs show every N-th recorded row")
+    p.add_argument("--backend", choices=["vm", "compiled"], default="vm",
+                   help="evaluator for the poses: CasADi's virtual machine (default) or compiled C")
+    p.add_argument("--port", type=A.port, default=None, help="web port of the live server (default: first free from 7000)")
+    p.add_argument("--duration", type=A.positive, default=None, help="with --serve: stop after this many seconds")
+    p.add_argument("--wait", type=A.non_negative, default=0.0, help="with --simulate: seconds to wait before running "
                                                             "(time to open the page)")
     add_json(p)
     p.set_defaults(fn=cmd_view)

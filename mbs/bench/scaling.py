@@ -294,14 +294,16 @@ def cmd_bench_scaling(args) -> int:
 
 
 def register(sub, bench) -> None:
+    from mbs import arguments as A
     from mbs.cli import add_json
 
     p = bench.add_parser("scaling", help="right-hand side and code generation cost against model size")
     p.add_argument("--quick", action="store_true", help="fewer sizes (rotor 2-16 blades, chain up to 40 DOF)")
-    p.add_argument("--out", default="bench-results/scaling", help="folder for scaling.csv and scaling.png")
+    p.add_argument("--out", type=A.output_folder, default="bench-results/scaling",
+                   help="folder for scaling.csv and scaling.png")
     p.add_argument("--no-cache", action="store_true",
                    help="compile every size afresh in a temporary folder (honest compile times, slower)")
-    p.add_argument("--max-instructions", type=int, default=MAX_INSTRUCTIONS,
+    p.add_argument("--max-instructions", type=A.positive_int, default=MAX_INSTRUCTIONS,
                    help="compile only models whose right-hand side has at most this many operations")
     add_json(p)
     p.set_defaults(fn=cmd_bench_scaling)

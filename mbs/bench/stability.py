@@ -439,9 +439,11 @@ def cmd_bench_stability(args) -> int:
 
 
 def register(sub, bench) -> None:
+    from mbs import arguments as A
+
     p = bench.add_parser("stability", help="measured against predicted step-size limits of the fixed-step methods")
-    p.add_argument("--scene", default="structural", help="scene of the main table (default: structural)")
-    p.add_argument("--revs", type=float, default=20.0, help="span of each run in main-rotor revolutions")
+    A.add_scene(p, "--scene", default="structural", what="scene of the main table (default structural)")
+    p.add_argument("--revs", type=A.positive, default=20.0, help="span of each run in main-rotor revolutions")
     p.add_argument("--case", action="append", choices=("all", "none") + CASES,
                    help="failure case to run (repeatable; default all; 'none' for the table only)")
     add_json(p)

@@ -346,15 +346,17 @@ def cmd_bench_work_precision(args) -> int:
 
 
 def register(sub, bench) -> None:
+    from mbs import arguments as A
     from mbs.solvers import METHODS
 
     p = bench.add_parser("work-precision", help="hinge-angle error against wall time and evaluations, every method")
     p.add_argument("--scene", action="append", choices=SCENES, help="scene (repeatable; default both)")
-    p.add_argument("--revs", type=float, default=1.0, help="span in main-rotor revolutions (default 1)")
+    p.add_argument("--revs", type=A.positive, default=1.0, help="span in main-rotor revolutions (default 1)")
     p.add_argument("--method", action="append", choices=list(METHODS), help="method (repeatable; default all)")
-    p.add_argument("--repeats", type=int, default=REPEATS,
+    p.add_argument("--repeats", type=A.positive_int, default=REPEATS,
                    help=f"timed runs per point, median reported (default {REPEATS})")
     p.add_argument("--quick", action="store_true", help="short sweeps (a few points per method), for a first look")
-    p.add_argument("--out", default="out/work-precision", help="folder for the PNG and CSV files")
+    p.add_argument("--out", type=A.output_folder, default="out/work-precision",
+                   help="folder for the PNG and CSV files")
     add_json(p)
     p.set_defaults(fn=cmd_bench_work_precision)

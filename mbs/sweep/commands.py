@@ -5,6 +5,7 @@ import argparse
 import time
 from pathlib import Path
 
+from mbs import arguments as A
 from mbs.cli import add_json, emit
 
 
@@ -13,7 +14,7 @@ def cmd_sweep(args) -> int:
     from mbs.sweep import run, run_info
 
     axes, options = _axes(args), _options(args)
-    out = Path(args.out or f"out/sweep/{args.kind}-{args.scene}")
+    out = args.out or A.output_folder(f"out/sweep/{args.kind}-{args.scene}")
     start = time.perf_counter()
     result = run(args.kind, args.scene, axes, options, out=out, workers=args.workers, scheduler=args.scheduler,
                  progress=Progress(f"sweep {args.kind} {args.scene}", not args.quiet))
@@ -82,21 +83,42 @@ def _point(row: dict, axes: list[str]) -> str:
     return ", ".join(f"{k} = {row[k]:g}" for k in axes)
 
 
+def _range(flag: str):
+    def parse(text: str):
+        from mbs.sweep.grid import parse_range
+
+        return parse_range(flag, text)
+    return parse
+
+
+def _axis(text: str):
+    from mbs.sweep.grid import parse_axis
+
+    return parse_axis("--param", text)
+
+
+def _setting(text: str):
+    from mbs.analysis.fanplot import parse_settings
+
+    return parse_settings([text])
+
+
 def _common(p: argparse.ArgumentParser) -> None:
     """Arguments of every sweep: scene, where to run, where to write."""
-    p.add_argument("scene")
-    p.add_argument("--param", action="append", metavar="NAME=LO:HI:N",
+    A.add_scene(p)
+    p.add_argument("--param", action="append", metavar="NAME=LO:HI:N", type=A.checked_by(_axis),
                    help="sweep a run-time parameter too (repeatable; the grid is every combination)")
     where = p.add_mutually_exclusive_group()
-    where.add_argument("--workers", type=int, default=None,
+    where.add_argument("--workers", type=A.non_negative_int, default=None,
                        help="worker processes of a local Dask cluster (default: the machine's cores; 0: no Dask)")
     where.add_argument("--scheduler", metavar="ADDRESS", default=None,
                        help="run on an existing Dask cluster, e.g. tcp://host:8786 (its workers must see "
                             "this machine's compiled-model cache folder, $MBS_CACHE_DIR)")
-    p.add_argument("--out", default=None, help="output folder (default out/sweep/KIND-SCENE); an existing one "
+    p.add_argument("--out", type=A.output_folder, default=None, help="output folder (default out/sweep/KIND-SCENE); an existing one "
                    "resumes: its finished points are not computed again")
-    p.add_argument("--backend", choices=["compiled", "vm"], default="compiled")
-    p.add_argument("--steps-per-rev", type=int, default=None, help="steps per revolution (default: the scene's)")
+    p.add_argument("--backend", choices=["compiled", "vm"], default="compiled",
+                   help="evaluator: generated C (default) or CasADi's virtual machine")
+    p.add_argument("--steps-per-rev", type=A.positive_int, default=None, help="steps per revolution (default: the scene's)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     add_json(p)
 
@@ -107,21 +129,23 @@ def register(sub, bench) -> None:
     kinds = p.add_subparsers(dest="kind", required=True, metavar="KIND")
     t = kinds.add_parser("trim", help="periodic trim at every speed (and parameter value)")
     _common(t)
-    t.add_argument("--speed", required=True, metavar="LO:HI:N", help="speeds in m/s, e.g. 0:70:15")
-    t.add_argument("--climb-rate", type=float, default=0.0, help="climb rate in m/s, up positive (default 0)")
-    t.add_argument("--method", choices=("rk4", "rk8"), default="rk4")
-    t.add_argument("--tol", type=float, default=1e-10, help="max |scaled residual| to reach (default 1e-10)")
-    t.add_argument("--iterations", type=int, default=20, help="most Newton iterations (default 20)")
+    t.add_argument("--speed", required=True, metavar="LO:HI:N", type=A.checked_by(_range("--speed")), help="speeds in m/s, e.g. 0:70:15")
+    t.add_argument("--climb-rate", type=A.finite, default=0.0, help="climb rate in m/s, up positive (default 0)")
+    t.add_argument("--method", choices=("rk4", "rk8"), default="rk4", help="fixed-step method (default rk4)")
+    t.add_argument("--tol", type=A.positive, default=1e-10, help="max |scaled residual| to reach (default 1e-10)")
+    t.add_argument("--iterations", type=A.positive_int, default=20, help="most Newton iterations (default 20)")
     s = kinds.add_parser("simulate", help="simulation at every parameter value; min, max, mean of each output")
     _common(s)
-    s.add_argument("--revs", type=float, default=1.0, help="main-rotor revolutions per point (default 1)")
-    s.add_argument("--method", choices=("euler", "rk4", "rk8"), default="rk4")
-    s.add_argument("--dtype", choices=["float64", "float32"], default="float64")
+    s.add_argument("--revs", type=A.positive, default=1.0, help="main-rotor revolutions per point (default 1)")
+    s.add_argument("--method", choices=("euler", "rk4", "rk8"), default="rk4", help="fixed-step method (default rk4)")
+    s.add_argument("--dtype", choices=["float64", "float32"], default="float64",
+                   help="precision of the compiled code (default float64)")
     f = kinds.add_parser("floquet", help="Floquet analysis at every rotor speed (fan plot)")
     _common(f)
-    f.add_argument("--omega", required=True, metavar="LO:HI:N", help="rotor speeds in rad/s, e.g. 20:60:30")
-    f.add_argument("--set", action="append", metavar="NAME=VALUE", help="fixed run-time parameter (repeatable)")
-    f.add_argument("--frame", choices=("fixed", "rotating"), default="fixed")
-    f.add_argument("--method", choices=("rk4", "rk8"), default="rk4")
+    f.add_argument("--omega", required=True, metavar="LO:HI:N", type=A.checked_by(_range("--omega")), help="rotor speeds in rad/s, e.g. 20:60:30")
+    f.add_argument("--set", action="append", metavar="NAME=VALUE", type=A.checked_by(_setting), help="fixed run-time parameter (repeatable)")
+    f.add_argument("--frame", choices=("fixed", "rotating"), default="fixed",
+                   help="rotor-mode frequencies in the fixed frame (multi-blade coordinates, default) or per blade")
+    f.add_argument("--method", choices=("rk4", "rk8"), default="rk4", help="fixed-step method (default rk4)")
     for q in (t, s, f):
         q.set_defaults(fn=cmd_sweep)

@@ -1,0 +1,127 @@
+"""Argument types of the ``heli`` command: every value is checked while the command line is
+parsed, before any work starts.
+
+Each type returns the converted value or raises :class:`argparse.ArgumentTypeError` with a
+message naming the value; argparse adds the option (``heli simulate: error: argument
+--every: 0 must be a whole number >= 1``). Output folders and files are checked for
+writability here too (by writing and removing a temporary file in the nearest existing
+folder), so that a read-only mount, ``/dev/null/x`` or an existing file where a folder is
+wanted is refused before a computation, not after it.
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import tempfile
+from pathlib import Path
+from typing import Callable
+
+Bad = argparse.ArgumentTypeError
+
+
+def whole_number(low: int = 1, high: int | None = None) -> Callable[[str], int]:
+    """Type: an integer in ``[low, high]``."""
+    def convert(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise Bad(f"{text!r} is not a whole number") from None
+        if value < low or (high is not None and value > high):
+            bounds = f">= {low}" if high is None else f"from {low} to {high}"
+            raise Bad(f"{text} must be a whole number {bounds}")
+        return value
+    return convert
+
+
+def real_number(low: float = -math.inf, strict: bool = False) -> Callable[[str], float]:
+    """Type: a finite number ``>= low`` (``> low`` when ``strict``)."""
+    def convert(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise Bad(f"{text!r} is not a number") from None
+        if not math.isfinite(value):
+            raise Bad(f"{text} is not a finite number")
+        if value < low or (strict and value == low):
+            need = "positive" if strict and low == 0 else f"{'>' if strict else '>='} {low:g}"
+            raise Bad(f"{text} must be {need}")
+        return value
+    return convert
+
+
+positive_int = whole_number(1)
+non_negative_int = whole_number(0)
+port = whole_number(1, 65535)
+finite = real_number()
+positive = real_number(0.0, strict=True)
+non_negative = real_number(0.0)
+
+
+def checked_by(parse: Callable[[str], object]) -> Callable[[str], str]:
+    """Type: the text unchanged, after ``parse(text)`` accepted it (its ValueError refuses it)."""
+    def convert(text: str) -> str:
+        try:
+            parse(text)
+        except ValueError as exc:
+            raise Bad(str(exc)) from None
+        return text
+    return convert
+
+
+def folder_problem(path: Path) -> str | None:
+    """Why the folder ``path`` cannot be created or written, or None when it can. Nothing is
+    created: a temporary file is written and removed in the nearest existing folder."""
+    path = Path(path)
+    if path.exists() and not path.is_dir():
+        return f"{path} exists and is not a folder"
+    existing = path
+    while not existing.exists() and existing != existing.parent:
+        existing = existing.parent
+    if not existing.is_dir():
+        return f"{existing} is a file, not a folder"
+    try:
+        with tempfile.TemporaryFile(dir=existing, prefix=".heli-write-test-"):
+            pass
+    except OSError as exc:
+        return f"{existing} is not writable ({exc.strerror or type(exc).__name__})"
+    return None
+
+
+def output_folder(text: str) -> Path:
+    """Type: a folder that can be created or written."""
+    path = Path(text).expanduser()
+    problem = folder_problem(path)
+    if problem:
+        raise Bad(f"cannot write to {text!r}: {problem}")
+    return path
+
+
+def output_file(*suffixes: str) -> Callable[[str], Path]:
+    """Type: a file path ending in one of ``suffixes`` (any when none) whose folder can be
+    created or written."""
+    def convert(text: str) -> Path:
+        path = Path(text).expanduser()
+        if suffixes and path.suffix.lower() not in suffixes:
+            raise Bad(f"{text!r} must be a file name ending in {' or '.join(suffixes)}")
+        if path.is_dir():
+            raise Bad(f"{text!r} is a folder; give a file name")
+        problem = folder_problem(path.parent)
+        if problem:
+            raise Bad(f"cannot write {text!r}: {problem}")
+        return path
+    return convert
+
+
+def scene_names() -> list[str]:
+    """The registered scenes, in registration order."""
+    from mbs import scenes
+
+    return list(scenes.all_scenes())
+
+
+def add_scene(p: argparse.ArgumentParser, *flags: str, what: str = "scene", **kwargs) -> None:
+    """Add a scene argument (positional unless ``flags`` are given) that accepts the
+    registered scenes only and lists them in its help."""
+    names = scene_names()
+    p.add_argument(*(flags or ("scene",)), choices=names, metavar="SCENE",
+                   help=f"{what}: {', '.join(names)} ('heli scenes' describes them)", **kwargs)

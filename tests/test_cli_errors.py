@@ -1,0 +1,243 @@
+"""Every user mistake on the ``heli`` command line ends with exit status 2 and one line on
+stderr naming the option and the value, before any work starts; never with a traceback.
+
+The table runs through :func:`mbs.cli.main` in this process (the same parser and the same
+handling as the ``heli`` script); the issue's own examples, an unwritable working folder and
+a read-only mount also run the installed ``heli`` in a subprocess.
+"""
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import mbs
+from mbs import arguments, cli
+
+HELI = Path(sys.executable).with_name("heli")
+PACKAGE_TRIMS = Path(mbs.__file__).resolve().parent / "models" / "bo105_trim.toml"
+NOT_TRIMMABLE = ("demo-rotor", "demo-driven", "structural", "single-blade", "ground-resonance")
+TRIMMABLE = "trimmable scenes: forward-flight, ground-run, hover, single-blade-aero"
+
+# (command line; words the message must contain). FILE is an existing file, DIR an existing
+# folder with a results.csv in it, PKG the trims file inside the installed package.
+CASES = [
+    ("simulate structural --steps-per-rev 0", ["--steps-per-rev", "0 must be a whole number >= 1"]),
+    ("simulate structural --every 0", ["--every", "0 must be a whole number >= 1"]),
+    ("simulate structural --every 1.5", ["--every", "'1.5' is not a whole number"]),
+    ("simulate structural --revs 0", ["--revs", "0 must be positive"]),
+    ("simulate structural --revs nan", ["--revs", "nan is not a finite number"]),
+    ("simulate structural --revs ten", ["--revs", "'ten' is not a number"]),
+    ("simulate nosuch", ["SCENE", "'nosuch'", "forward-flight"]),
+    ("simulate structural --dtype float16", ["--dtype", "'float16'"]),
+    ("simulate structural --backend gpu", ["--backend", "'gpu'"]),
+    ("simulate structural --method rk5", ["--method", "'rk5'"]),
+    ("simulate forward-flight --aero bogus", ["--aero", "'bogus'", "pitt-peters"]),
+    ("simulate structural --out /dev/null/x", ["--out", "'/dev/null/x'", "/dev/null is a file, not a folder"]),
+    ("simulate structural --out FILE", ["--out", "FILE", "exists and is not a folder"]),
+    ("simulate structural --bogus", ["unrecognized arguments: --bogus"]),
+    *[(f"trim {scene}", [f"scene {scene!r} cannot be trimmed", TRIMMABLE]) for scene in NOT_TRIMMABLE],
+    ("trim hover --speed nan", ["--speed", "nan is not a finite number"]),
+    ("trim hover --climb-rate inf", ["--climb-rate", "inf is not a finite number"]),
+    ("trim hover --tol 0", ["--tol", "0 must be positive"]),
+    ("trim hover --iterations 0", ["--iterations", "0 must be a whole number >= 1"]),
+    ("trim hover --write PKG", ["--write", "PKG", "inside the installed package"]),
+    ("trim hover --write trims.txt", ["--write", "'trims.txt' must be a file name ending in .toml"]),
+    ("trim hover --write /dev/null/x.toml", ["--write", "'/dev/null/x.toml'", "/dev/null exists and is not a folder"]),
+    ("trim hover --write DIR", ["--write", "DIR", "must be a file name ending in .toml"]),
+    ("floquet hover --set lag_damping", ["--set", "'lag_damping'", "NAME=VALUE"]),
+    ("floquet hover --sweep omega=20:60", ["--sweep", "'omega=20:60'", "NAME=LO:HI:N"]),
+    ("floquet structural", ["scene 'structural' has no periodic solution"]),
+    ("floquet hover --out /dev/null/x", ["--out", "'/dev/null/x'"]),
+    ("derivatives ground-run", ["scene 'ground-run' has no free fuselage", "forward-flight, hover"]),
+    ("derivatives hover --mat A.txt", ["--mat", "'A.txt' must be a file name ending in .mat or .npz"]),
+    ("derivatives hover --mat /dev/null/A.mat", ["--mat", "'/dev/null/A.mat'"]),
+    ("figures --out FILE", ["--out", "FILE", "exists and is not a folder"]),
+    ("fmu build --out /dev/null/x", ["--out", "'/dev/null/x'"]),
+    ("fmu build --out /dev/null/x.fmu", ["--out", "'/dev/null/x.fmu'"]),
+    ("fmu build --scenes hover,nosuch", ["--scenes", "unknown scene 'nosuch'"]),
+    ("fmu build --scenes hover,hover", ["--scenes", "'hover,hover': a scene is named twice"]),
+    ("fmu bogus", ["ACTION", "'bogus'"]),
+    ("demo --revs 0", ["--revs", "0 must be positive"]),
+    ("demo --revs -1", ["--revs", "-1 must be positive"]),
+    ("demo --revs 0.001", ["--revs", "0.001 is less than one communication step"]),
+    ("demo --out /dev/null/x", ["--out", "'/dev/null/x'"]),
+    ("demo --out FILE", ["--out", "FILE", "exists and is not a folder"]),
+    ("view", ["give a results folder or results.csv, or --simulate SCENE"]),
+    ("view DIR/missing", ["no results file at", "missing"]),
+    ("view DIR --html /dev/null/x.html", ["--html", "'/dev/null/x.html'"]),
+    ("view DIR --html page.htm", ["--html", "'page.htm' must be a file name ending in .html"]),
+    ("view --simulate nosuch", ["--simulate", "'nosuch'"]),
+    ("view DIR --revs -1", ["--revs", "-1 must be >= 0"]),
+    ("view DIR --slow 0", ["--slow", "0 must be positive"]),
+    ("view DIR --every 0", ["--every", "0 must be a whole number >= 1"]),
+    ("view DIR --serve --port 70000", ["--port", "70000 must be a whole number from 1 to 65535"]),
+    ("sweep trim hover --speed 0:10", ["--speed", "'0:10' must be LO:HI:N"]),
+    ("sweep trim hover --speed 0:10:0", ["--speed", "'0:10:0'"]),
+    ("sweep trim nosuch --speed 0:10:2", ["SCENE", "'nosuch'"]),
+    ("sweep trim hover --speed 0:10:2 --out /dev/null/x", ["--out", "'/dev/null/x'"]),
+    ("sweep simulate hover --param collective", ["--param", "'collective' must be NAME=LO:HI:N"]),
+    ("sweep simulate hover --revs 0 --param collective=0.2:0.3:2", ["--revs", "0 must be positive"]),
+    ("sweep simulate hover --workers -1 --param collective=0.2:0.3:2", ["--workers", "-1 must be a whole number >= 0"]),
+    ("sweep floquet ground-resonance --omega 20:60:30 --set lag_damping", ["--set", "'lag_damping'"]),
+    ("bench fmu --revs 0", ["--revs", "0 must be positive"]),
+    ("bench fmu --repeats 0", ["--repeats", "0 must be a whole number >= 1"]),
+    ("bench stability --revs 0", ["--revs", "0 must be positive"]),
+    ("bench stability --scene nosuch", ["--scene", "'nosuch'"]),
+    ("bench work-precision --revs -1", ["--revs", "-1 must be positive"]),
+    ("bench work-precision --repeats 0", ["--repeats", "0 must be a whole number >= 1"]),
+    ("bench work-precision --out FILE", ["--out", "FILE", "exists and is not a folder"]),
+    ("bench scaling --out /dev/null/x", ["--out", "'/dev/null/x'"]),
+    ("bench scaling --max-instructions 0", ["--max-instructions", "0 must be a whole number >= 1"]),
+    ("bench nosuch", ["BENCHMARK", "'nosuch'"]),
+    ("", ["the following arguments are required: COMMAND"]),
+    ("nosuch", ["COMMAND", "'nosuch'"]),
+]
+
+
+@pytest.fixture
+def places(tmp_path, monkeypatch) -> dict[str, str]:
+    """Stand-ins of the table: an existing file, a results folder, the package's trims file;
+    the working folder is a fresh temporary one."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "a-file").write_text("not a folder")
+    (tmp_path / "results").mkdir()
+    (tmp_path / "results" / "results.csv").write_text("time\n0\n")
+    return {"FILE": str(tmp_path / "a-file"), "DIR": str(tmp_path / "results"), "PKG": str(PACKAGE_TRIMS)}
+
+
+def run_main(argv: list[str], capsys) -> tuple[int, str]:
+    """``mbs.cli.main(argv)``: (exit status, stderr)."""
+    try:
+        code = cli.main(argv)
+    except SystemExit as exc:
+        code = exc.code
+    return code, capsys.readouterr().err
+
+
+def assert_one_line_error(code: int, err: str, words: list[str]) -> None:
+    lines = err.strip().splitlines()
+    assert code == 2, err
+    assert len(lines) == 1 and "error:" in lines[0] and "Traceback" not in err, err
+    for w in words:
+        assert w in lines[0], f"{w!r} not in {lines[0]!r}"
+
+
+@pytest.mark.parametrize("line, words", CASES, ids=[c[0] or "(nothing)" for c in CASES])
+def test_bad_invocation_is_one_line_and_exit_2(line, words, places, capsys, tmp_path):
+    argv = [places.get(w, w) for w in line.split()]
+    before = sorted(p.name for p in tmp_path.iterdir())
+    code, err = run_main(argv, capsys)
+    assert_one_line_error(code, err, [places.get(w, w) for w in words])
+    assert sorted(p.name for p in tmp_path.iterdir()) == before  # nothing written (no out/ folder)
+    assert PACKAGE_TRIMS.read_text().startswith("# Trimmed flight conditions")
+
+
+# -- the issue's examples, through the installed script ----------------------------------------------
+
+@pytest.mark.parametrize("line, words", [
+    ("simulate structural --steps-per-rev 0", ["argument --steps-per-rev: 0"]),
+    ("simulate structural --every 0", ["argument --every: 0"]),
+    ("demo --revs 0", ["argument --revs: 0"]),
+    ("demo --revs -1", ["argument --revs: -1"]),
+    ("demo --out /dev/null/x", ["argument --out: cannot write to '/dev/null/x'"]),
+    ("trim structural", [TRIMMABLE]),
+])
+def test_heli_script_examples(line, words, tmp_path):
+    proc = subprocess.run([str(HELI), *line.split()], cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    assert_one_line_error(proc.returncode, proc.stderr, words)
+    assert proc.stdout == "" and list(tmp_path.iterdir()) == []
+
+
+def _read_only_mount_works() -> bool:
+    if not shutil.which("unshare"):
+        return False
+    probe = subprocess.run(["unshare", "-rm", "sh", "-c", "mount -t tmpfs -o ro none /mnt && ! touch /mnt/x"],
+                           capture_output=True)
+    return probe.returncode == 0
+
+
+@pytest.mark.skipif(not _read_only_mount_works(), reason="no user namespace to mount a read-only file system")
+@pytest.mark.parametrize("line, words", [
+    ("simulate structural --out RO/out", ["argument --out: cannot write to 'RO/out'", "Read-only file system"]),
+    ("figures --out RO", ["argument --out: cannot write to 'RO'", "Read-only file system"]),
+    ("fmu build --out RO/x.fmu", ["argument --out: cannot write 'RO/x.fmu'", "Read-only file system"]),
+    ("demo", ["argument --out: cannot write to 'out/demo'", "Read-only file system"]),  # default, in a read-only cwd
+])
+def test_read_only_mount(line, words, tmp_path):
+    ro = tmp_path / "ro"
+    ro.mkdir()
+    script = f'mount -t tmpfs -o ro none "{ro}" && cd "{ro}" && exec "{HELI}" {line.replace("RO", str(ro))}'
+    proc = subprocess.run(["unshare", "-rm", "sh", "-c", script], capture_output=True, text=True, timeout=120)
+    assert_one_line_error(proc.returncode, proc.stderr, [w.replace("RO", str(ro)) for w in words])
+
+
+@pytest.mark.skipif(not hasattr(os, "geteuid") or os.geteuid() == 0, reason="root writes into read-only folders")
+def test_folder_without_write_permission(tmp_path, capsys):
+    locked = tmp_path / "locked"
+    locked.mkdir(mode=0o555)
+    code, err = run_main(["simulate", "structural", "--out", str(locked / "out")], capsys)
+    assert_one_line_error(code, err, ["--out", "is not writable (Permission denied)"])
+
+
+# -- the checks themselves -------------------------------------------------------------------------
+
+def test_writable_check_creates_nothing(tmp_path):
+    target = tmp_path / "a" / "b" / "c"
+    assert arguments.output_folder(str(target)) == target
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_trim_write_without_path_goes_to_the_users_data_folder(monkeypatch, tmp_path):
+    from mbs import commands
+
+    monkeypatch.setenv("XDG_DATA_HOME", str(tmp_path / "data"))
+    args = cli.parser().parse_args(["trim", "hover", "--write"])
+    assert args.write == tmp_path / "data" / "rotor-mbs" / "trims.toml" == commands.user_trims()
+
+
+def test_version(capsys):
+    with pytest.raises(SystemExit) as exit_:
+        cli.main(["--version"])
+    assert exit_.value.code == 0
+    out = capsys.readouterr().out
+    assert out.startswith("heli: rotor-mbs ") and "CasADi" in out and "Python" in out
+
+
+def _actions(parser, path=("heli",)):
+    """Every (command path, argparse action) of ``parser`` and its subcommands."""
+    import argparse
+
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for name, sub in action.choices.items():
+                yield from _actions(sub, (*path, name))
+        elif not isinstance(action, argparse._HelpAction):
+            yield path, action
+
+
+def test_every_argument_has_help_and_scene_arguments_list_the_scenes():
+    scenes = list(mbs.scenes.all_scenes())
+    actions = list(_actions(cli.parser()))
+    assert len(actions) > 100
+    missing = [f"{' '.join(p)} {a.dest}" for p, a in actions if not (a.help or "").strip()]
+    assert missing == []
+    scene_args = [(p, a) for p, a in actions if a.metavar == "SCENE"]
+    assert len(scene_args) >= 9
+    for path, action in scene_args:
+        assert list(action.choices) == scenes, path
+        assert all(s in action.help for s in scenes), path
+
+
+def test_scenes_does_not_call_velocities_degrees_of_freedom(capsys):
+    assert cli.main(["scenes"]) == 0
+    out = capsys.readouterr().out
+    dof_lines = [line for line in out.splitlines() if "degrees of freedom" in line]
+    assert len(dof_lines) == len(mbs.scenes.all_scenes())
+    assert all("_rate" not in line and ".u" not in line for line in dof_lines)
+    assert "  15 degrees of freedom + 2 extra states (main_rotor.inflow, tail_rotor.inflow)" in out
+    assert "  16 position coordinates: fuselage.x, fuselage.y, fuselage.z, fuselage.qw" in out
