@@ -18,15 +18,16 @@ import pytest
 ARGS = ["--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader", "--use-angle=swiftshader",
         "--disable-quic", "--no-first-run", "--disable-background-networking", "--disable-component-update",
         "--disable-sync", "--disable-dev-shm-usage"]
-VIEWPORT = {"width": 640, "height": 480}
+VIEWPORT = {"width": 1000, "height": 640}
 
 # Page helpers. mcNode walks the scene tree without creating nodes (scene_tree.find would).
+# mcSeek(t): pause an exported page's player and show simulated time t (s).
 HELPERS = """
 window.mcNode = p => { let n = viewer.scene_tree;
   for (const s of p.split('/').filter(Boolean)) { n = n.children[s]; if (!n) return null; } return n; };
 window.mcLocal = p => { const n = mcNode(p); if (!n) return null; n.object.updateMatrix();
   return Array.from(n.object.matrix.elements); };
-window.mcSeek = t => { const a = viewer.animator; a.play(); a.pause(); a.seek(t); viewer.render(); };
+window.mcSeek = t => { __player.pause(); __player.seek(t); viewer.render(); };
 window.mcPixels = () => { viewer.render(); return viewer.renderer.domElement.toDataURL('image/png'); };
 true;
 """

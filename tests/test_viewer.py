@@ -13,9 +13,10 @@ import pytest
 
 from mbs import scenes
 from mbs.simulate import simulate, write
-from viewer import build_scene, export_html, from_results, motion
+from viewer import animation as anim
+from viewer import build_scene, export_html, from_results, motion, pack
 from viewer import kinematics as kin
-from viewer.export import commands_in
+from viewer.export import commands_in, data_in
 from viewer.scene import WORLD
 
 
@@ -82,52 +83,54 @@ def test_every_scene_can_be_shown(name, tmp_path):
     assert len(shapes) == sum(len(p) for p in exp.scene.parts.values()) > 0
 
 
-def _animated_local(page_path, scene, n_keys):
-    """Per body the node transforms (k, 4, 4) stored in the page: tracks, else the static one."""
-    cmds = commands_in(page_path)
-    static = {c["path"]: np.array(c["matrix"]).reshape(4, 4).T for c in cmds if c["type"] == "set_transform"}
-    (anim,) = [c for c in cmds if c["type"] == "set_animation"]
-    tracks = {a["path"]: {t["name"]: t for t in a["clip"]["tracks"]} for a in anim["animations"]}
-    out = {}
-    for path in [WORLD, *scene.paths.values()]:
-        T = np.tile(static[path], (n_keys, 1, 1))
-        for name, tr in tracks.get(path, {}).items():
-            values = np.array([k["value"] for k in tr["keys"]])
-            if name == ".position":
-                T[:, :3, 3] = values
-            else:
-                x, y, z, w = values.T
-                T[:, :3, :3] = np.stack([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-                                         [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-                                         [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]]).transpose(2, 0, 1)
-        out[path] = T
-    return out, tracks
+def _page_local(page_path, scene):
+    """Key times (k,) s, node transforms (k, nb, 4, 4) stored in the page (float32) and the
+    followed origin (k, 3) m."""
+    kf = pack.keyframes_of(data_in(page_path))
+    tracks = [[np.broadcast_to(a, (len(kf.t), a.shape[1])) for a in kf.nodes[scene.paths[b]]] for b in scene.body_names]
+    return kf, np.stack([kin.homogeneous(pos, kin.rotations_xyzw(q)) for pos, q in tracks], axis=1)
 
 
-def test_page_animation_reproduces_core_poses(flight, flight_page):
+def test_page_keys_reproduce_core_poses(flight, flight_page):
     """Keys decoded from the HTML (float32), composed down the tree, give the core's poses."""
     mo, scene = flight_page.motion, flight_page.scene
-    nodes, _ = _animated_local(flight_page.path, scene, len(mo.t))
-    local = np.stack([nodes[scene.paths[b]] for b in scene.body_names], axis=1)
+    kf, local = _page_local(flight_page.path, scene)
+    np.testing.assert_array_equal(kf.t, mo.t)
     world = kin.compose(local, mo.parents)
-    origin = -nodes[WORLD][:, :3, 3]  # the world node follows the fuselage
     for k in range(len(mo.t)):
         origins, rotations = flight.system.poses(mo.recording.state_at(mo.t[k]), mo.t[k], flight.params)
         np.testing.assert_allclose(world[k, :, :3, :3], rotations, atol=2e-6)
         np.testing.assert_allclose(world[k, :, :3, 3], origins, atol=1e-5 * max(1.0, np.abs(origins).max()))
-        np.testing.assert_allclose(origin[k], origins[0], atol=1e-5 * max(1.0, np.abs(origins).max()))
+        np.testing.assert_allclose(kf.follow[k], origins[0], atol=1e-12)  # float64: the camera follows the fuselage
+
+
+def test_pose_between_keys_is_the_core_pose_at_that_time(flight, flight_page):
+    """The player's mapping (animation.local_at / world_at, slerp between keys), at times
+    between keys, equals the core's poses of the state at that time to 1e-5 (measured 2.2e-6)."""
+    mo, scene = flight_page.motion, flight_page.scene
+    kf = pack.keyframes_of(data_in(flight_page.path))
+    rec, worst = mo.recording, 0.0
+    for t in np.r_[0.5 * (mo.t[:-1] + mo.t[1:]), 0.3 * mo.t[:-1] + 0.7 * mo.t[1:]]:
+        origins, rotations = flight.system.poses(rec.state_at(t), t, flight.params)
+        core = kin.relative(kin.homogeneous(origins, rotations), mo.parents)
+        got = anim.local_at(kf, t)
+        worst = max(worst, max(np.abs(got[scene.paths[b]] - core[i]).max() for i, b in enumerate(scene.body_names)))
+        np.testing.assert_allclose(anim.world_at(kf, t)[:3, 3], -origins[0], atol=1e-12)
+        np.testing.assert_allclose(anim.world_at(kf, t, follow=False)[:3, 3], -mo.origins[0, 0], atol=1e-12)
+    assert 1e-8 < worst < 1e-5, worst  # float32 keys and interpolation: not exact, but close
 
 
 def test_keys_stay_under_90_degrees_even_from_coarse_rows(flight, tmp_path):
-    """Rows 20 steps apart turn the tail rotor by ~1.05 revolutions: keys are added back."""
+    """Rows 20 steps apart turn the tail rotor by ~1.05 revolutions: keys are added back, so
+    slerp's short way between keys is the true way."""
     exp = export_html(flight, tmp_path / "coarse.html", every=20)
     mo, scene = exp.motion, exp.scene
-    _, tracks = _animated_local(exp.path, scene, len(mo.t))
-    for path, tr in tracks.items():
-        if ".quaternion" in tr:
-            q = np.array([k["value"] for k in tr[".quaternion"]["keys"]])
-            angle = np.degrees(2 * np.arccos(np.clip(np.abs(np.sum(q[1:] * q[:-1], axis=1)), 0, 1)))
-            assert angle.max() < 60.5, path
+    kf = pack.keyframes_of(data_in(exp.path))
+    for path, (_, q) in kf.nodes.items():
+        if len(q) == 1:
+            continue  # a node that never turns
+        angle = np.degrees(2 * np.arccos(np.clip(np.abs(np.sum(q[1:] * q[:-1], axis=1)), 0, 1)))
+        assert angle.max() < 60.5, path
     # the short way between keys is the true way: the tail hub turns by the driven azimuth
     names = flight.system.info.output_names
     tail = np.array([flight.system.outputs(mo.recording.state_at(t), t, flight.params)[names.index("tail_rotor.azimuth")]
@@ -142,8 +145,8 @@ def test_exported_page_is_one_offline_file(flight_page):
     text = flight_page.path.read_text()
     assert "<script src" not in text.lower() and "<link" not in text.lower()
     urls = set(re.findall(r"(?:https?|wss?|ftp)://[^\s\"'<>)]*", text))
-    # an XML namespace name (never fetched) and the template of viewer.connect(), never called here
-    assert urls <= {"http://www.w3.org/1999/xhtml", "ws://${location.host}`"}, urls
+    # namespace names (never fetched) and the template of viewer.connect(), never called here
+    assert urls <= {"http://www.w3.org/1999/xhtml", "http://www.w3.org/2000/svg", "ws://${location.host}`"}, urls
     assert "viewer.connect(" not in text and "fetch(" not in text.split("var viewer = new MeshCat.Viewer", 1)[1]
     assert "window.__viewerReady = true" in text
     assert flight_page.size < 1.3e6
@@ -158,12 +161,7 @@ def test_results_folder_gives_the_same_keys_as_the_simulation(flight, tmp_path):
 
 def test_inputs_recorded_per_row_drive_the_pitch(tmp_path):
     """A collective column in results.csv (e.g. an FMU input schedule) is used row by row."""
-    sim = simulate("demo-driven", 1.0, backend="vm")
-    write(sim, tmp_path)
-    csv = tmp_path / "results.csv"
-    lines = csv.read_text().splitlines()
-    step = [0.1 if i < 50 else 0.3 for i in range(len(lines) - 1)]
-    csv.write_text("\n".join([lines[0] + ",collective"] + [f"{l},{c}" for l, c in zip(lines[1:], step)]) + "\n")
+    sim, _ = _with_collective_step(tmp_path)
     rec = from_results(tmp_path)
     i = rec.info.param_names.index("collective")
     assert rec.params_at(rec.t[10])[i] == 0.1 and rec.params_at(rec.t[80])[i] == 0.3
@@ -173,6 +171,59 @@ def test_inputs_recorded_per_row_drive_the_pitch(tmp_path):
         p = sim.system.params(collective=pitch)
         _, rotations = sim.system.poses(rec.x[k], rec.t[k], p)
         np.testing.assert_allclose(mo.rotations[k, b], rotations[b], atol=1e-12)
+
+
+def _with_collective_step(tmp_path, revs: float = 1.0):
+    """A demo-driven results folder with a per-row collective column stepping 0.1 -> 0.3 rad
+    at row 50 (as an FMU input schedule records it)."""
+    sim = simulate("demo-driven", revs, backend="vm")
+    write(sim, tmp_path)
+    csv = tmp_path / "results.csv"
+    lines = csv.read_text().splitlines()
+    step = [0.1 if i < 50 else 0.3 for i in range(len(lines) - 1)]
+    csv.write_text("\n".join([lines[0] + ",collective"] + [f"{l},{c}" for l, c in zip(lines[1:], step)]) + "\n")
+    return sim, np.array(step)
+
+
+def test_plot_holds_the_runs_inputs_and_hinge_angles(tmp_path):
+    """The page's plot covers the whole run: per-row collective (deg), the cyclics in their own
+    panel, and every blade's flap and lag (deg) at every recorded row."""
+    sim, step = _with_collective_step(tmp_path)
+    exp = export_html(tmp_path, tmp_path / "v.html")
+    plot = data_in(exp.path)["plot"]
+    np.testing.assert_array_equal(pack.decode(plot["t"]), sim.traj.t)
+    series = {p["title"]: {s["name"]: pack.decode(s["values"]) for s in p["series"]} for p in plot["panels"]}
+    assert list(series) == ["collective pitch (deg)", "cyclic pitch (deg)", "flap (deg)", "lag (deg)"]
+    np.testing.assert_allclose(series["collective pitch (deg)"]["collective"], np.degrees(step), rtol=1e-6)
+    assert list(series["cyclic pitch (deg)"]) == ["lateral_cyclic", "longitudinal_cyclic"]
+    names = sim.system.info.state_names
+    for b in range(1, 4):
+        for hinge in ("flap", "lag"):
+            got = series[f"{hinge} (deg)"][f"blade{b}.{hinge}"]
+            np.testing.assert_allclose(got, np.degrees(sim.traj.x[:, names.index(f"blade{b}.{hinge}")]), atol=1e-5)
+    assert exp.plot_rows == len(sim.traj.t) and exp.sim_time == (sim.traj.t[0], sim.traj.t[-1])
+
+
+def test_azimuth_of_the_readout_is_the_main_rotors(flight, flight_page):
+    """Keyed main-rotor azimuth (unwrapped, rad) equals the model's output omega t."""
+    doc = data_in(flight_page.path)
+    omega = flight.params[flight.system.info.param_names.index("omega")]
+    np.testing.assert_allclose(pack.decode(doc["azimuth"]), omega * flight_page.motion.t, atol=1e-12)
+    assert doc["revolution"] == pytest.approx(2 * np.pi / omega, rel=1e-12)
+
+
+def test_long_runs_are_thinned_to_the_size_limit(tmp_path):
+    """The whole run is shown; under a tighter limit every n-th row is kept (and the page fits)."""
+    sim = simulate("demo-driven", 4.0, backend="vm")
+    full = export_html(sim, tmp_path / "full.html")
+    assert full.every == 1 and full.keys == len(sim.traj.t) == 401
+    limit = full.size - 60_000
+    thin = export_html(sim, tmp_path / "thin.html", max_bytes=limit)
+    assert thin.every >= 2 and thin.size <= limit and thin.keys < full.keys / 1.5
+    assert thin.sim_time == full.sim_time == (0.0, sim.traj.t[-1])
+    assert np.all(np.isin(sim.traj.t[::thin.every], thin.motion.t))
+    with pytest.raises(ValueError, match="max_bytes = 500000 leaves no room"):
+        export_html(sim, tmp_path / "none.html", max_bytes=5e5)
 
 
 def test_last_revolutions_and_slow_motion(tmp_path):

@@ -1,8 +1,14 @@
-"""meshcat animation of a :class:`viewer.motion.Motion` on a :class:`viewer.scene.Scene`.
+"""Keyframes that the page's player interpolates, and the same time-to-pose mapping in numpy.
 
-Every body node gets a position and a quaternion track of its transform relative to its
-parent (tracks that never change are left out: the node keeps its static transform); the
-world node gets the followed body's negated position. Clip time = (t - t_0) * ``slow``.
+Per body node (meshcat path): positions (k, 3) m and quaternions (k, 4) in three.js order
+(x, y, z, w) of its transform relative to its parent, at the key times ``t`` (k,) s of the
+simulation. Between keys a position is linear in time and a quaternion spherical-linear
+(slerp, the short way: neighbouring keys have a non-negative dot product). The page's script
+(``web/player.js``) and :func:`local_at` implement this same mapping, so a page can be
+checked against Python at any time.
+
+The world node is moved by minus the followed body's origin at the current time ("follow"
+camera) or at the first key ("fixed" camera).
 """
 from __future__ import annotations
 
@@ -12,55 +18,78 @@ import numpy as np
 
 from viewer import kinematics as kin
 from viewer.motion import Motion
-from viewer.scene import WORLD, Scene
+from viewer.scene import Scene
+
+SLERP_LINEAR_ABOVE = 0.9995  # cos of the angle below which slerp falls back to normalised lerp
 
 
 @dataclass
 class Keyframes:
-    """Per animated node (meshcat path): clip times (k,) s, positions (k, 3) m and
-    quaternions (k, 4) three.js order (x, y, z, w), with constant tracks marked."""
+    """Key times ``t`` (k,) s; ``nodes[path] = (positions (k, 3) m, quaternions (k, 4) xyzw)``
+    (a track that never changes may be a single row); ``follow`` (k, 3) m: the followed
+    body's origin in the world frame, or None."""
 
-    times: np.ndarray
+    t: np.ndarray
     nodes: dict[str, tuple[np.ndarray, np.ndarray]]
-    slow: float
+    follow: np.ndarray | None
 
 
-def world_transforms(scene: Scene, mo: Motion) -> np.ndarray:
-    """World-node transforms (k, 4, 4): minus the followed body's origin (or identity)."""
-    out = np.tile(np.eye(4), (len(mo.t), 1, 1))
-    if scene.follow is not None:
-        out[:, :3, 3] = -mo.origins[:, scene.body_names.index(scene.follow)]
+def keyframes(scene: Scene, mo: Motion) -> Keyframes:
+    """The body-node tracks of ``mo`` on ``scene``."""
+    quats = kin.quaternions_xyzw(mo.local[:, :, :3, :3])
+    nodes = {scene.paths[name]: (mo.local[:, i, :3, 3], quats[:, i]) for i, name in enumerate(scene.body_names)}
+    follow = None if scene.follow is None else mo.origins[:, scene.body_names.index(scene.follow)]
+    return Keyframes(np.asarray(mo.t, dtype=float), nodes, follow)
+
+
+def interval(times: np.ndarray, t: float) -> tuple[int, float]:
+    """Key index i and weight w in [0, 1] with t = (1 - w) t_i + w t_{i+1}; t clamped to the keys."""
+    if len(times) < 2:
+        return 0, 0.0
+    t = min(max(t, times[0]), times[-1])
+    i = int(np.clip(np.searchsorted(times, t, side="right") - 1, 0, len(times) - 2))
+    return i, float((t - times[i]) / (times[i + 1] - times[i]))
+
+
+def lerp(values: np.ndarray, i: int, w: float) -> np.ndarray:
+    """Row i of ``values`` (k, n) moved by w towards row i + 1 (a single row is constant)."""
+    if len(values) == 1 or w == 0.0:
+        return np.array(values[min(i, len(values) - 1)], dtype=float)
+    return (1 - w) * values[i].astype(float) + w * values[i + 1].astype(float)
+
+
+def slerp(quats: np.ndarray, i: int, w: float) -> np.ndarray:
+    """Unit quaternion between rows i and i + 1 of ``quats`` (k, 4) at weight w, the short way."""
+    if len(quats) == 1 or w == 0.0:
+        return np.array(quats[min(i, len(quats) - 1)], dtype=float)
+    a, b = quats[i].astype(float), quats[i + 1].astype(float)
+    d = float(a @ b)
+    if d < 0:
+        b, d = -b, -d
+    if d > SLERP_LINEAR_ABOVE:
+        q = a + w * (b - a)
+        return q / np.linalg.norm(q)
+    theta = np.arccos(d)
+    return (np.sin((1 - w) * theta) * a + np.sin(w * theta) * b) / np.sin(theta)
+
+
+def local_at(kf: Keyframes, t: float) -> dict[str, np.ndarray]:
+    """Node transforms (4, 4) relative to their parents at time ``t`` (s), per path."""
+    i, w = interval(kf.t, t)
+    out = {}
+    for path, (pos, quat) in kf.nodes.items():
+        R = kin.rotations_xyzw(slerp(quat, i, w))
+        out[path] = kin.homogeneous(lerp(pos, i, w), R)
     return out
 
 
-def keyframes(scene: Scene, mo: Motion, slow: float = 10.0) -> Keyframes:
-    """Track data of the animation; ``slow`` > 0 stretches time (10: ten times slower)."""
-    if not (np.isfinite(slow) and slow > 0):
-        raise ValueError(f"slow = {slow} must be positive and finite")
-    nodes = {WORLD: (world_transforms(scene, mo)[:, :3, 3], np.tile([0.0, 0, 0, 1], (len(mo.t), 1)))}
-    quats = kin.quaternions_xyzw(mo.local[:, :, :3, :3])
-    for i, name in enumerate(scene.body_names):
-        nodes[scene.paths[name]] = (mo.local[:, i, :3, 3], quats[:, i])
-    return Keyframes((mo.t - mo.t[0]) * slow, nodes, float(slow))
-
-
-def lower(kf: Keyframes, repetitions: int = 1_000_000, play: bool = True) -> dict:
-    """The ``set_animation`` command as meshcat's viewer expects it (plain Python types)."""
-    anims = []
-    for path, (pos, quat) in kf.nodes.items():
-        tracks = [_track(".position", "vector3", kf.times, pos), _track(".quaternion", "quaternion", kf.times, quat)]
-        tracks = [t for t in tracks if t is not None]
-        if tracks:
-            anims.append({"path": path, "clip": {"fps": 1, "name": "default", "tracks": tracks}})
-    return {"type": "set_animation", "path": "", "animations": anims,
-            "options": {"play": bool(play), "repetitions": int(repetitions)}}
-
-
-def _track(name: str, kind: str, times: np.ndarray, values: np.ndarray) -> dict | None:
-    if len(times) < 2 or np.abs(values - values[0]).max() < 1e-9:
-        return None
-    return {"name": name, "type": kind,
-            "keys": [{"time": float(t), "value": [float(v) for v in row]} for t, row in zip(times, values)]}
+def world_at(kf: Keyframes, t: float, follow: bool = True) -> np.ndarray:
+    """World-node transform (4, 4) at ``t`` (s): minus the followed origin now, or at the first key."""
+    out = np.eye(4)
+    if kf.follow is not None:
+        i, w = interval(kf.t, t) if follow else (0, 0.0)
+        out[:3, 3] = -lerp(kf.follow, i, w)
+    return out
 
 
 def tip_paths(scene: Scene, mo: Motion) -> dict[str, np.ndarray]:

@@ -33,8 +33,9 @@ def cmd_view(args) -> int:
                       slow=args.slow, trace=not args.no_trace, follow=_follows(args), backend=args.backend,
                       max_bytes=args.max_mb * 1e6)
     res = exp.summary()
+    rows = "every row" if exp.every == 1 else f"1 row in {exp.every}"
     emit(res, args.json, [f"{res['scene']}: t = {exp.sim_time[0]:.4g} to {exp.sim_time[1]:.4g} s, {exp.keys} keyframes "
-                          f"(every {exp.every} row(s)), plot of {exp.plot_rows} rows; largest joint turn between keys "
+                          f"(from {rows}), plot of {exp.plot_rows} rows; largest joint turn between keys "
                           f"{exp.max_key_angle_deg:.1f} deg", f"wrote {exp.path} ({exp.size / 1e6:.2f} MB)"])
     return 0
 
@@ -99,7 +100,7 @@ def register(sub, bench) -> None:
     p.add_argument("--no-follow", action="store_true", help="same as --camera fixed")
     p.add_argument("--camera", choices=["follow", "fixed"], default="follow",
                    help="the view starts following the fuselage (default) or fixed to the ground; the page has a toggle")
-    p.add_argument("--max-mb", type=float, default=5.0, metavar="MB",
+    p.add_argument("--max-mb", type=A.positive, default=5.0, metavar="MB",
                    help="size limit of the page in MB (default 5): longer runs show every N-th recorded row")
     p.add_argument("--backend", choices=["vm", "compiled"], default="vm",
                    help="evaluator for the poses: CasADi's virtual machine (default) or compiled C")

@@ -1,12 +1,17 @@
-"""One self-contained HTML file: meshcat's viewer script inlined, the scene and the
-animation embedded as msgpack commands that run synchronously on load. No server, no
-network: it works from ``file://``. ``window.__viewerReady`` becomes true once every command
-has run; ``window.__viewerInfo`` describes the page (body paths, clip duration, slow)."""
+"""One self-contained HTML file: meshcat's viewer script inlined, the scene embedded as msgpack
+commands that run synchronously on load, the keyframes and plot data as a data document read
+by the page's own player (see :mod:`viewer.page`). No server, no network: it works from
+``file://``. ``window.__viewerReady`` becomes true once the scene is drawn and the player
+has started; ``window.__viewerInfo`` describes the page (body paths, times, stride).
+
+The page is kept under ``max_bytes``: when the rows of the run would not fit, every n-th
+row is shown (keys are added back where a joint would turn 60 deg or more).
+"""
 from __future__ import annotations
 
 import base64
-import html
 import json
+import re
 import uuid
 from dataclasses import dataclass
 from pathlib import Path
@@ -14,33 +19,31 @@ from pathlib import Path
 import numpy as np
 
 from viewer import animation as anim
+from viewer import pack
 from viewer import scene as sc
-from viewer.motion import Motion, motion
+from viewer import series
+from viewer.motion import Motion, as_recording, key_times, motion
+from viewer.page import html_page
+
+DEFAULT_MAX_BYTES = 5_000_000
 
 
 class RecordingWindow:
     """Stands in for meshcat's server connection: keeps the lowered commands, the last
-    one per (type, path, property), the animation last (as the server's scene tree does)."""
+    one per (type, path, property), as the server's scene tree does."""
 
     def __init__(self):
         self.commands: dict[tuple, dict] = {}
-        self.animation: dict | None = None
 
     def send(self, command) -> None:
         data = command if isinstance(command, dict) else command.lower()
-        if data["type"] == "set_animation":
-            self.animation = data
-            return
         if data["type"] == "set_object":
             _stable_uuids(data)
         self.commands[(data["type"], data["path"], data.get("property"))] = data
 
     def packed(self) -> list[bytes]:
         umsgpack = _umsgpack()
-        out = [umsgpack.packb(c) for c in self.commands.values()]
-        if self.animation is not None:  # three.js stores keys in float32 anyway
-            out.append(umsgpack.packb(self.animation, force_float_precision="single"))
-        return out
+        return [umsgpack.packb(c) for c in self.commands.values()]
 
 
 def _umsgpack():
@@ -65,7 +68,8 @@ def _stable_uuids(data: dict) -> None:
 @dataclass
 class Export:
     """What :func:`export_html` wrote: ``path``, ``size`` (bytes), ``keys`` (number of
-    keyframes), ``duration`` (clip s), ``sim_time`` (t_0, t_1) s, ``max_key_angle_deg``."""
+    keyframes), ``duration`` (s of playback at the initial speed), ``sim_time`` (t_0, t_1) s,
+    ``every`` (row stride used), ``plot_rows``, ``max_key_angle_deg``."""
 
     path: Path
     size: int
@@ -73,126 +77,120 @@ class Export:
     duration: float
     sim_time: tuple[float, float]
     slow: float
+    every: int
+    plot_rows: int
     max_key_angle_deg: float
     motion: Motion
     scene: sc.Scene
 
     def summary(self) -> dict:
         return {"html": str(self.path), "bytes": self.size, "keys": self.keys, "duration_s": self.duration,
-                "sim_time_s": list(self.sim_time), "slow": self.slow, "max_key_angle_deg": self.max_key_angle_deg,
+                "sim_time_s": list(self.sim_time), "slow": self.slow, "every": self.every,
+                "plot_rows": self.plot_rows, "max_key_angle_deg": self.max_key_angle_deg,
                 "scene": self.motion.recording.name, "bodies": self.scene.body_names}
 
 
-def record(scene: sc.Scene, mo: Motion, slow: float = 10.0) -> RecordingWindow:
-    """The commands of ``scene`` animated along ``mo`` (first key drawn statically)."""
+def record(scene: sc.Scene, mo: Motion) -> RecordingWindow:
+    """The commands drawing ``scene`` at the first key of ``mo`` (with the tip-path lines)."""
     window = RecordingWindow()
     traces = anim.tip_paths(scene, mo) if scene.traced else {}
-    world0 = anim.world_transforms(scene, mo)[0]
+    world0 = anim.world_at(anim.keyframes(scene, mo), float(mo.t[0]))
     for command in sc.commands(scene, mo.local[0], world0, traces):
         window.send(command)
-    window.send(anim.lower(anim.keyframes(scene, mo, slow)))
     return window
 
 
-def export_html(source, path: str | Path, revs: float | None = 1.0, start: float | None = None, every: int = 1,
-                slow: float = 10.0, flat: bool = False, trace=True, follow=True, backend: str = "vm",
-                title: str | None = None) -> Export:
-    """Write the animated scene of ``source`` (a Simulation, a results folder or csv, or a
-    :class:`viewer.motion.Recording`) to the HTML file ``path``.
+def document(scene: sc.Scene, mo: Motion, slow: float, follow: bool) -> tuple[dict, int]:
+    """The page's data document for ``mo`` and the number of plot rows."""
+    rec = mo.recording
+    rows = series.plot_rows(rec, float(mo.t[0]), float(mo.t[-1]))
+    plot = pack.plot_data(scene, rec.t[rows], series.panels(rec, rows))
+    doc = pack.document(scene, anim.keyframes(scene, mo), plot, series.azimuth(rec, mo.t), rec.revolution,
+                        1.0 / slow, follow)
+    return doc, len(rows)
 
-    revs: main-rotor revolutions shown (None: all; default the last one), from ``start``
-    (s) if given; every: keep every n-th recorded row (keys are added back where a joint
-    would turn 60 deg or more); slow: slow-motion factor; flat: unlit test colours without
-    background, grid and axes; trace: tip paths (see :func:`viewer.scene.build_scene`);
-    follow: keep the free root body at the origin.
+
+def first_stride(rec, scene: sc.Scene, revs, start, every: int, max_bytes: float) -> int:
+    """A row stride (>= ``every``) whose page should fit ``max_bytes``, estimated from the
+    number of rows and bodies (base64 float32 tracks, float64 times)."""
+    room = max_bytes - len(html_page([], {}, {}, "", "").encode("utf-8"))
+    if not room > 0:
+        raise ValueError(f"max_bytes = {max_bytes:.0f} leaves no room for data beside the viewer script")
+    per_key = 4 / 3 * (28 * len(scene.body_names) + 12 * len(scene.traced) + 40)
+    rows = len(key_times(rec, revs, start, every)) * every
+    return max(every, int(np.ceil(rows * per_key / room)))
+
+
+def fitted(rec, scene: sc.Scene, revs, start, every: int, max_bytes: float, render) -> tuple[Motion, str, int]:
+    """The motion, page text (``render(mo, every)``) and stride of the first page that fits
+    ``max_bytes``, thinning the rows from an estimated stride on."""
+    every = first_stride(rec, scene, revs, start, every, max_bytes)
+    for _ in range(8):
+        mo = motion(rec, revs, start, every)
+        text = render(mo, every)
+        size = len(text.encode("utf-8"))
+        if size <= max_bytes:
+            return mo, text, every
+        if len(mo.t) < 3:
+            break
+        every = max(every + 1, int(np.ceil(every * size / max_bytes)))
+    raise ValueError(f"cannot fit {rec.name or rec.info.name} into max_bytes = {max_bytes:.0f}: the page from 1 row "
+                     f"in {every} has {size} bytes (keys stay at most 60 deg of joint turn apart)")
+
+
+def export_html(source, path: str | Path, revs: float | None = None, start: float | None = None, every: int = 1,
+                slow: float = 10.0, flat: bool = False, trace=True, follow=True, backend: str = "vm",
+                title: str | None = None, max_bytes: float = DEFAULT_MAX_BYTES) -> Export:
+    """Write the scene of ``source`` (a Simulation, a results folder or csv, or a
+    :class:`viewer.motion.Recording`) to the HTML file ``path``: 3D view, plot and controls.
+
+    revs: main-rotor revolutions shown (default None: the whole run), from ``start`` (s) if
+    given, else the last ones; every: keep every n-th recorded row at least (keys are added
+    back where a joint would turn 60 deg or more); slow: the page starts playing 1/slow of real
+    time; flat: unlit test colours without background, grid and axes; trace: tip paths (see
+    :func:`viewer.scene.build_scene`), drawn over the last revolution; follow: the camera
+    starts following the free root body (False: fixed; the page has a toggle); max_bytes:
+    the page's size limit (rows are thinned to fit).
     """
-    mo = motion(source, revs, start, every, backend=backend)
-    scene = sc.build_scene(mo.recording.info, flat, trace, follow)
-    window = record(scene, mo, slow)
-    name = mo.recording.name or mo.recording.info.name
-    info = {"model": mo.recording.info.name, "scene": name, "slow": slow, "t0": float(mo.t[0]),
-            "t1": float(mo.t[-1]), "duration": float((mo.t[-1] - mo.t[0]) * slow), "keys": len(mo.t),
-            "bodies": scene.paths, "world": sc.WORLD}
-    label = (f"{name}: t = {mo.t[0]:.4g} to {mo.t[-1]:.4g} s, {slow:g} times slower than real time "
-             f"(Open Controls, Animations: play, pause, time, timeScale)")
-    text = page(window.packed(), info, title or f"{name} (rotor-mbs viewer)", label)
+    if not (np.isfinite(slow) and slow > 0):
+        raise ValueError(f"slow = {slow} must be positive and finite")
+    rec = as_recording(source, backend)
+    scene = sc.build_scene(rec.info, flat, trace, True if follow in (False, None) else follow)
+    name = rec.name or rec.info.name
+    plot_rows = []
+
+    def render(mo: Motion, stride: int) -> str:
+        doc, rows = document(scene, mo, slow, bool(follow))
+        plot_rows[:] = [rows]
+        info = {"model": rec.info.name, "scene": name, "slow": slow, "t0": float(mo.t[0]), "t1": float(mo.t[-1]),
+                "keys": len(mo.t), "every": stride, "bodies": scene.paths, "world": sc.WORLD}
+        label = f"{name}: t = {mo.t[0]:.4g} to {mo.t[-1]:.4g} s" + (f", every {stride} rows" if stride > 1 else "")
+        return html_page(record(scene, mo).packed(), info, doc, title or f"{name} (rotor-mbs viewer)", label)
+
+    mo, text, every = fitted(rec, scene, revs, start, every, max_bytes, render)
     out = Path(path)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(text, encoding="utf-8")
-    return Export(out, out.stat().st_size, len(mo.t), info["duration"], (info["t0"], info["t1"]), slow,
-                  float(np.degrees(mo.max_key_angle().max(initial=0.0))), mo, scene)
+    return Export(out, out.stat().st_size, len(mo.t), float((mo.t[-1] - mo.t[0]) * slow), (float(mo.t[0]), float(mo.t[-1])),
+                  slow, every, plot_rows[0], float(np.degrees(mo.max_key_angle().max(initial=0.0))), mo, scene)
 
 
-def viewer_script() -> str:
-    """meshcat's bundled viewer (three.js r132 and helpers), minified."""
-    mc = sc.meshcat()
-    return (Path(mc.viewer_assets_path()) / "dist" / "main.min.js").read_text(encoding="utf-8")
-
-
-def _notice() -> str:
-    """Names and licences of the inlined third-party code (from meshcat's licence list)."""
-    mc = sc.meshcat()
-    listing = Path(mc.viewer_assets_path()) / "dist" / "main.min.js.THIRD_PARTY_LICENSES.json"
-    try:
-        items = json.loads(listing.read_text())
-        names = ", ".join(f"{i['name']} {i['version']} ({i['license']})" for i in items)
-    except (OSError, ValueError, KeyError):
-        names = "three.js and helpers"
-    return (f"Contains the MeshCat viewer of meshcat-python 0.3.2 (MIT licence), bundling {names}; "
-            "the licence texts ship with the meshcat Python package (viewer/dist).")
-
-
-def page(packed: list[bytes], info: dict, title: str, label: str) -> str:
-    """The HTML text: viewer script, commands (base64 msgpack) and the ready flag."""
-    cmds = ",\n".join(json.dumps(base64.b64encode(b).decode("ascii")) for b in packed)
-    script = viewer_script().replace("</script", "<\\/script")
-    return f"""<!DOCTYPE html>
-<html>
-<head>
-<meta charset="utf-8">
-<title>{html.escape(title)}</title>
-<!-- {html.escape(_notice()).replace("--", "- -")} -->
-<style>
-body {{ margin: 0; }}
-#meshcat-pane {{ width: 100vw; height: 100vh; overflow: hidden; }}
-#viewer-label {{ position: absolute; left: 8px; bottom: 6px; font: 12px sans-serif; color: #fff;
-  text-shadow: 0 0 3px #000; pointer-events: none; }}
-</style>
-</head>
-<body>
-<div id="meshcat-pane"></div>
-<div id="viewer-label">{html.escape(label)}</div>
-<script>
-{script}
-</script>
-<script>
-var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));
-window.__viewerInfo = {json.dumps(info)};
-(function () {{
-  var commands = [
-{cmds}
-  ];
-  for (var i = 0; i < commands.length; i++) {{
-    var text = atob(commands[i]);
-    var bytes = new Uint8Array(text.length);
-    for (var j = 0; j < text.length; j++) bytes[j] = text.charCodeAt(j);
-    viewer.handle_command_bytearray(bytes);
-  }}
-  window.__viewerReady = true;
-}})();
-</script>
-</body>
-</html>
-"""
+def _embedded(path: str | Path, pattern: str, what: str) -> str:
+    text = Path(path).read_text(encoding="utf-8")
+    block = re.search(pattern, text, re.S)
+    if block is None:
+        raise ValueError(f"{path} is not a page written by export_html (no {what})")
+    return block.group(1)
 
 
 def commands_in(path: str | Path) -> list[dict]:
     """The meshcat commands embedded in an exported page, decoded (for checks and tools)."""
-    import re
-
-    text = Path(path).read_text(encoding="utf-8")
-    block = re.search(r"var commands = \[\n(.*?)\n  \];", text, re.S)
-    if block is None:
-        raise ValueError(f"{path} is not a page written by export_html")
+    block = _embedded(path, r"var commands = \[\n(.*?)\n  \];", "scene commands")
     umsgpack = _umsgpack()
-    return [umsgpack.unpackb(base64.b64decode(json.loads(s))) for s in block.group(1).split(",\n")]
+    return [umsgpack.unpackb(base64.b64decode(json.loads(s))) for s in block.split(",\n")]
+
+
+def data_in(path: str | Path) -> dict:
+    """The data document embedded in an exported page (arrays still encoded; see
+    :func:`viewer.pack.decode` and :func:`viewer.pack.keyframes_of`)."""
+    return json.loads(_embedded(path, r'<script id="viewer-data" type="application/json">(.*?)</script>', "data"))

@@ -82,6 +82,15 @@ def quaternions_xyzw(R: np.ndarray) -> np.ndarray:
     return q
 
 
+def rotations_xyzw(q: np.ndarray) -> np.ndarray:
+    """Rotations (..., 3, 3) of unit quaternions (..., 4) in three.js order ``(x, y, z, w)``."""
+    x, y, z, w = np.moveaxis(np.asarray(q, dtype=float), -1, 0)
+    rows = [[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]]
+    return np.moveaxis(np.array(rows), (0, 1), (-2, -1))
+
+
 def key_angles(local: np.ndarray) -> np.ndarray:
     """Rotation (rad) of every node relative to its parent between consecutive keys:
     ``local`` (k, nb, 4, 4) -> (k - 1, nb)."""
