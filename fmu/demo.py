@@ -119,4 +119,4 @@ def _viewer(out: Path) -> Path | None:
     except ImportError:
         print("note: the viewer package is not available; viewer.html not written")
         return None
-    return export_html(out, out / "viewer.html").path
+    return export_html(out, out / "viewer.html", revs=None).path  # the whole run (thinned to fit 5 MB)
