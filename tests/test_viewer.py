@@ -104,20 +104,26 @@ def test_page_keys_reproduce_core_poses(flight, flight_page):
         np.testing.assert_allclose(kf.follow[k], origins[0], atol=1e-12)  # float64: the camera follows the fuselage
 
 
-def test_pose_between_keys_is_the_core_pose_at_that_time(flight, flight_page):
-    """The player's mapping (animation.local_at / world_at, slerp between keys), at times
-    between keys, equals the core's poses of the state at that time to 1e-5 (measured 2.2e-6)."""
+def test_between_keys_the_page_departs_from_the_core_by_the_interpolation_error(flight, flight_page):
+    """The player's mapping (animation.local_at / world_at: linear positions, slerp) at
+    midpoints between keys departs from the core's poses of the state at that time by no more
+    than the interpolation error of a smooth path, h^2 |R''| / 8, estimated from the keys'
+    second differences (measured 0.94 of it: the cyclic pitch, a function of azimuth, curves
+    between keys; 1.6e-5 at 100 keys per revolution). Nearest-key or first-order schemes fail."""
     mo, scene = flight_page.motion, flight_page.scene
     kf = pack.keyframes_of(data_in(flight_page.path))
-    rec, worst = mo.recording, 0.0
-    for t in np.r_[0.5 * (mo.t[:-1] + mo.t[1:]), 0.3 * mo.t[:-1] + 0.7 * mo.t[1:]]:
+    R = mo.local[:, :, :3, :3]
+    curve = np.abs(R[:-2] - 2 * R[1:-1] + R[2:]).max(axis=(-1, -2)) / 8  # (k - 2, nb)
+    curve = np.maximum(np.vstack([curve[:1], curve]), np.vstack([curve, curve[-1:]]))  # per interval
+    rec = mo.recording
+    for j, t in enumerate(0.5 * (mo.t[:-1] + mo.t[1:])):
         origins, rotations = flight.system.poses(rec.state_at(t), t, flight.params)
         core = kin.relative(kin.homogeneous(origins, rotations), mo.parents)
         got = anim.local_at(kf, t)
-        worst = max(worst, max(np.abs(got[scene.paths[b]] - core[i]).max() for i, b in enumerate(scene.body_names)))
+        err = np.array([np.abs(got[scene.paths[b]] - core[i]).max() for i, b in enumerate(scene.body_names)])
+        assert np.all(err <= 1.5 * curve[j] + 2e-6), (t, err, curve[j])
         np.testing.assert_allclose(anim.world_at(kf, t)[:3, 3], -origins[0], atol=1e-12)
         np.testing.assert_allclose(anim.world_at(kf, t, follow=False)[:3, 3], -mo.origins[0, 0], atol=1e-12)
-    assert 1e-8 < worst < 1e-5, worst  # float32 keys and interpolation: not exact, but close
 
 
 def test_keys_stay_under_90_degrees_even_from_coarse_rows(flight, tmp_path):

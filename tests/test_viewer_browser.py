@@ -140,34 +140,55 @@ def _readout(page) -> tuple[float, float, float]:
 
 
 def test_slider_sets_the_time_pose_readout_and_plot_cursor(page, pages):
-    """Slider to a time (on keys and between them): the node transforms equal the core's poses
-    at that time to 1e-5 (measured 2.3e-6) and the page's mapping (viewer.animation) to 1e-12; the readout shows
-    the time, revolutions and azimuth; the plot cursor stands at that time."""
+    """The slider goes to the key nearest the time it is set to: the player's time is that
+    key's, the node transforms equal the core's body poses at that time to 1e-5 (float32
+    keys: measured 1.7e-7), the readout shows the time, revolution and azimuth, and the plot
+    cursor stands at that time. Arrow keys step one key back or on."""
     exp = pages["default"]
     open_viewer(page, exp.path.as_uri())
     page.click("#play")  # pause
     mo, paths = exp.motion, _node_paths(exp)
-    kf = pack.keyframes_of(data_in(exp.path))
     revolution = mo.recording.revolution
     omega = 2 * np.pi / revolution
     svg = page.evaluate("(() => { const d = document.getElementById('plot').dataset; "
                         "return [+d.t0, +d.t1, +d.x0, +d.x1]; })()")
-    k = len(mo.t) // 3
-    for t in (mo.t[0], mo.t[k], 0.5 * (mo.t[k] + mo.t[k + 1]), 0.77 * mo.t[-1], mo.t[-1]):
-        page.locator("#time").fill(repr(float(t)))
-        shown = page.evaluate("__player.state().time")  # the slider keeps about 15 digits
-        assert shown == pytest.approx(t, rel=1e-14, abs=1e-300)
-        t = shown
-        got = _transforms(page, paths)
-        err = np.abs(got - _core_transforms(exp, t)).max()
+    k, last = len(mo.t) // 3, len(mo.t) - 1
+    for target, key in ((mo.t[0], 0), (mo.t[k], k), (0.7 * mo.t[k] + 0.3 * mo.t[k + 1], k),
+                        (0.3 * mo.t[k] + 0.7 * mo.t[k + 1], k + 1), (0.77 * mo.t[-1], round(0.77 * last)),
+                        (mo.t[-1], last)):
+        page.locator("#time").fill(repr(float(target)))
+        t = page.evaluate("__player.state().time")
+        assert t == mo.t[key]
+        err = np.abs(_transforms(page, paths) - _core_transforms(exp, t)).max()
         assert err < 1e-5, (t, err)
-        mine = anim.local_at(kf, t)
-        assert np.abs(got[:-1] - np.array([mine[p] for p in paths[:-1]])).max() < 1e-12  # measured 1.4e-15
         shown_t, shown_rev, shown_az = _readout(page)
         assert shown_t == round(t, 4) and shown_rev == round(t / revolution, 3)
-        assert min(abs(shown_az - np.degrees(omega * t) % 360), 360 - abs(shown_az - np.degrees(omega * t) % 360)) < 0.051
+        az = np.degrees(omega * t) % 360
+        assert min(abs(shown_az - az), 360 - abs(shown_az - az)) < 0.051
         x = float(page.get_attribute("#plot-cursor", "x1"))
         assert svg[0] + (x - svg[2]) / (svg[3] - svg[2]) * (svg[1] - svg[0]) == pytest.approx(t, abs=1e-9)
+    page.evaluate(f"__player.seek({float(0.5 * (mo.t[k] + mo.t[k + 1]))!r})")
+    page.locator("#plot").focus()
+    for key, expected in (("ArrowLeft", k), ("ArrowLeft", k - 1), ("ArrowRight", k), ("ArrowRight", k + 1)):
+        page.keyboard.press(key)
+        assert page.evaluate("__player.state().time") == mo.t[expected]
+    assert page.errors == []
+
+
+def test_between_keys_the_page_moves_as_python_says(page, pages):
+    """Playing passes through times between keys: there the node transforms are the mapping
+    of viewer.animation (local_at, world_at) to 1e-12 (measured 1.5e-15)."""
+    exp = pages["default"]
+    open_viewer(page, exp.path.as_uri())
+    mo, paths = exp.motion, _node_paths(exp)
+    kf = pack.keyframes_of(data_in(exp.path))
+    for k in range(0, len(mo.t) - 1, 7):
+        t = float(0.37 * mo.t[k] + 0.63 * mo.t[k + 1])
+        page.evaluate(f"mcSeek({t!r})")
+        mine = anim.local_at(kf, t)
+        expected = np.array([mine[p] for p in paths[:-1]] + [anim.world_at(kf, t)])
+        err = np.abs(_transforms(page, paths) - expected).max()
+        assert err < 1e-12, (t, err)
     assert page.errors == []
 
 

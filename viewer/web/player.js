@@ -3,7 +3,9 @@
    quaternions spherical-linear between keys (the mapping of viewer/animation.py, local_at and
    world_at). Controls: play/pause (space bar), time slider (arrow keys: one key back or on),
    playback speed, follow-fuselage camera; the readout shows t, revolutions and the main-rotor
-   azimuth. window.__player exposes seek(t), play(), pause() and the state. */
+   azimuth. Playing runs through the times between keys; the slider and the plot seek to the
+   nearest key, where the poses are the simulation's own. window.__player exposes seek(t),
+   seekKey(t), play(), pause() and the state. */
 (function () {
   "use strict";
   var D = window.__viewerData;
@@ -104,6 +106,12 @@
     viewer.set_dirty();
   }
 
+  /* Show the key nearest to time t (s). */
+  function seekKey(t) {
+    var iw = locate(t);
+    seek(T[iw[1] < 0.5 ? iw[0] : Math.min(iw[0] + 1, K - 1)]);
+  }
+
   function setPlaying(on) {
     state.playing = on;
     button.textContent = on ? "\u275a\u275a pause" : "\u25b6 play";
@@ -133,7 +141,7 @@
     speeds.forEach(function (s) {
       var o = document.createElement("option");
       o.value = String(s);
-      o.textContent = "\u00d7" + s + (s === 1 ? " (real time)" : "");
+      o.textContent = "\u00d7" + Number(s.toPrecision(3)) + (s === 1 ? " (real time)" : "");
       o.selected = s === D.speed;
       speed.appendChild(o);
     });
@@ -143,7 +151,7 @@
   function setupControls() {
     slider.min = String(T0);
     slider.max = String(T1);
-    slider.addEventListener("input", function () { seek(parseFloat(slider.value)); });
+    slider.addEventListener("input", function () { seekKey(parseFloat(slider.value)); });
     button.addEventListener("click", function () { setPlaying(!state.playing); });
     setupSpeed();
     followBox.checked = state.follow;
@@ -163,7 +171,7 @@
   };
 
   window.__player = {
-    seek: seek, locate: locate, step: step,
+    seek: seek, seekKey: seekKey, locate: locate, step: step,
     play: function () { setPlaying(true); },
     pause: function () { setPlaying(false); },
     state: function () { return {time: state.time, playing: state.playing, speed: state.speed, follow: state.follow}; },

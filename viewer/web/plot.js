@@ -1,7 +1,7 @@
 /* Plot of an exported page (plain SVG): one panel per group of window.__viewerData.plot
    (pitch inputs, flap, lag, teeter ... in deg) against time, in s on the bottom axis and in
    main-rotor revolutions on the top axis, legends above the panels, a cursor at the player's
-   time. Click or drag on the plot to seek. window.__plot.cursor(t) moves the cursor;
+   time. Click or drag on the plot to seek (to the nearest key). window.__plot.cursor(t) moves the cursor;
    the svg's data-t0/-t1/-x0/-x1 give its time axis in viewBox units. */
 (function () {
   "use strict";
@@ -116,8 +116,8 @@
     return t0 + (x - L) / (W - L - R) * (t1 - t0);
   }
   var dragging = false;
-  svg.addEventListener("pointerdown", function (e) { dragging = true; window.__player.seek(timeAt(e)); });
-  svg.addEventListener("pointermove", function (e) { if (dragging) window.__player.seek(timeAt(e)); });
+  svg.addEventListener("pointerdown", function (e) { dragging = true; window.__player.seekKey(timeAt(e)); });
+  svg.addEventListener("pointermove", function (e) { if (dragging) window.__player.seekKey(timeAt(e)); });
   window.addEventListener("pointerup", function () { dragging = false; });
 
   window.__plot = {
