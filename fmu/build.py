@@ -73,7 +73,9 @@ def plan(scene_names) -> tuple[dict, dict]:
     from mbs.backends import build
     from mbs.backends.compiled import generate
 
-    groups, per_scene = {}, {}
+    from fmu import periodic
+
+    groups, per_scene, starts = {}, {}, {}
     for name in scene_names:
         scene = registry.get(name)
         model = scene.model()
@@ -81,17 +83,29 @@ def plan(scene_names) -> tuple[dict, dict]:
         key = hashlib.sha256(generate(vm.functions, vm.info, "float64").encode()).hexdigest()
         groups.setdefault(key, (re.sub(r"\W", "_", name), vm))
         per_scene[name] = (scene, model, vm, groups[key][0])
+        starts[name] = periodic.start(scene, vm, log=lambda m: print(m, file=sys.stderr, flush=True))
     primary = per_scene[scene_names[0]]
-    variables = _variables(primary, scene_names)
+    variables = _variables(primary, scene_names, periodic_start=any(starts.values()))
+    _note_missing_outputs(variables, per_scene)
     computed = [v for v in variables if v["causality"] in ("output", "local")]
     spec = {"model_identifier": identifier(scene_names), "primary": scene_names[0], "family": list(scene_names),
             "description": f"{primary[0].description} (scenes: {', '.join(scene_names)})",
             "version": _version(), "variables": variables, "n_computed": len(computed),
             "default_experiment": _default_experiment(primary), "limits": dict(LIMITS),
-            "scenes": {n: _scene_spec(per_scene[n], variables) for n in scene_names}}
+            "scenes": {n: _scene_spec(per_scene[n], variables, starts[n]) for n in scene_names}}
     _add_starts(variables, spec["scenes"][spec["primary"]], spec["primary"])
     functions = {g: (vm, {**vm.functions, "fmu_outputs": fmu_outputs(vm, computed)}) for g, vm in groups.values()}
     return spec, functions
+
+
+def _note_missing_outputs(variables: list[dict], per_scene: dict) -> None:
+    """Say in its description which scenes of the family do not model an output or state of
+    the primary scene (there it is 0)."""
+    for v in variables:
+        lacking = [n for n, (_, _, vm, _) in per_scene.items()
+                   if v["causality"] in ("output", "local") and not _modelled(vm.info, v)]
+        if lacking:
+            v["description"] += f" (0 in {', '.join(lacking)}: not modelled there)"
 
 
 def _version() -> str:
@@ -122,7 +136,7 @@ def _add_starts(variables: list[dict], primary: dict, primary_name: str) -> None
 def _primary_value(name: str, scene: dict, scene_name: str):
     """Default of the variable ``name`` in the scene ``scene`` (a scene spec)."""
     omega = scene["defaults"].get("omega", scene["omega"])
-    fixed = {"scene": scene_name, "evaluator": "compiled", "integrator": "rk4",
+    fixed = {"scene": scene_name, "evaluator": "compiled", "integrator": "rk4", "initial_state": "scene",
              "max_step": 2 * math.pi / abs(omega) / scene["steps_per_rev"],  # as the slave computes it
              "initial_forward_speed": scene["forward_speed"]["default"] if scene["forward_speed"] else 0.0}
     return fixed[name] if name in fixed else float(scene["defaults"][name])
@@ -137,7 +151,7 @@ def _finite(value):
     return float(value) if value is not None and np.isfinite(value) else None
 
 
-def _variables(primary, scene_names) -> list[dict]:
+def _variables(primary, scene_names, periodic_start: bool = False) -> list[dict]:
     scene, model, vm, _ = primary
     info = vm.info
     out = [_var(p["name"], "input", "continuous", p["description"], p["unit"] or None,
@@ -150,6 +164,12 @@ def _variables(primary, scene_names) -> list[dict]:
     out.append({**_var("integrator", "parameter", "fixed", "fixed-step method of the shipped driver: rk4 "
                        "(classical, the default) or rk8 (Dormand-Prince 8th-order weights, 12 stages)"),
                 "type": "String", "allowed": ["rk4", "rk8"]})
+    if periodic_start:
+        out.append({**_var("initial_state", "parameter", "fixed", "start of the run: scene (the scene's initial "
+                           "state, every blade released at zero flap and lag; the default) or periodic (the scene's "
+                           "periodic trim: controls, attitude, velocities and rotor states; with the trim inputs held "
+                           "the run is periodic from its first step)"),
+                    "type": "String", "allowed": ["scene", "periodic"]})
     out.append(_var("max_step", "parameter", "tunable", "largest internal integrator step; each "
                     "communication step is split into equal sub-steps no longer than this; default 1/100 "
                     "revolution", "s", min=MAX_STEP_RANGE[0], max=MAX_STEP_RANGE[1]))
@@ -199,7 +219,7 @@ def _free_body_variables(b: dict) -> list[dict]:
     return out
 
 
-def _scene_spec(entry, variables) -> dict:
+def _scene_spec(entry, variables, start: dict | None = None) -> dict:
     scene, _, vm, group = entry
     info = vm.info
     names = {v["name"] for v in variables}
@@ -208,13 +228,24 @@ def _scene_spec(entry, variables) -> dict:
         raise ValueError(f"scene {scene.name!r} has parameters {missing} that the primary scene lacks")
     free = [b for b in info.bodies if b["joint"] == "FreeJoint"]
     x0 = np.array(info.x0)
-    return {"group": group, "x0": info.x0, "omega": scene.omega, "steps_per_rev": scene.steps_per_rev,
-            "revolution": _revolution(scene, vm), "parameter_order": info.param_names,
-            "defaults": {p["name"]: p["default"] for p in info.parameters},
-            "ranges": {**{p["name"]: [_finite(p["low"]), _finite(p["high"])] for p in info.parameters},
-                       "max_step": list(MAX_STEP_RANGE), "initial_forward_speed": list(FORWARD_SPEED_RANGE)},
-            "hinge_states": _hinge_states(info), "plots": scene.plots, "description": scene.description,
-            "forward_speed": _forward_speed(info, free[0], x0) if free else None}
+    out = {"group": group, "x0": info.x0, "omega": scene.omega, "steps_per_rev": scene.steps_per_rev,
+           "revolution": _revolution(scene, vm), "parameter_order": info.param_names,
+           "defaults": {p["name"]: p["default"] for p in info.parameters},
+           "ranges": {**{p["name"]: [_finite(p["low"]), _finite(p["high"])] for p in info.parameters},
+                      "max_step": list(MAX_STEP_RANGE), "initial_forward_speed": list(FORWARD_SPEED_RANGE)},
+           "hinge_states": _hinge_states(info), "plots": scene.plots, "description": scene.description,
+           "forward_speed": _forward_speed(info, free[0], x0) if free else None}
+    out["periodic"] = _periodic_spec(start, out, info, free) if start else None
+    return out
+
+
+def _periodic_spec(start: dict, scene: dict, info, free) -> dict:
+    """The periodic start of a scene in the form of the scene's own start (``x0``,
+    ``defaults``, ``forward_speed``), with the trim's figures and provenance (``trim``)."""
+    x0 = np.array([start["state"][n] for n in info.state_names])
+    trim = {k: v for k, v in start.items() if k not in ("state", "controls")}
+    return {"x0": x0.tolist(), "defaults": {**scene["defaults"], **start["controls"]},
+            "forward_speed": _forward_speed(info, free[0], x0) if free else None, "trim": trim}
 
 
 def _hinge_states(info) -> list[int]:
@@ -260,8 +291,10 @@ def fmu_outputs(vm, computed):
         elif v["kind"] == "euler" and _is_free(info, v["body"]):
             q = [x[info.state_names.index(n)] for n in _body(info, v["body"])["q_names"][3:7]]
             values.append(_euler(*q)[v["axis"]])
-        else:
+        elif _modelled(info, v):
             values.append(_clamped_value(info.name, vm, v, quat_to_euler))
+        else:
+            values.append(0.0)  # not modelled in this member of the family (see the description)
     return ca.Function("fmu_outputs", [x, t, p], [ca.vertcat(*values)], ["x", "t", "p"], ["values"])
 
 
@@ -279,6 +312,15 @@ def _euler(w, x, y, z):
 
 def _body(info, name: str) -> dict | None:
     return next((b for b in info.bodies if b["name"] == name), None)
+
+
+def _modelled(info, v: dict) -> bool:
+    """Whether the model ``info`` has the computed variable ``v``: as a state or output, as the
+    energy, or as the fixed pose of a body it clamps."""
+    name = v["name"]
+    if v["kind"] in ("energy", "euler") or name in info.state_names or name in info.output_names:
+        return True
+    return v["kind"] == "state" and _body(info, v.get("body") or name.split(".")[0]) is not None
 
 
 def _is_free(info, name: str) -> bool:
@@ -395,8 +437,9 @@ def _recompress(src: Path, dest: Path, shim_library: bytes | None = None) -> Non
 
 # -- cache ----------------------------------------------------------------------------------
 
-SOURCE_SUFFIXES = (".py", ".toml", ".c", ".h")
-"""The files of ``mbs`` and ``fmu`` whose content keys the FMU cache."""
+SOURCE_SUFFIXES = (".py", ".toml", ".json", ".c", ".h")
+"""The files of ``mbs`` and ``fmu`` whose content keys the FMU cache (``.json``: the stored
+periodic starts)."""
 
 
 def cache_key(scene_names) -> str:

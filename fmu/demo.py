@@ -1,20 +1,25 @@
 """``heli demo``: the main job.
 
-Builds the Bo105 FMU (or takes it from the cache), runs the ``forward-flight`` scene through
-fmpy for a few revolutions with a pitch-input schedule (a collective step and a longitudinal
-cyclic doublet) and writes, into one folder:
+Builds the Bo105 FMU (or takes it from the cache), starts the ``forward-flight`` scene from
+its periodic trim (``initial_state = "periodic"``: controls, attitude and rotor states of
+:mod:`fmu.periodic`, so that no start-up transient hides the response), runs it through fmpy
+for a few revolutions with a pitch-input schedule on the trim's inputs (a collective step and
+a longitudinal cyclic doublet) and writes, into one folder:
 
 - ``results.csv``: time (s), every state by name, the model outputs, the fuselage Euler
   angles, the total energy and the pitch inputs, all as recorded from the FMU;
-- ``run.json``: scene, FMU, communication step, schedule, timings, final parameters (so
-  that the folder can be reopened, e.g. by the viewer);
-- ``hinge_angles.png``: the pitch inputs and the hinge angles over revolutions;
-- ``viewer.html``: the animated last revolution (when the ``viewer`` package is present).
+- ``run.json``: scene, start, trim (with its provenance), FMU, communication step, schedule,
+  timings, final parameters (so that the folder can be reopened, e.g. by the viewer);
+- ``hinge_angles.png``: the pitch inputs and the hinge angles against time (s and revolutions);
+- the ``.fmu`` that ran (a copy of the cached one), for other importers;
+- ``viewer.html``: the browser animation (when the ``viewer`` package is present).
 """
 from __future__ import annotations
 
 import json
+import shutil
 import time
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -22,6 +27,7 @@ import numpy as np
 from fmu import build, hosts
 
 SCENE = "forward-flight"
+START = "periodic"
 
 
 def fmu_facts(path: Path) -> dict:
@@ -38,22 +44,26 @@ def run(out: Path, revs: float = 10.0, log=print) -> dict:
     """Build (cached), run through fmpy and write the files; returns a summary."""
     start = time.perf_counter()
     path, build_s = build.ensure_fmu(build.DEFAULT_SCENES, log=log)
-    facts = fmu_facts(path)
+    facts, spec = fmu_facts(path), fmu_spec(path)
+    trim = spec["scenes"][SCENE]["periodic"]
     dt, steps_per_rev = facts["step"], 100
-    table = hosts.pitch_schedule(facts["inputs"], dt, steps_per_rev)
+    table = hosts.pitch_schedule({n: trim["defaults"][n] for n in facts["inputs"]}, dt, steps_per_rev)
     stop = round(revs * steps_per_rev) * dt
     names = facts["recorded"] + list(facts["inputs"])
     t0 = time.perf_counter()
-    res = hosts.run_fmpy(path, stop, dt, table, {"scene": SCENE}, names)
+    res = hosts.run_fmpy(path, stop, dt, table, {"scene": SCENE, "initial_state": START}, names)
     run_s = time.perf_counter() - t0
     out.mkdir(parents=True, exist_ok=True)
-    summary = {"scene": SCENE, "fmu": str(path), "revs": revs, "communication_step_s": dt,
+    copy = Path(shutil.copy2(path, out / path.name))
+    summary = {"scene": SCENE, "initial_state": START, "trim": trim["trim"], "fmu": str(copy),
+               "fmu_cached": str(path), "revs": revs, "communication_step_s": dt,
                "simulated_s": stop, "build_s": build_s, "fmpy_wall_s": run_s,
                "realtime_factor": stop / run_s, "importer": "fmpy.simulate_fmu",
                "schedule": hosts.table_rows(table),
                "parameters": {**_fmu_parameters(path), **{n: float(res[n][-1]) for n in facts["inputs"]}}}
     files = {"results": _write_csv(res, out / "results.csv"),
-             "hinge_angles": hinge_plot(res, path, facts, dt * steps_per_rev, out / "hinge_angles.png")}
+             "hinge_angles": hinge_plot(res, table, dt * steps_per_rev, spec, out / "hinge_angles.png"),
+             "fmu": copy}
     summary["files"] = {k: str(v) for k, v in files.items()}
     (out / "run.json").write_text(json.dumps(summary, indent=1))
     summary["files"]["run"] = str(out / "run.json")
@@ -80,36 +90,24 @@ def _write_csv(res: np.ndarray, path: Path) -> Path:
     return path
 
 
-def hinge_plot(res: np.ndarray, fmu: Path, facts: dict, revolution: float, path: Path) -> Path:
-    """Pitch inputs, then one panel per group of hinge angles (the scene's plot panels), deg."""
-    import matplotlib
+def hinge_plot(res: np.ndarray, table: np.ndarray, revolution: float, spec: dict, path: Path) -> Path:
+    """The pitch inputs (collectives, cyclics) and the scene's hinge-angle panels against time
+    (s and revolutions), in degrees; dotted lines at the input switches of ``table``."""
+    from mbs import plots
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    panels = {"pitch inputs (rad)": list(facts["inputs"]), **_scene_panels(fmu)}
-    fig, axes = plt.subplots(len(panels), 1, figsize=(8, 2.2 * len(panels) + 0.6), sharex=True, squeeze=False)
-    revs = res["time"] / revolution
-    for ax, (label, names) in zip(axes[:, 0], panels.items()):
-        for name in names:
-            ax.plot(revs, np.degrees(res[name]), lw=1.0, label=name)
-        ax.set_ylabel(label.replace("(rad)", "(deg)"), fontsize=8)
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=7, ncol=min(len(names), 4), loc="upper right")
-    axes[-1, 0].set_xlabel("main-rotor revolutions")
-    fig.suptitle(f"{SCENE} through the FMU (fmpy): collective step and cyclic doublet", fontsize=10)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    inputs = list(table.dtype.names[1:])
+    panels = {"collective pitch (rad)": [n for n in inputs if "cyclic" not in n],
+              "cyclic pitch (rad)": [n for n in inputs if "cyclic" in n], **spec["scenes"][SCENE]["plots"]}
+    events = sorted({float(t) for t in table["time"][1:] if t <= res["time"][-1]})
+    return plots.time_panels(res["time"], revolution, res, panels, path,
+                             f"{SCENE} through the FMU (fmpy) from its periodic trim: collective step and "
+                             "longitudinal-cyclic doublet", events)
 
 
-def _scene_panels(fmu: Path) -> dict:
-    import zipfile
-
+def fmu_spec(fmu: Path) -> dict:
+    """The build's ``spec.json`` inside the pythonfmu FMU ``fmu`` (variables, scenes, starts)."""
     with zipfile.ZipFile(fmu) as z:
-        spec = json.loads(z.read("resources/heli_models/spec.json"))
-    return spec["scenes"][SCENE]["plots"]
+        return json.loads(z.read("resources/heli_models/spec.json"))
 
 
 def _viewer(out: Path) -> Path | None:

@@ -10,6 +10,9 @@ Inputs are held constant over a communication step, which is split into
 Start values: every input and parameter has the primary scene's value as its XML start. A
 value set equal to its start counts as "not set": the scene in use supplies its own
 default (so a master that applies every start value runs any scene with that scene's trim).
+``initial_state`` selects the start: ``scene`` (the scene's initial state, the default) or
+``periodic`` (the scene's periodic trim from the build, :mod:`fmu.periodic`), whose
+controls are then the inputs' defaults.
 
 Errors: pythonfmu's wrapper turns a Python exception into ``fmi2Fatal`` and then crashes on
 the next call, so no exception ever leaves this slave. Every entry point (instantiate and
@@ -468,18 +471,30 @@ class HeliRotorSlave(Fmi2Slave):
         """The value in use: the one set, unless it was refused, else the scene's default."""
         return self._settings[name] if name in self._settings and name not in self._errors else self._default(name)
 
+    def _start(self) -> dict:
+        """The start in use: the scene's own (its ``x0``, ``defaults``, ``forward_speed``) or,
+        with ``initial_state = "periodic"``, its periodic trim (the same entries)."""
+        scene = self._scene()
+        return scene["periodic"] if self._periodic() and scene.get("periodic") else scene
+
+    def _periodic(self) -> bool:
+        """True when ``initial_state = "periodic"`` is in use."""
+        return "initial_state" in self._vars and self._use("initial_state") == "periodic"
+
     def _default(self, name: str):
-        """The default of ``name`` in the scene in use (rad, rad/s, s, m/s as declared)."""
-        fixed = {"scene": self._spec["primary"], "evaluator": "compiled", "integrator": "rk4"}
+        """The default of ``name`` in the scene and start in use (rad, rad/s, s, m/s as declared)."""
+        fixed = {"scene": self._spec["primary"], "evaluator": "compiled", "integrator": "rk4",
+                 "initial_state": "scene"}
         if name in fixed:
             return fixed[name]
         scene = self._scene()
         if name == "max_step":
             omega = self._use("omega") if "omega" in self._vars else scene["omega"]
             return 2 * math.pi / abs(omega) / scene["steps_per_rev"]
+        start = self._start()
         if name == "initial_forward_speed":
-            return scene["forward_speed"]["default"] if scene["forward_speed"] else 0.0
-        return scene["defaults"][name]
+            return start["forward_speed"]["default"] if start["forward_speed"] else 0.0
+        return start["defaults"][name]
 
     def _set(self, name: str, value, call: str = "set") -> None:
         """Store ``value`` for the input or parameter ``name`` (its start value: "not set"),
@@ -592,11 +607,14 @@ class HeliRotorSlave(Fmi2Slave):
 
     def _prepare(self) -> None:
         """Load the scene's evaluator and set the initial state at the start time."""
-        scene = self._scene()
-        x0 = np.array(scene["x0"], dtype=float)
+        if self._periodic() and not self._scene().get("periodic"):
+            raise BadValue(f"parameter 'initial_state' = 'periodic': the scene {self._use('scene')!r} has no "
+                           "periodic start (it cannot be trimmed)")
+        start = self._start()
+        x0 = np.array(start["x0"], dtype=float)
         if "initial_forward_speed" in self._settings and "initial_forward_speed" not in self._errors:
-            x0 = self._with_forward_speed(scene, x0, float(self._settings["initial_forward_speed"]))
-        self._load(scene["group"], self._use("evaluator"), x0, np.zeros(x0.size))
+            x0 = self._with_forward_speed(start, x0, float(self._settings["initial_forward_speed"]))
+        self._load(self._scene()["group"], self._use("evaluator"), x0, np.zeros(x0.size))
         self._t = self._start_time
 
     def _load(self, group: str, evaluator: str, x: np.ndarray, comp: np.ndarray) -> None:
@@ -609,9 +627,9 @@ class HeliRotorSlave(Fmi2Slave):
         self._stepper.hinges = _index(self._scene().get("hinge_states", []))
         self._p = self._cache = None
 
-    def _with_forward_speed(self, scene: dict, x0: np.ndarray, speed: float) -> np.ndarray:
-        """Initial body velocity ``R(q0)^T (speed, 0, 0)`` (m/s): level flight north at the scene's attitude."""
-        fs = scene["forward_speed"]
+    def _with_forward_speed(self, start: dict, x0: np.ndarray, speed: float) -> np.ndarray:
+        """Initial body velocity ``R(q0)^T (speed, 0, 0)`` (m/s): level flight north at the start's attitude."""
+        fs = start["forward_speed"]
         if fs is None:
             if speed != 0.0:
                 raise BadValue(f"parameter 'initial_forward_speed' = {speed!r} m/s: the scene "

@@ -233,11 +233,13 @@ def run_libcosim(fmu: str | Path, stop: float, dt: float, table: np.ndarray, nam
 # -- the core, directly ---------------------------------------------------------------------
 
 def run_core(scene: str, times: list[float], table: np.ndarray, max_step: float | None = None,
-             params: dict | None = None, names: list[str] | None = None, method: str = "rk4") -> dict:
+             params: dict | None = None, names: list[str] | None = None, method: str = "rk4",
+             x0: list[float] | None = None) -> dict:
     """The FMU's computation done directly with the core's public API: per communication
     step ``[t_k, t_k+1]``, ``system.run`` of ``n = ceil(dt / max_step)`` steps of ``method`` of
-    ``dt / n`` with the inputs held; outputs as the FMU defines them (hinge coordinates
-    and rates, model outputs, fuselage position, Euler angles and velocities, total energy)."""
+    ``dt / n`` with the inputs held, from ``x0`` (default the scene's initial state); outputs
+    as the FMU defines them (hinge coordinates and rates, model outputs, fuselage position,
+    Euler angles and velocities, total energy)."""
     from mbs import scenes
     from mbs._rotation import quat_to_euler
 
@@ -246,7 +248,7 @@ def run_core(scene: str, times: list[float], table: np.ndarray, max_step: float 
     info = system.info
     base = system.params(params or {})
     h_max = max_step or sc.revolution(system, base) / sc.steps_per_rev
-    x = system.x0()
+    x = system.x0() if x0 is None else np.array(x0, dtype=float)
     rows = []
     for k in range(len(times) - 1):
         p = system.params(base, **inputs_at(table, times[k]))

@@ -195,6 +195,77 @@ def test_initial_forward_speed_sets_the_flight_speed(fmu_path, tmp_path):
     assert abs(pitch) > 1e-3  # the scene's trimmed attitude is kept
 
 
+# -- the periodic start ----------------------------------------------------------------------------
+
+def periodic_inputs(spec: dict, scene: str) -> dict:
+    """The inputs of the periodic trim of ``scene`` (the defaults with ``initial_state = "periodic"``)."""
+    return {v["name"]: spec["scenes"][scene]["periodic"]["defaults"][v["name"]]
+            for v in spec["variables"] if v["causality"] == "input"}
+
+
+def held(inputs: dict) -> list[dict]:
+    """An input table holding ``inputs`` from t = 0."""
+    return [{"time": 0.0, **inputs}]
+
+
+@pytest.mark.parametrize("scene", FAMILY)
+def test_periodic_start_is_periodic_from_the_first_step(fmu_path, spec, scene, tmp_path):
+    """``initial_state = "periodic"`` with the trim's inputs held: every hinge angle and rate
+    repeats after the full period (4 revolutions: the tail rotor turns 21 times) to 1e-10,
+    from the first step; the scene's own start (blades released at zero lag) rings instead."""
+    sc = spec["scenes"][scene]
+    dt = sc["revolution"] / sc["steps_per_rev"]
+    period = 4 * sc["steps_per_rev"]
+    hinges = [v["name"] for v in spec["variables"] if v["causality"] == "output" and v.get("kind") == "state"
+              and re.search(r"\.(flap|lag|teeter)(_rate)?$", v["name"])]
+    args = {"fmu": str(fmu_path), "stop": (period + 1) * dt, "dt": dt, "table": held(periodic_inputs(spec, scene)),
+            "names": hinges}
+    runs = {start: host("fmpy", {**args, "start_values": {"scene": scene, "initial_state": start}}, tmp_path)
+            for start in ("periodic", "scene")}
+    for n in hinges:
+        rate = n.endswith("_rate")
+        scale = 2 * math.pi / sc["revolution"] if rate else 1.0  # rates per rad/s of rotor speed
+        drift = abs(runs["periodic"][n][period] - runs["periodic"][n][0]) / scale
+        assert drift < 1e-10, (n, drift)
+    lag = np.asarray(runs["scene"]["blade1.lag"])
+    assert abs(lag[period] - lag[0]) > 1e-3 and np.ptp(lag) > 5 * np.ptp(runs["periodic"]["blade1.lag"])
+
+
+def test_periodic_start_with_input_table_equals_the_core_from_the_stored_trim(fmu_path, spec, dt, names, tmp_path):
+    """The demo's run: the FMU started periodic under the collective step and cyclic doublet
+    (on the trim's inputs) equals the core's run from the stored periodic state."""
+    per = spec["scenes"]["forward-flight"]["periodic"]
+    table = hosts.pitch_schedule(periodic_inputs(spec, "forward-flight"), dt, 100, revs=(0.5, 1.0, 1.5, 2.0))
+    stop = 250 * dt
+    run = host("fmpy", {"fmu": str(fmu_path), "stop": stop, "dt": dt, "table": hosts.table_rows(table),
+                        "names": names, "start_values": {"initial_state": "periodic"}}, tmp_path)
+    ref = hosts.run_core("forward-flight", hosts.grid(stop, dt), table, names=names, x0=per["x0"])
+    assert_close(run, ref, names, rtol=1e-9, atol=1e-9)
+
+
+def test_stored_periodic_starts_hold_for_the_current_model_and_are_in_the_fmu(spec):
+    """``fmu/periodic_starts.json`` (written by ``python -m fmu.periodic``) still holds for the
+    model the FMU is built from: after the shooting interval the state returns to 1e-8; the
+    FMU carries it with its provenance."""
+    from mbs import scenes
+    from mbs.backends import build as build_system
+
+    from fmu import periodic
+
+    stored = periodic.stored()
+    for scene in FAMILY:
+        sc = scenes.get(scene)
+        system = build_system(sc.model(), "vm")
+        entry = stored[scene]
+        assert periodic.residual(entry, system, sc) <= periodic.TOLERANCE, scene
+        assert entry["max_abs_residual"] <= 1e-10 and entry["provenance"]["generated_by"].startswith("python -m")
+        shipped = spec["scenes"][scene]["periodic"]
+        assert shipped["x0"] == [entry["state"][n] for n in system.info.state_names]
+        assert shipped["trim"]["provenance"] == entry["provenance"] and shipped["trim"]["check_residual"] <= 1e-8
+        released = {**entry, "state": dict(zip(system.info.state_names, system.x0()))}
+        assert periodic.residual(released, system, sc) > 1e-3  # the check can fail
+
+
 # -- 3. a second importer ------------------------------------------------------------------------
 
 def test_libcosim_gives_the_same_outputs_as_fmpy(fmu_path, spec, names, tmp_path):
@@ -293,13 +364,18 @@ def test_heli_demo_writes_its_files_from_a_fresh_cache(tmp_path):
                           timeout=900)
     assert proc.returncode == 0, proc.stderr[-3000:]
     res = json.loads(proc.stdout.strip().splitlines()[-1])
-    assert res["build_s"] > 0 and Path(res["fmu"]).is_relative_to(cache)
+    cached = Path(res["fmu_cached"])
+    assert res["build_s"] > 0 and cached.is_relative_to(cache)
+    assert res["fmu"] == str(out / cached.name) and (out / cached.name).read_bytes() == cached.read_bytes()
     for name in ("results.csv", "hinge_angles.png", "run.json"):
         assert (out / name).stat().st_size > 1000, name
+    assert res["initial_state"] == "periodic" and res["trim"]["max_abs_residual"] <= 1e-10
     header = (out / "results.csv").read_text().split("\n", 1)[0].split(",")
     assert {"time", "blade1.flap", "seesaw.teeter", "fuselage.qw", "collective", "total_energy"} <= set(header)
     rows = np.loadtxt(out / "results.csv", delimiter=",", skiprows=1)
     assert rows.shape[0] == 301 and rows[-1, 0] == pytest.approx(res["simulated_s"])
+    lag = rows[:, header.index("blade1.lag")]  # periodic until the collective step at 2 revolutions
+    assert np.max(np.abs(lag[100:201] - lag[:101])) < 1e-5
     assert str(out / "results.csv") in proc.stdout
     if "viewer" in res["files"]:
         assert (out / "viewer.html").stat().st_size > 100_000

@@ -68,9 +68,10 @@ def trims(spec: dict, scene: str) -> dict:
 
 
 def fmpy_run(fmu: Path, scene: str, spec: dict, dt: float, steps: int, names: list[str], tmp_path: Path,
-             start_values: dict | None = None) -> dict:
-    """``fmpy.simulate_fmu`` of ``fmu`` in a fresh process (``python -m fmu.hosts fmpy``)."""
-    table = [{"time": 0.0, **trims(spec, scene)}]
+             start_values: dict | None = None, inputs: dict | None = None) -> dict:
+    """``fmpy.simulate_fmu`` of ``fmu`` in a fresh process (``python -m fmu.hosts fmpy``), the
+    inputs held at ``inputs`` (default the scene's trim)."""
+    table = [{"time": 0.0, **{n: (inputs or spec["scenes"][scene]["defaults"])[n] for n in trims(spec, scene)}}]
     args = {"fmu": str(fmu), "stop": steps * dt, "dt": dt, "table": table, "names": names,
             "start_values": {"scene": scene, **(start_values or {})}}
     path = tmp_path / f"fmpy-{scene}-{fmu.stem}.json"
@@ -168,7 +169,8 @@ def test_c_host_equals_fmpy_and_the_pythonfmu_fmu(scene, native_fmu, python_fmu,
 
 
 @pytest.mark.parametrize("settings", [{"integrator": "rk8"}, {"initial_forward_speed": 25.0},
-                                      {"omega": 40.0, "max_step": 4e-4}], ids=["rk8", "speed", "omega-max_step"])
+                                      {"omega": 40.0, "max_step": 4e-4}, {"initial_state": "periodic"}],
+                         ids=["rk8", "speed", "omega-max_step", "periodic"])
 def test_parameters_act_as_in_the_pythonfmu_fmu(settings, native_fmu, python_fmu, spec, facts, tmp_path):
     dt, names = facts["step"], facts["outputs"]
     native = fmpy_run(native_fmu, "forward-flight", spec, dt, 60, names, tmp_path, settings)
@@ -177,6 +179,22 @@ def test_parameters_act_as_in_the_pythonfmu_fmu(settings, native_fmu, python_fmu
     for n in names:
         np.testing.assert_allclose(native[n], python[n], rtol=1e-9, atol=1e-9, err_msg=n)
     assert max_rel(native, default, names) > 1e-9  # the setting changed the run
+
+
+@pytest.mark.parametrize("scene", ["hover", "ground-run"])
+def test_periodic_start_is_the_pythonfmu_fmus_and_periodic(scene, native_fmu, python_fmu, spec, facts, tmp_path):
+    """``initial_state = "periodic"``: the native FMU starts from the same stored trim as the
+    pythonfmu FMU (its inputs the defaults) and, with them held, repeats after the full
+    period of 4 revolutions."""
+    sc = spec["scenes"][scene]
+    dt, steps = sc["revolution"] / sc["steps_per_rev"], 4 * sc["steps_per_rev"] + 1
+    names = [n for n in facts["outputs"] if n.endswith((".flap", ".lag", ".teeter"))]
+    periodic = {"initial_state": "periodic"}
+    native = fmpy_run(native_fmu, scene, spec, dt, steps, names, tmp_path, periodic, sc["periodic"]["defaults"])
+    python = fmpy_run(python_fmu, scene, spec, dt, steps, names, tmp_path, periodic, sc["periodic"]["defaults"])
+    for n in names:
+        np.testing.assert_allclose(native[n], python[n], rtol=1e-12, atol=1e-12, err_msg=n)
+        assert abs(native[n][steps - 1] - native[n][0]) < 1e-10, n
 
 
 def test_serialised_state_restored_in_a_fresh_process_continues_identically(native_fmu, spec, facts, tmp_path):

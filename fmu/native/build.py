@@ -97,7 +97,8 @@ def start_value(spec: dict, v: dict):
     primary = spec["scenes"][spec["primary"]]
     name = v["name"]
     if v["type"] == "String":
-        return {"scene": spec["primary"], "evaluator": "compiled", "integrator": "rk4"}.get(name, v["allowed"][0])
+        return {"scene": spec["primary"], "evaluator": "compiled", "integrator": "rk4",
+                "initial_state": "scene"}.get(name, v["allowed"][0])
     if name == "max_step":
         omega = primary["defaults"].get("omega", primary["omega"])
         return 2 * math.pi / abs(omega) / primary["steps_per_rev"]
@@ -192,19 +193,28 @@ def _scene_tables(spec: dict, name: str, k: int) -> str:
     ranges = [sc["ranges"].get(v["name"], [v.get("min"), v.get("max")]) for v in variables]
     low = [c_real(-math.inf if r[0] is None else r[0]) for r in ranges]
     high = [c_real(math.inf if r[1] is None else r[1]) for r in ranges]
-    return (c_array("double", f"x0_{k}", [c_real(x) for x in sc["x0"]])
-            + c_array("int", f"params_{k}", [str(vr[p]) for p in sc["parameter_order"]])
-            + c_array("double", f"defaults_{k}", defaults) + c_array("double", f"low_{k}", low)
-            + c_array("double", f"high_{k}", high))
+    out = (c_array("double", f"x0_{k}", [c_real(x) for x in sc["x0"]])
+           + c_array("int", f"params_{k}", [str(vr[p]) for p in sc["parameter_order"]])
+           + c_array("double", f"defaults_{k}", defaults) + c_array("double", f"low_{k}", low)
+           + c_array("double", f"high_{k}", high))
+    periodic = sc.get("periodic")
+    if periodic:
+        out += (c_array("double", f"periodic_x0_{k}", [c_real(x) for x in periodic["x0"]])
+                + c_array("double", f"periodic_defaults_{k}",
+                          [c_real(periodic["defaults"].get(v["name"])) for v in variables]))
+    return out
 
 
 def _scene_entry(spec: dict, name: str, k: int, group_index: dict) -> str:
     sc = spec["scenes"][name]
-    fs = sc["forward_speed"]
+    fs, periodic = sc["forward_speed"], sc.get("periodic")
     q, v = (fs["q"], fs["v"]) if fs else ([0] * 4, [0] * 3)
+    pfs = periodic["forward_speed"] if periodic else None
+    tables = f"periodic_x0_{k}, periodic_defaults_{k}" if periodic else "NULL, NULL"
     return (f"  {{{c_string(name)}, {group_index[sc['group']]}, x0_{k}, {c_real(sc['omega'])}, {sc['steps_per_rev']}, "
             f"{len(sc['parameter_order'])}, params_{k}, defaults_{k}, low_{k}, high_{k}, {int(fs is not None)}, "
-            f"{{{', '.join(map(str, q))}}}, {{{', '.join(map(str, v))}}}, {c_real(fs['default'] if fs else 0.0)}}}")
+            f"{{{', '.join(map(str, q))}}}, {{{', '.join(map(str, v))}}}, {c_real(fs['default'] if fs else 0.0)}, "
+            f"{tables}, {c_real(pfs['default'] if pfs else 0.0)}}}")
 
 
 def data_source(spec: dict, groups: dict, guid: str) -> str:
@@ -231,7 +241,7 @@ def data_source(spec: dict, groups: dict, guid: str) -> str:
                + ",\n".join(_group_entry(g, vm, f) for g, (vm, f) in groups.items()) + "\n};\n")
     limits = {**DEFAULT_LIMITS, **spec.get("limits", {})}
     special = [vr.get(n, -1) for n in ("scene", "evaluator", "integrator", "max_step", "omega", "initial_forward_speed",
-                                           "total_energy")]
+                                           "total_energy", "initial_state")]
     out.append(f"const heli_model heli_model_data = {{{c_string(spec['model_identifier'])}, {c_string(guid)}, "
                f"{names.index(spec['primary'])}, {len(variables)}, variables, {len(names)}, scenes, {len(groups)}, "
                f"groups, {spec['n_computed']}, {c_real(limits['max_substeps'])}, {c_real(limits['hinge_angle'])}, "
@@ -412,7 +422,9 @@ def cache_key(scene_names) -> str:
     root = pybuild.mbs_dir()
     files = [(p.relative_to(root).as_posix(), p) for p in sorted(root.rglob("*"))
              if p.suffix in pybuild.SOURCE_SUFFIXES and "__pycache__" not in p.parts]
-    files += [(f"fmu/{p.name}", p) for p in (HERE.parent / "build.py", HERE.parent / "heli_bo105_slave.py")]
+    files += [(f"fmu/{p.name}", p) for p in (HERE.parent / "build.py", HERE.parent / "heli_bo105_slave.py",
+                                             HERE.parent / "periodic.py", HERE.parent / "periodic_starts.json")
+              if p.exists()]
     files += [(f"fmu/native/{name}", HERE / name) for name in ("build.py", *HAND_WRITTEN)]
     for rel, path in files:
         h.update(rel.encode() + b"\0" + path.read_bytes())

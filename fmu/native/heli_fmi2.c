@@ -200,16 +200,23 @@ static int method_in_use(const instance* c) {
   return k >= 0 && !strcmp(var(M->vr_integrator)->allowed[k], "rk8") ? HELI_RK8 : HELI_RK4;
 }
 
+/* 1 when initial_state = "periodic" is in use (the scene may still lack a periodic start). */
+static int periodic_in_use(const instance* c) {
+  int k = M->vr_initial_state >= 0 ? string_choice(c, M->vr_initial_state) : -1;
+  return k >= 0 && !strcmp(var(M->vr_initial_state)->allowed[k], "periodic");
+}
+
 static double use_real(const instance* c, int vr);
 
 static double default_real(const instance* c, int vr) {
   const heli_scene* sc = &M->scenes[scene_in_use(c)];
+  int periodic = sc->periodic_x0 && periodic_in_use(c);
   if (vr == M->vr_max_step) {
     double omega = M->vr_omega >= 0 ? use_real(c, M->vr_omega) : sc->omega;
     return 2 * 3.141592653589793 / fabs(omega) / sc->steps_per_rev;
   }
-  if (vr == M->vr_forward_speed) return sc->free_body ? sc->fs_default : 0.0;
-  return sc->defaults[vr];
+  if (vr == M->vr_forward_speed) return sc->free_body ? (periodic ? sc->periodic_fs_default : sc->fs_default) : 0.0;
+  return periodic ? sc->periodic_defaults[vr] : sc->defaults[vr];
 }
 
 /* The value in use: the one set unless refused, else the scene's default. */
@@ -312,13 +319,20 @@ static void fill_params(const instance* c, int scene, double* p) {
   for (i = 0; i < sc->n_params; ++i) p[i] = use_real(c, sc->param_vr[i]);
 }
 
-/* Initial state of a scene, with initial_forward_speed: body velocity R(q0)^T (V, 0, 0). */
+/* Initial state of a scene (its own, or its periodic trim with initial_state = "periodic"), with
+   initial_forward_speed: body velocity R(q0)^T (V, 0, 0). */
 static int initial_state(instance* c, int scene, double* x, char* msg) {
   const heli_scene* sc = &M->scenes[scene];
-  int vr = M->vr_forward_speed, j;
+  int vr = M->vr_forward_speed, j, periodic = periodic_in_use(c);
   double speed, q[4], n;
   char a[32];
-  memcpy(x, sc->x0, sizeof(double) * (size_t) M->groups[sc->group].nx);
+  const double* x0 = periodic && sc->periodic_x0 ? sc->periodic_x0 : sc->x0;
+  memcpy(x, x0, sizeof(double) * (size_t) M->groups[sc->group].nx);
+  if (periodic && !sc->periodic_x0) {
+    snprintf(msg, MSG_LEN, "parameter 'initial_state' = 'periodic': the scene '%s' has no periodic start (it cannot "
+             "be trimmed)", sc->name);
+    return 1;
+  }
   if (vr < 0 || !accepted(c, vr)) return 0;
   speed = c->s.real[vr];
   if (!sc->free_body) {

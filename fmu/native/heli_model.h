@@ -64,6 +64,9 @@ typedef struct {
   int free_body;              /* has a free fuselage: initial_forward_speed applies */
   int fs_q[4], fs_v[3];       /* state indices of its quaternion (w, x, y, z) and velocity */
   double fs_default;          /* the scene's own initial forward speed (m/s) */
+  const double* periodic_x0;  /* initial_state = "periodic": the trim's state, NULL when the scene has none */
+  const double* periodic_defaults; /* by value reference: the defaults with the trim's controls */
+  double periodic_fs_default; /* the trim's initial forward speed (m/s) */
 } heli_scene;
 
 typedef struct {
@@ -79,7 +82,8 @@ typedef struct {
   int n_computed;
   double max_substeps;        /* most sub-steps one doStep may take */
   double hinge_angle;         /* largest hinge angle (rad) a step may reach */
-  int vr_scene, vr_evaluator, vr_integrator, vr_max_step, vr_omega, vr_forward_speed, vr_energy; /* -1 if absent */
+  int vr_scene, vr_evaluator, vr_integrator, vr_max_step, vr_omega, vr_forward_speed, vr_energy,
+      vr_initial_state; /* -1 if absent */
 } heli_model;
 
 extern const heli_model heli_model_data;

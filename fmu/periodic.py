@@ -1,0 +1,145 @@
+"""Periodic start states of the FMU's scenes: the trimmed periodic solution, as data.
+
+A scene's own initial state releases every blade at zero flap and lag; in the Bo105 scenes
+the lag then rings at its low damping for many revolutions. The FMU can start instead from
+the scene's periodic trim (``initial_state = "periodic"``): controls, attitude, fuselage
+velocities and every rotor state from :func:`mbs.analysis.trim.trim` (RK4 at the scene's
+steps per revolution, the FMU's default step), so that a run with the trim inputs held is
+periodic from its first step.
+
+The trims are computed once and stored with their provenance in ``periodic_starts.json``
+(``python -m fmu.periodic`` rewrites it). The FMU build checks each stored start against
+the model it compiles by running it over the shooting interval of the trim (two
+revolutions, teeter reversed) and uses it when the scaled periodicity residual is below
+:data:`TOLERANCE`; otherwise it trims that scene again at build time (slower: the tangent
+step is compiled) and says so. The test suite checks that the stored starts still hold.
+"""
+from __future__ import annotations
+
+import argparse
+import datetime
+import importlib.metadata
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+DATA = HERE / "periodic_starts.json"
+TOLERANCE = 1e-8
+"""Largest max-norm scaled periodicity residual of a stored start (per rotor radius and
+revolution; the trims converge to 1e-10 or below)."""
+
+
+def compute(scene: str) -> dict:
+    """The periodic trim of ``scene`` at its own speed as a stored entry: controls (rad),
+    every state by name (SI units, rad), the trim's figures and its provenance."""
+    from mbs.analysis.trim import trim
+
+    res = trim(scene, method="rk4")
+    if not res.converged:
+        raise RuntimeError(f"the periodic trim of {scene!r} did not converge: {res.reason}")
+    return {"speed": res.speed, "climb_rate": res.climb_rate, "method": res.method,
+            "steps_per_rev": res.steps_per_rev, "shooting_revs": res.period.revs, "controls": res.controls,
+            "roll": res.roll, "pitch": res.pitch, "state": res.state,
+            "max_abs_residual": float(np.abs(res.residual).max()), "iterations": res.iterations,
+            "provenance": provenance()}
+
+
+def provenance() -> dict:
+    """Where an entry comes from: the command, the date, the versions and the source commit."""
+    try:
+        commit = subprocess.run(["git", "describe", "--always", "--dirty"], cwd=HERE, capture_output=True,
+                                text=True, timeout=10).stdout.strip() or None
+    except OSError:
+        commit = None
+    return {"generated_by": "python -m fmu.periodic (mbs.analysis.trim.trim)",
+            "date": datetime.date.today().isoformat(), "commit": commit,
+            "rotor_mbs": _version("rotor-mbs"), "casadi": _version("casadi")}
+
+
+def _version(dist: str) -> str | None:
+    try:
+        return importlib.metadata.version(dist)
+    except importlib.metadata.PackageNotFoundError:
+        return None
+
+
+def residual(entry: dict, system, scene) -> float:
+    """Max-norm scaled periodicity residual of the stored ``entry`` for ``system`` (the
+    scene's model): ``S x(τ) - x(0)`` over every state but the position, after the trim's
+    shooting interval ``τ`` with its controls held; ``inf`` when the model's states or
+    controls are not those of the entry."""
+    from mbs.analysis.period import rotor_period
+    from mbs.analysis.shooting import residual_scales
+
+    info = system.info
+    try:
+        x0 = np.array([entry["state"][n] for n in info.state_names])
+        p = system.params(entry["controls"])
+    except (KeyError, ValueError):
+        return float("inf")
+    period = rotor_period(info, 2 * np.pi / scene.revolution(system, p))
+    n = period.revs * entry["steps_per_rev"]
+    traj = system.run(x0, 0.0, period.duration / n, n, every=n, p=p, method=entry["method"])
+    if not traj.ok:
+        return float("inf")
+    keep = [i for i, name in enumerate(info.state_names) if name not in ("fuselage.x", "fuselage.y", "fuselage.z")]
+    r = period.symmetry(info.nx)[keep] * traj.x[-1][keep] - x0[keep]
+    radius = _radius(info)
+    return float(np.max(np.abs(r) / residual_scales([info.state_names[i] for i in keep], period.omega, radius)))
+
+
+def _radius(info) -> float:
+    if not info.name.startswith("bo105"):
+        return 1.0
+    from mbs.models.bo105 import load_data
+
+    return float(load_data()["main_rotor"]["radius"])
+
+
+def stored() -> dict:
+    """The stored entries by scene (empty when the file is absent)."""
+    return json.loads(DATA.read_text())["scenes"] if DATA.exists() else {}
+
+
+def start(scene, system, log=None) -> dict | None:
+    """The periodic start of ``scene`` (a :class:`mbs.scenes.Scene`) for ``system``: the
+    stored entry when it holds for this model, else a fresh trim; None when the scene cannot
+    be trimmed."""
+    from mbs.analysis.trim import trimmable
+
+    if not trimmable(scene):
+        return None
+    entry = stored().get(scene.name)
+    r = residual(entry, system, scene) if entry else float("inf")
+    if r <= TOLERANCE:
+        return {**entry, "check_residual": r}
+    if log:
+        log(f"the stored periodic start of {scene.name!r} does not hold for this model (residual {r:.3g} > "
+            f"{TOLERANCE:g}); trimming it now (python -m fmu.periodic stores it)")
+    entry = compute(scene.name)
+    return {**entry, "check_residual": residual(entry, system, scene)}
+
+
+def write(scene_names) -> Path:
+    """Trim every scene of ``scene_names`` and store the entries in :data:`DATA`."""
+    entries = {**stored(), **{name: compute(name) for name in scene_names}}
+    DATA.write_text(json.dumps({"about": __doc__.split("\n\n")[0], "scenes": entries}, indent=1) + "\n")
+    return DATA
+
+
+def main(argv=None) -> int:
+    from fmu.build import DEFAULT_SCENES
+
+    ap = argparse.ArgumentParser(description="trim the FMU's scenes and store their periodic start states")
+    ap.add_argument("--scenes", default=",".join(DEFAULT_SCENES), help="comma-separated scenes to trim")
+    args = ap.parse_args(argv)
+    print(f"wrote {write(args.scenes.split(','))}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
