@@ -511,7 +511,11 @@ def ensure_fmu(scene_names=DEFAULT_SCENES, force: bool = False, log=None) -> tup
                                "--dest", str(tmp)], cwd=cwd, env=env, capture_output=True, text=True)
     if proc.returncode:
         tmp.unlink(missing_ok=True)
+        if proc.returncode == 2:  # a bad family or setting: the builder's one-line message
+            raise ValueError(f"cannot build the FMU of {', '.join(scene_names)}: {proc.stderr.strip().splitlines()[-1]}")
         raise RuntimeError(f"building the FMU failed:\n{proc.stderr[-4000:]}")
+    for line in proc.stderr.splitlines() if log else ():
+        log(line)  # the build's notes (e.g. a periodic start trimmed again)
     tmp.replace(path)
     record(path)
     return path, time.perf_counter() - start
@@ -522,7 +526,11 @@ def main(argv=None) -> int:
     ap.add_argument("--scenes", default=",".join(DEFAULT_SCENES))
     ap.add_argument("--dest", required=True)
     args = ap.parse_args(argv)
-    build_here(args.scenes.split(","), Path(args.dest))
+    try:
+        build_here(args.scenes.split(","), Path(args.dest))
+    except ValueError as exc:  # a bad family or setting (CompilerNotFound included): one line for ensure_fmu
+        print(" ".join(str(exc).split()), file=sys.stderr)
+        return 2
     return 0
 
 

@@ -13,7 +13,7 @@ FIXED_METHODS = ("euler", "rk4", "rk8")  # mbs.integrators.FIXED_STEP, named her
 def cmd_scenes(args) -> int:
     from mbs import scenes
 
-    rows = [_scene_row(sc) for sc in scenes.all_scenes().values()]
+    rows = [scene_row(sc) for sc in scenes.all_scenes().values()]
     if args.markdown:
         print(scene_table(rows))
         return 0
@@ -31,7 +31,7 @@ def cmd_scenes(args) -> int:
     return 0
 
 
-def _scene_row(sc) -> dict:
+def scene_row(sc) -> dict:
     """What ``heli scenes`` says of the scene ``sc``."""
     from mbs.dynamics import Layout
 
@@ -49,7 +49,7 @@ def _extra(row: dict) -> str:
 
 
 def scene_table(rows: list[dict]) -> str:
-    """The README's scene table (Markdown) from the rows of :func:`_scene_row`."""
+    """The README's scene table (Markdown) from the rows of :func:`scene_row`."""
     lines = ["| scene | what it models | degrees of freedom |", "|---|---|---|"]
     for r in rows:
         extra = f" + {_extra(r)}" if r["extra_states"] else ""

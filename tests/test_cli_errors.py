@@ -61,6 +61,8 @@ CASES = [
     ("fmu build --out /dev/null/x.fmu", ["--out", "'/dev/null/x.fmu'"]),
     ("fmu build --scenes hover,nosuch", ["--scenes", "unknown scene 'nosuch'"]),
     ("fmu build --scenes hover,hover", ["--scenes", "'hover,hover': a scene is named twice"]),
+    ("fmu build --scenes single-blade,forward-flight", ["cannot build the FMU of single-blade, forward-flight",
+                                                        "the primary scene lacks"]),
     ("fmu bogus", ["ACTION", "'bogus'"]),
     ("demo --revs 0", ["--revs", "0 must be positive"]),
     ("demo --revs -1", ["--revs", "-1 must be positive"]),

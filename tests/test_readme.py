@@ -1,0 +1,106 @@
+"""The README's code blocks run as written, in README order, in one fresh working folder.
+
+``sh`` blocks run in bash (``set -e``: every line must succeed) with the installed ``heli``
+on the ``PATH``; ``python`` blocks run as scripts (``python block.py``, so that a block
+guarded by ``if __name__ == "__main__"`` starts its worker processes as a user's script
+would). The two set-up blocks begin with the installation itself: the test command is what
+CI runs (``.ci/run`` runs exactly that line), and of the first block the test runs what
+follows the installation, ``.venv/bin/heli demo``, with ``.venv`` the installed
+environment, so that the FMU snippet further down finds ``out/demo``.
+
+All blocks run once per session (about three minutes with warm caches: the demo, the
+simulations, trims and Floquet analyses of the usage block and three small Dask sweeps);
+each block is then one test with its own output. The scene table is checked against
+``heli scenes --markdown``.
+"""
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+README = ROOT / "README.md"
+VENV = Path(sys.executable).parent.parent
+INSTALL = ("python3 -m venv .venv && .venv/bin/pip install -e . && ",)
+TEST_COMMAND = 'python3 -m venv .venv && .venv/bin/pip install -e ".[test]" && .venv/bin/python -m pytest'
+TIMEOUT = 1200  # s per block
+
+
+@dataclass
+class Block:
+    line: int
+    language: str
+    text: str
+
+    @property
+    def name(self) -> str:
+        return f"README.md:{self.line} ({self.language})"
+
+
+def blocks() -> list[Block]:
+    """Every fenced code block of the README (indented ones in lists included)."""
+    text = README.read_text()
+    out = []
+    for m in re.finditer(r"^( *)```(\w*)\n(.*?)^\1```", text, re.S | re.M):
+        body = "\n".join(line[len(m.group(1)):] for line in m.group(3).splitlines())
+        out.append(Block(text[:m.start()].count("\n") + 1, m.group(2), body + "\n"))
+    return out
+
+
+def runnable(block: Block) -> str | None:
+    """The command text the test runs for ``block`` (None for the test command itself)."""
+    text = block.text.strip()
+    if text == TEST_COMMAND:
+        return None
+    for prefix in INSTALL:
+        text = text.removeprefix(prefix)
+    return text + "\n"
+
+
+def run_block(block: Block, folder: Path) -> subprocess.CompletedProcess:
+    env = {**os.environ, "PATH": f"{VENV / 'bin'}{os.pathsep}{os.environ.get('PATH', '')}",
+           "MPLBACKEND": "Agg", "PYTHONUNBUFFERED": "1"}
+    script = folder / f"block_{block.line}.{'py' if block.language == 'python' else 'sh'}"
+    script.write_text(runnable(block))
+    command = [sys.executable, script.name] if block.language == "python" else ["bash", "-e", script.name]
+    return subprocess.run(command, cwd=folder, env=env, capture_output=True, text=True, timeout=TIMEOUT)
+
+
+@pytest.fixture(scope="session")
+def readme_runs(tmp_path_factory) -> dict[int, subprocess.CompletedProcess]:
+    """Each runnable block's process, run in README order in one folder."""
+    folder = tmp_path_factory.mktemp("readme")
+    (folder / ".venv").symlink_to(VENV, target_is_directory=True)
+    return {b.line: run_block(b, folder) for b in blocks() if runnable(b) is not None}
+
+
+def test_the_readme_has_its_blocks():
+    langs = [b.language for b in blocks()]
+    assert len(langs) >= 8 and set(langs) == {"sh", "python"}, langs
+    assert all(b.text.strip() for b in blocks())
+
+
+@pytest.mark.parametrize("block", [b for b in blocks() if runnable(b) is not None], ids=lambda b: b.name)
+def test_block_runs_as_written(block, readme_runs):
+    proc = readme_runs[block.line]
+    assert proc.returncode == 0, f"{block.name} failed:\n{block.text}\nstdout:\n{proc.stdout[-3000:]}\n" \
+                                 f"stderr:\n{proc.stderr[-3000:]}"
+
+
+def test_the_test_command_is_what_ci_runs():
+    ci = (ROOT / ".ci" / "run").read_text().strip().splitlines()
+    assert ci[-1] == TEST_COMMAND
+    assert [b for b in blocks() if runnable(b) is None] != []
+
+
+def test_scene_table_is_heli_scenes_markdown():
+    from mbs import commands, scenes
+
+    table = commands.scene_table([commands.scene_row(sc) for sc in scenes.all_scenes().values()])
+    assert table in README.read_text(), f"README's scene table differs from `heli scenes --markdown`:\n{table}"
