@@ -512,7 +512,8 @@ def ensure_fmu(scene_names=DEFAULT_SCENES, force: bool = False, log=None) -> tup
     if proc.returncode:
         tmp.unlink(missing_ok=True)
         if proc.returncode == 2:  # a bad family or setting: the builder's one-line message
-            raise ValueError(f"cannot build the FMU of {', '.join(scene_names)}: {proc.stderr.strip().splitlines()[-1]}")
+            reason = proc.stderr.strip().splitlines()[-1]
+            raise ValueError(f"cannot build the FMU of {', '.join(scene_names)}: {reason}")
         raise RuntimeError(f"building the FMU failed:\n{proc.stderr[-4000:]}")
     for line in proc.stderr.splitlines() if log else ():
         log(line)  # the build's notes (e.g. a periodic start trimmed again)

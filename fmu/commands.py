@@ -103,9 +103,11 @@ def register(sub, bench) -> None:
     p = sub.add_parser("fmu", help="the FMI 2.0 co-simulation FMU")
     fsub = p.add_subparsers(dest="fmu_command", required=True, metavar="ACTION")
     b = fsub.add_parser("build", help="build the .fmu (cached; in a fresh interpreter from a staged copy)")
-    b.add_argument("--out", type=fmu_destination, default="out/fmu", help="output .fmu file or folder (default out/fmu/)")
+    b.add_argument("--out", type=fmu_destination, default="out/fmu",
+                   help="output .fmu file or folder (default out/fmu/)")
     b.add_argument("--scenes", type=scene_family, default=None,
-                   help="comma-separated scene family, the first one the default (default forward-flight,hover,ground-run)")
+                   help="comma-separated scene family, the first one the default "
+                        "(default forward-flight,hover,ground-run)")
     b.add_argument("--force", action="store_true", help="rebuild even if a cached FMU exists")
     b.add_argument("--native", action="store_true",
                    help="the native FMU (HeliRotorNative_<scene>.fmu): C only, no Python at run time")

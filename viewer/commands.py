@@ -86,14 +86,17 @@ def register(sub, bench) -> None:
                                    "'heli simulate') as one self-contained HTML file (--html, the default) or on "
                                    "a local meshcat server (--serve); --simulate SCENE streams a run as it computes.")
     p.add_argument("results", nargs="?", help="results folder or results.csv (with run.json beside it)")
-    p.add_argument("--html", metavar="OUT.html", type=A.output_file(".html"), help="output file (default: viewer.html beside the results)")
+    p.add_argument("--html", metavar="OUT.html", type=A.output_file(".html"),
+                   help="output file (default: viewer.html beside the results)")
     p.add_argument("--serve", action="store_true", help="stream to a meshcat server on 127.0.0.1 until Ctrl-C")
     A.add_scene(p, "--simulate", what="run this scene and stream each step live (implies a server)")
     p.add_argument("--revs", type=A.non_negative, default=0.0,
                    help="main-rotor revolutions shown, the last ones (default 0: the whole run)")
-    p.add_argument("--start", type=A.finite, default=None, help="first time shown, s (default: last --revs revolutions)")
-    p.add_argument("--every", type=A.positive_int, default=1, help="keep every N-th recorded row (keys are added back where "
-                                                         "a joint would turn 60 deg or more)")
+    p.add_argument("--start", type=A.finite, default=None,
+                   help="first time shown, s (default: last --revs revolutions)")
+    p.add_argument("--every", type=A.positive_int, default=1,
+                   help="keep every N-th recorded row (keys are added back where a joint would turn "
+                        "60 deg or more)")
     p.add_argument("--slow", type=A.positive, default=10.0,
                    help="the page starts playing F times slower than real time (default 10; it has a speed control)")
     p.add_argument("--no-trace", action="store_true", help="no blade tip-path trace")

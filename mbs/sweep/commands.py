@@ -114,11 +114,13 @@ def _common(p: argparse.ArgumentParser) -> None:
     where.add_argument("--scheduler", metavar="ADDRESS", default=None,
                        help="run on an existing Dask cluster, e.g. tcp://host:8786 (its workers must see "
                             "this machine's compiled-model cache folder, $MBS_CACHE_DIR)")
-    p.add_argument("--out", type=A.output_folder, default=None, help="output folder (default out/sweep/KIND-SCENE); an existing one "
+    p.add_argument("--out", type=A.output_folder, default=None,
+                   help="output folder (default out/sweep/KIND-SCENE); an existing one "
                    "resumes: its finished points are not computed again")
     p.add_argument("--backend", choices=["compiled", "vm"], default="compiled",
                    help="evaluator: generated C (default) or CasADi's virtual machine")
-    p.add_argument("--steps-per-rev", type=A.positive_int, default=None, help="steps per revolution (default: the scene's)")
+    p.add_argument("--steps-per-rev", type=A.positive_int, default=None,
+                   help="steps per revolution (default: the scene's)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     add_json(p)
 
@@ -129,7 +131,8 @@ def register(sub, bench) -> None:
     kinds = p.add_subparsers(dest="kind", required=True, metavar="KIND")
     t = kinds.add_parser("trim", help="periodic trim at every speed (and parameter value)")
     _common(t)
-    t.add_argument("--speed", required=True, metavar="LO:HI:N", type=A.checked_by(_range("--speed")), help="speeds in m/s, e.g. 0:70:15")
+    t.add_argument("--speed", required=True, metavar="LO:HI:N", type=A.checked_by(_range("--speed")),
+                   help="speeds in m/s, e.g. 0:70:15")
     t.add_argument("--climb-rate", type=A.finite, default=0.0, help="climb rate in m/s, up positive (default 0)")
     t.add_argument("--method", choices=("rk4", "rk8"), default="rk4", help="fixed-step method (default rk4)")
     t.add_argument("--tol", type=A.positive, default=1e-10, help="max |scaled residual| to reach (default 1e-10)")
@@ -142,8 +145,10 @@ def register(sub, bench) -> None:
                    help="precision of the compiled code (default float64)")
     f = kinds.add_parser("floquet", help="Floquet analysis at every rotor speed (fan plot)")
     _common(f)
-    f.add_argument("--omega", required=True, metavar="LO:HI:N", type=A.checked_by(_range("--omega")), help="rotor speeds in rad/s, e.g. 20:60:30")
-    f.add_argument("--set", action="append", metavar="NAME=VALUE", type=A.checked_by(_setting), help="fixed run-time parameter (repeatable)")
+    f.add_argument("--omega", required=True, metavar="LO:HI:N", type=A.checked_by(_range("--omega")),
+                   help="rotor speeds in rad/s, e.g. 20:60:30")
+    f.add_argument("--set", action="append", metavar="NAME=VALUE", type=A.checked_by(_setting),
+                   help="fixed run-time parameter (repeatable)")
     f.add_argument("--frame", choices=("fixed", "rotating"), default="fixed",
                    help="rotor-mode frequencies in the fixed frame (multi-blade coordinates, default) or per blade")
     f.add_argument("--method", choices=("rk4", "rk8"), default="rk4", help="fixed-step method (default rk4)")
