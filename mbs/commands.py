@@ -326,9 +326,11 @@ def _backend(p) -> None:
 
 
 def _aero(p) -> None:
+    from mbs.models.bo105 import AERO_SWITCHES
+
     p.add_argument("--aero", metavar="SWITCHES", default=None,
                    help="rotor-aerodynamics switches to turn on (Bo105 scenes): comma-separated "
-                        "pitt-peters, tip-loss, compressibility, ..., or full")
+                        f"{', '.join(AERO_SWITCHES)}, or full")
 
 
 def _quiet(p) -> None:
