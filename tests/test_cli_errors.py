@@ -2,7 +2,7 @@
 stderr naming the option and the value, before any work starts; never with a traceback.
 
 The table runs through :func:`mbs.cli.main` in this process (the same parser and the same
-handling as the ``heli`` script); the issue's own examples, an unwritable working folder and
+handling as the ``heli`` script); the commonest mistakes, an unwritable working folder and
 a read-only mount also run the installed ``heli`` in a subprocess.
 """
 from __future__ import annotations
@@ -139,7 +139,7 @@ def test_bad_invocation_is_one_line_and_exit_2(line, words, places, capsys, tmp_
     assert PACKAGE_TRIMS.read_text().startswith("# Trimmed flight conditions")
 
 
-# -- the issue's examples, through the installed script ----------------------------------------------
+# -- the commonest mistakes, through the installed script ----------------------------------------------
 
 @pytest.mark.parametrize("line, words", [
     ("simulate structural --steps-per-rev 0", ["argument --steps-per-rev: 0"]),
