@@ -41,9 +41,9 @@ def cmd_demo(args) -> int:
     from fmu import demo
 
     res = demo.run(Path(args.out), args.revs, log=_log)
-    lines = [f"{res['scene']}: {res['revs']:g} revolutions through the FMU under fmpy "
+    lines = [f"{res['scene']}: {res['revs']:g} revolutions through the FMU under fmpy from its periodic trim "
              f"(communication step {res['communication_step_s'] * 1e3:.3f} ms, collective step and cyclic doublet)",
-             f"FMU: {res['fmu']} ({'built in %.1f s' % res['build_s'] if res['build_s'] else 'from the cache'})",
+             f"FMU: {res['fmu_cached']} ({'built in %.1f s' % res['build_s'] if res['build_s'] else 'from the cache'})",
              f"fmpy run: {res['fmpy_wall_s']:.2f} s wall for {res['simulated_s']:.3f} s simulated "
              f"({res['realtime_factor']:.1f}x real time); total {res['total_s']:.1f} s",
              *[f"wrote {p}" for p in res["files"].values()]]
