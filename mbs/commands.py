@@ -256,10 +256,10 @@ def _derivative_lines(res) -> list[str]:
     lines += ["  A, x = (u, w, q, theta, v, p, phi, r):",
               *["    " + " ".join(f"{x:+9.4f}" for x in row) for row in res.A],
               f"  B, u = ({', '.join(syms)}):", *["    " + " ".join(f"{x:+9.4f}" for x in row) for row in res.B],
-              f"  {'mode':18s} {'Re λ 1/s':>10s} {'Im λ rad/s':>11s} {'ζ':>7s} {'period s':>9s}"]
+              f"  {'mode':22s} {'Re λ 1/s':>10s} {'Im λ rad/s':>11s} {'ζ':>7s} {'period s':>9s}"]
     for m in res.modes:
         period = f"{m.period_s:9.2f}" if m.period_s else " " * 9
-        lines.append(f"  {m.name:18s} {m.eigenvalue.real:+10.4f} {m.eigenvalue.imag:11.4f} "
+        lines.append(f"  {m.name:22s} {m.eigenvalue.real:+10.4f} {m.eigenvalue.imag:11.4f} "
                      f"{m.damping_ratio:+7.3f} {period}")
     return lines
 

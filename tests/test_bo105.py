@@ -123,14 +123,18 @@ def test_single_blade_frequencies_match_closed_form():
 
 @pytest.mark.parametrize("scene", ["forward-flight", "hover"])
 def test_stored_trim_holds_the_flight_condition(scene):
-    """The stored trim is a trim of the current model (stale data fails here)."""
+    """The stored trim is a trim of the current model (stale data fails here): after the
+    start-up transient of the released blades (rates up to 0.08 rad/s in the first revolution)
+    the fuselage rates stay below 0.02 rad/s over revolutions 5-10 (measured 0.015; any control
+    0.2° off gives 0.03-0.05) and the speed within 0.2 m/s."""
     sim = simulate(scene, revs=10, steps_per_rev=100)
     info = sim.system.info
     x = sim.traj.x
     u0 = x[0, info.state_names.index("fuselage.u")]
     rates = x[:, [info.state_names.index(f"fuselage.{k}") for k in "pqr"]]
     speed = np.linalg.norm(x[:, [info.state_names.index(f"fuselage.{k}") for k in "uvw"]], axis=1)
-    assert np.abs(speed - speed[0]).max() < 0.2 and np.abs(rates).max() < 0.06
+    assert np.abs(speed - speed[0]).max() < 0.2 and np.abs(rates).max() < 0.1
+    assert np.abs(rates[sim.traj.t > 5 * _rev(sim)]).max() < 0.02
     thrust = sim.outputs[:, info.output_names.index("main_rotor.thrust")]
     weight = bo105.load_data()["aircraft"]["mass"] * 9.80665
     assert abs(thrust[sim.traj.t > 2 * _rev(sim)].mean() / weight - 1) < 0.03
@@ -165,7 +169,7 @@ def test_identical_blades_repeat_each_other_a_quarter_revolution_apart():
 def test_scene_without_a_component_has_none_of_its_states():
     names = {n: scenes.get(n).system("vm").info.state_names for n in
              ("structural", "forward-flight", "ground-run", "single-blade")}
-    assert len(names["forward-flight"]) == 2 * (6 + 4 * 2 + 1) + 1 + 2  # quaternion + 2 inflow states
+    assert len(names["forward-flight"]) == 2 * (6 + 4 * 2 + 1) + 1 + 4  # quaternion + 3 + 1 inflow states
     assert not any(s.endswith(".inflow") for s in names["structural"])      # no aerodynamics
     assert not any(s.startswith("fuselage.") for s in names["ground-run"])  # fuselage clamped
     assert names["single-blade"] == ["blade1.flap", "blade1.lag", "blade1.flap_rate", "blade1.lag_rate"]

@@ -51,18 +51,19 @@ def test_single_blade_exponents_equal_the_closed_forms():
 
 def test_hover_modes(capsys):
     """Hover trim: the heading mode is neutral, the lag modes sit near the blade's 0.68/rev
-    with the damper's few per cent, the flap modes near 1/rev are well damped (Lock number 5),
-    the teeter near the tail rotor's 1/rev (5.25/rev of the main rotor)."""
+    with the damper's few per cent, the flap modes near 1/rev are well damped (Lock number 5;
+    one more flap mode, the regressing one in the fixed frame, couples with the body's pitch and
+    roll and is damped less), the teeter near the tail rotor's 1/rev (5.25/rev of the main rotor)."""
     assert main(["floquet", "hover", "--frame", "rotating", "--json"]) == 0
     res = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
     modes = res["modes"]
     assert res["frame"] == "rotating" and "files" not in res
     assert min(abs(np.hypot(*m["multiplier"]) - 1) for m in modes) < 1e-9  # heading
     lag = [m for m in modes if m["name"] == "lag"]
-    flap = [m for m in modes if m["name"] == "flap" and m["per_rev"] > 0.5]
+    flap = [m for m in modes if m["name"] == "flap" and 0.95 < m["per_rev"] < 1.1]
     teeter = [m for m in modes if m["name"] == "tail rotor" and m["per_rev"] > 1]
     assert len(lag) == 4 and all(0.6 < m["per_rev"] < 0.85 and 0.02 < m["damping_ratio"] < 0.1 for m in lag)
-    assert flap and all(0.9 < m["per_rev"] < 1.3 and m["damping_ratio"] > 0.1 for m in flap)
+    assert len(flap) >= 3 and all(m["damping_ratio"] > 0.2 for m in flap)
     assert len(teeter) == 1 and teeter[0]["per_rev"] == pytest.approx(5.25, rel=0.02)
     assert res["period_revs"] == 4 and res["interval_revs"] == 2
 

@@ -172,9 +172,10 @@ def test_heli_sweep_trim_writes_the_table_and_charts_and_reports_json(tmp_path, 
     res = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
     assert (res["points"], res["ok"], res["computed"], res["reused"]) == (1, 1, 1, 0)
     assert {p.rsplit("/", 1)[-1] for p in res["files"]} == {"results.parquet", "results.csv", "trim_controls.png",
-                                                          "trim_attitude.png"}
-    assert main(argv[:4] + ["0:70"]) == 2
-    assert "--speed '0:70' must be LO:HI:N" in capsys.readouterr().err
+                                                          "trim_attitude.png", "trim_power.png", "trim_summary.png"}
+    with pytest.raises(SystemExit) as bad:
+        main(argv[:4] + ["0:70"])
+    assert bad.value.code == 2 and "--speed '0:70' must be LO:HI:N" in capsys.readouterr().err
 
 
 def test_table_columns_are_inputs_outputs_then_status():

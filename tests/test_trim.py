@@ -7,9 +7,9 @@ import pytest
 
 from mbs import scenes
 from mbs.analysis.monodromy import TangentStepper
-from mbs.analysis.trim import trim
+from mbs.analysis.trim import periodic_solution, trim
 from mbs.cli import main
-from mbs.models.bo105 import estimate_trim, load_data
+from mbs.models.bo105 import estimate_trim, load_data, with_aero
 
 QUADRATIC_C = 10.0  # r_{k+1} <= C r_k^2 + FLOOR once r_k < 1e-4 (measured C: 0.2 .. 7)
 FLOOR = 1e-13  # round-off level of the scaled residual (measured 1e-16 .. 2e-15)
@@ -25,7 +25,7 @@ def trims():
         if speed not in cache:
             cache[speed] = trim("forward-flight", speed=speed, system=system, stepper=stepper)
         return cache[speed]
-    get.system = system
+    get.system, get.stepper = system, stepper
     return get
 
 
@@ -41,9 +41,9 @@ def test_trim_converges_from_the_estimate(trims, speed):
 
 
 def test_where_newton_from_the_estimate_fails_continuation_in_speed_trims(trims):
-    """At 60 m/s the first Newton step from the closed-form estimate rolls the aircraft by 24°
-    and the line search stalls; the continuation 10, 20, ... 60 m/s converges."""
-    res = trims(60.0)
+    """Climbing at 10 m/s at 60 m/s, Newton from the closed-form estimate (level flight's
+    collective) stalls in the line search; the continuation 10, 20, ... 60 m/s converges."""
+    res = trim("forward-flight", speed=60.0, climb_rate=10.0, system=trims.system, stepper=trims.stepper)
     assert res.converged and "continuation in speed over 6 steps" in res.reason, res.reason
     assert np.abs(res.residual).max() <= 1e-10 and res.n_jacobian > res.iterations
 
@@ -79,11 +79,11 @@ def _scales(names, omega, radius):
     return residual_scales(names, omega, radius)
 
 
-def test_hover_collective_matches_blade_element_momentum_theory(trims):
-    """Strip theory on the model's own strips (8 from the 0.2 R cut-out, linear twist, κ v
-    uniform inflow from momentum theory at the trim's mean thrust): within 2 %; and the
-    closed-form estimate (no cut-out) too."""
-    res, d = trims(0.0), load_data()
+def test_hover_collective_matches_blade_element_momentum_theory():
+    """The paper's aerodynamics (every switch off): strip theory on the model's own strips (8
+    from the 0.2 R cut-out, linear twist, κ v uniform inflow from momentum theory at the trim's
+    mean thrust): within 2 %; and the closed-form estimate (no cut-out) too."""
+    res, d = periodic_solution(with_aero(scenes.get("forward-flight"), "none"), speed=0.0), load_data()
     mr, rho = d["main_rotor"], d["environment"]["rho"]
     big_r, omega, thrust = mr["radius"], mr["omega"], res.thrust
     v = np.sqrt(thrust / (2 * rho * np.pi * big_r**2))

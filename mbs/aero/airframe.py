@@ -59,7 +59,7 @@ class LiftingSurface(ForceElement):
     ``chord_axis``: body-frame direction towards the leading edge; ``normal``: the lift
     direction at zero incidence; ``incidence`` (rad) turns the section nose-up about
     ``normal x chord_axis``; ``area`` m²; ``wake``: the rotor whose wake it sees (None: free
-    stream only).
+    stream only), published as the signal ``<name>.wake`` (3,) (m/s, body axes).
     """
 
     def __init__(self, name: str, body: str, point, chord_axis, normal, incidence: float,
@@ -70,8 +70,10 @@ class LiftingSurface(ForceElement):
 
     def apply(self, state, loads):
         rot = state.body(self.body).rotation
-        air = wake_velocity(state, self.wake, self.body, self.point) - state.point_velocity(self.body, self.point)
-        w = ca.mtimes(rot.T, air)
+        wake = wake_velocity(state, self.wake, self.body, self.point)
+        if self.wake is not None:
+            state.signals[f"{self.name}.wake"] = ca.mtimes(rot.T, wake)
+        w = ca.mtimes(rot.T, wake - state.point_velocity(self.body, self.point))
         w_c, w_n = ca.dot(w, ca.DM(self.c)), ca.dot(w, ca.DM(self.n))
         f_c, f_n = turn(*section_force(*turn(w_c, w_n, self.incidence), self.airfoil, self.rho, self.area),
                            -self.incidence)
@@ -86,7 +88,8 @@ class Download(ForceElement):
     its drag coefficient in flow along the body z axis. Each panel adds the increment of its
     vertical drag ``½ ρ S c_d (|w| w − |w_0| w_0)`` (N, along body z), ``w`` the air velocity's
     z component with the wake of ``rotor`` and ``w_0`` without it: the free-stream part stays
-    in the fuselage polynomials, and out of the wake the increment is zero.
+    in the fuselage polynomials, and out of the wake the increment is zero. Signal
+    ``fuselage.download``: the sum (N, along body z, positive down).
     """
 
     def __init__(self, body: str, rotor: str, panels, rho: float):
@@ -95,12 +98,14 @@ class Download(ForceElement):
 
     def apply(self, state, loads):
         rot = state.body(self.body).rotation
+        state.signals["fuselage.download"] = 0
         for point, area, cd in self.panels:
             own = -state.point_velocity(self.body, point)
             w0 = ca.dot(rot[:, 2], own)
             w = w0 + ca.dot(rot[:, 2], wake_velocity(state, self.rotor, self.body, point))
             drag = 0.5 * self.rho * area * cd * (w * ca.sqrt(w**2 + EPS**2) - w0 * ca.sqrt(w0**2 + EPS**2))
             loads.add_force(self.body, ca.vertcat(0, 0, drag), point=point, frame="body", rotation=rot)
+            state.signals["fuselage.download"] += drag
 
 
 class HubDrag(ForceElement):

@@ -17,6 +17,7 @@ from mbs.aero.sections import EPS
 
 INFLOW_MODELS = ("uniform", "pitt-peters")
 HARMONICS = ("", "_1s", "_1c")  # state-name suffixes: uniform, sine and cosine components
+SKEW_ROUNDING = 0.5  # m/s: rounding of the in-plane speed in the wake skew (see wake_skew)
 APPARENT_MASS = (8 / (3 * np.pi), 16 / (45 * np.pi), 16 / (45 * np.pi))  # Peters' M, nondimensional
 
 
@@ -48,12 +49,17 @@ def wake_skew(v0, v_inplane2, v_normal):
 
     Total inflow ``λ = V_normal + v0``; ``V_T = sqrt(V_inplane² + λ²)`` (m/s) drives the uniform
     component, ``V_m = (V_inplane² + λ (λ + V_normal)) / V_T`` (m/s) the gradients; wake skew
-    ``χ = atan(V_inplane / λ)`` (0 in hover, π/2 edgewise).
+    ``χ = atan(V_inplane / λ)`` (0 in hover, π/2 edgewise). ``tan(χ/2)`` takes ``|V_inplane|``,
+    which has a kink at zero; it is rounded to ``|V| (1 − exp(−V²/δ²))`` with
+    :data:`SKEW_ROUNDING` ``δ``: exactly 0 in hover, ``|V|³/δ²`` near it (twice differentiable,
+    so Newton converges quadratically on the hover's periodic solution, whose in-plane speed
+    oscillates through zero), ``|V|`` to 1e-7 from 2 m/s.
     """
     lam = v_normal + v0
     v_t = ca.sqrt(v_inplane2 + lam**2 + EPS**2)
     v_m = (v_inplane2 + lam * (lam + v_normal)) / v_t
-    tan_half = ca.sqrt(v_inplane2 + EPS**2) / (v_t + lam)
+    rounded = ca.sqrt(v_inplane2 + EPS**2) * (1 - ca.exp(-v_inplane2 / SKEW_ROUNDING**2))
+    tan_half = rounded / (v_t + lam)
     return v_t, v_m, tan_half, lam / v_t
 
 

@@ -33,7 +33,7 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-MIN_THROUGH_FLOW = 0.5  # m/s: smooth floor of λ, so the skew stays finite in a descent through λ = 0
+MIN_THROUGH_FLOW = 0.1  # m/s: smooth floor of λ, so the skew stays finite in a descent through λ = 0
 
 
 @dataclass(frozen=True)

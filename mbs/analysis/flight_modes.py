@@ -11,6 +11,11 @@ it, lateral otherwise, and is named as in Padfield (Helicopter Flight Dynamics, 
 * lateral: oscillatory "Dutch roll" (with a quarter or more in ``r``), else "lateral
   phugoid" (the sway-roll oscillation of the hover); real: "roll subsidence" (``p``), "yaw
   subsidence" (``r``), "spiral" (``φ, v``).
+
+A complex pair damped at 90 % of critical or more (coupled subsidences, e.g. roll and pitch
+through the rotor's cross-coupling in hover) is named as a real mode after the axis with the
+largest share of either group, joined by the next axis when that holds at least half as much
+("roll-pitch subsidence").
 """
 from __future__ import annotations
 
@@ -20,6 +25,7 @@ import numpy as np
 
 STATES = ("u", "w", "q", "theta", "v", "p", "phi", "r")
 LONGITUDINAL = ("u", "w", "q", "theta")
+OVERDAMPED = 0.9  # damping ratio from which a complex pair is named as a subsidence
 
 
 @dataclass
@@ -64,6 +70,12 @@ def mode_name(lam: complex, share: dict[str, float]) -> str:
     """Padfield's name of the mode ``lam`` with state shares ``share``."""
     group = lambda *keys: sum(share[k] for k in keys)  # noqa: E731
     oscillatory = abs(lam.imag) > 1e-9 * max(abs(lam), 1e-300)
+    if oscillatory and -lam.real >= OVERDAMPED * abs(lam):
+        weights = {"heave": share["w"], "pitch": group("q", "theta"), "speed": share["u"], "roll": share["p"],
+                   "yaw": share["r"]}
+        first, second = sorted(weights, key=weights.get, reverse=True)[:2]
+        joined = f"{first}-{second}" if weights[second] >= 0.5 * weights[first] else first
+        return f"{joined} {'divergence' if lam.real > 0 else 'subsidence'}"
     if group(*LONGITUDINAL) >= 0.5:
         if oscillatory:
             return "short period" if group("w", "q") > group("u", "theta") else "phugoid"

@@ -118,7 +118,7 @@ def group_of(name: str) -> str:
     """The participation group of a coordinate name."""
     if name.startswith(("seesaw.", "tail_rotor.")):
         return "tail rotor"
-    if name.endswith(".inflow"):
+    if ".inflow" in name:
         return "inflow"
     for key in ("flap", "lag"):
         if name.rsplit(".", 1)[-1].startswith(key):

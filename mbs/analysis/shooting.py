@@ -135,7 +135,7 @@ def residual_scales(names: list[str], omega: float, radius: float) -> np.ndarray
         key = name.rsplit(".", 1)[-1]
         if name.startswith("fuselage.") and key in "xyz":
             return radius
-        if key in ("u", "v", "w", "inflow"):
+        if key in ("u", "v", "w") or key.startswith("inflow"):
             return abs(omega) * radius
         if key in ("p", "q", "r") or key.endswith("_rate"):
             return abs(omega)

@@ -228,8 +228,23 @@ def _bo105_estimate(system, lay: TrimLayout, speed: float) -> tuple[np.ndarray, 
     for name, value in (("main_rotor.inflow", e.inflow_main), ("tail_rotor.inflow", e.inflow_tail)):
         if name in names:
             x[names.index(name)] = value
-    p = system.params({c: getattr(e, c) for c in lay.control_names})
+    ranges = {q["name"]: (q.get("low", -np.inf), q.get("high", np.inf)) for q in system.info.parameters}
+    p = system.params({c: float(np.clip(getattr(e, c), *ranges[c])) for c in lay.control_names})
     return x, p
+
+
+def _beyond_range(system, speed: float) -> str:
+    """A note naming the controls whose closed-form estimate at ``speed`` lies outside their
+    range (the likely reason a trim fails there), or ""."""
+    if not system.info.name.startswith("bo105"):
+        return ""
+    from mbs.models.bo105 import estimate_trim
+
+    e = estimate_trim(_bo105_data(), speed)
+    out = [f"{q['name']} = {getattr(e, q['name']):.4f} rad outside its range [{q['low']}, {q['high']}]"
+           for q in system.info.parameters if q.get("control") and hasattr(e, q["name"])
+           and not q["low"] <= getattr(e, q["name"]) <= q["high"]]
+    return f"; the closed-form estimate needs {', '.join(out)}: no trim within the control ranges" if out else ""
 
 
 def _scene_speed(system, lay: TrimLayout) -> float:
@@ -270,6 +285,8 @@ def periodic_solution(sc, speed: float | None = None, climb_rate: float = 0.0, m
                  max_iterations, progress=progress)
     if not res.converged and prob.lay.free and prob.speed > CONTINUATION_STEP:
         res = _continuation(system, stepper, sc, prob, climb_rate, steps_per_rev, tol, max_iterations, res)
+    if not res.converged and prob.lay.free:
+        res.reason += _beyond_range(system, prob.speed)
     return _result(sc.name, prob, res, prob.speed, climb_rate, steps_per_rev, setup_s, system.nfev - nfev0)
 
 
@@ -341,7 +358,7 @@ def write_trim(result: Trim, path: Path, key: str | None = None) -> Path:
     entries = tomllib.loads(path.read_text()) if path.exists() else {}
     entries[key or result.scene] = {"speed": result.speed, **result.controls, "roll": result.roll,
                                     "pitch": result.pitch,
-                                    **{k: v for k, v in result.state.items() if k.endswith(".inflow")},
+                                    **{k: v for k, v in result.state.items() if ".inflow" in k},
                                     "max_abs_residual": float(np.abs(result.residual).max())}
     lines = ["# Periodic trims of the Bo105 model (DER): written by `heli trim SCENE --write PATH`",
              "# (mbs/analysis/trim.py). Angles in rad, speed and inflow in m/s, residual scaled (per R, rev).", ""]

@@ -95,7 +95,8 @@ class Config:
     hub_drag: bool = False
 
     def __post_init__(self):
-        needs_rotor = [n for n in ("tail_wake", "download") if getattr(self, n)]
+        needs_rotor = [n for n in ("tail_wake", "download", "tip_loss", "compressibility") if getattr(self, n)]
+        needs_rotor += ["inflow"] if self.inflow != "uniform" else []
         if needs_rotor and not self.rotor_aero:
             raise ValueError(f"{needs_rotor[0]} needs the main rotor's aerodynamics, which this scene does not model")
         needs_airframe = [n for n in ("tail_wake", "download", "hub_drag") if getattr(self, n)]
@@ -136,6 +137,7 @@ def estimate_trim(d: Data, speed: float) -> TrimEstimate:
     tip, area = omega * big_r, np.pi * big_r**2
     sigma = mr["n_blades"] * mr["chord"] / (np.pi * big_r)
     drag = -d["fuselage_aero"]["X"][0] * (speed / d["fuselage_aero"]["v_ref"]) ** 2
+    drag += 0.5 * rho * d["hub_drag"]["flat_plate_area"] * speed**2
     tilt = drag / weight
     ct, mu = weight / (rho * area * tip**2), speed / tip
     lam_i = momentum_inflow(weight, rho, big_r, speed, speed * tilt) / tip
@@ -418,6 +420,19 @@ def _add_outputs(m: Model, d: Data, cfg: Config) -> None:
         _add_rotor_outputs(m, d, cfg, "main_rotor", 1.0)
         if cfg.tail_rotor:
             _add_rotor_outputs(m, d, cfg, "tail_rotor", gear)
+    _add_airframe_outputs(m, cfg)
+
+
+def _add_airframe_outputs(m: Model, cfg: Config) -> None:
+    """The main rotor's wake at the tail surfaces and the fuselage download, when modelled."""
+    if cfg.tail_wake:
+        m.add_output("horizontal_tail.downwash", lambda s: s.signals["horizontal tail.wake"][2], "m/s",
+                     "main-rotor wake velocity at the horizontal tail along body z (positive down)")
+        m.add_output("fin.sidewash", lambda s: s.signals["fin.wake"][1], "m/s",
+                     "main-rotor wake velocity at the fin along body y (positive to starboard)")
+    if cfg.download:
+        m.add_output("fuselage.download", lambda s: s.signals["fuselage.download"], "N",
+                     "vertical drag of the fuselage in the main-rotor wake (positive down)")
 
 
 ROTOR_OUTPUTS = (("thrust", "N", "thrust along the shaft"),
@@ -484,25 +499,64 @@ def build(cfg: Config = Config(), data: Data | None = None, name: str = "bo105")
 
 # -- scenes --------------------------------------------------------------------------------
 
-AERO_SWITCHES = {"pitt-peters": {"inflow": "pitt-peters"}, "tip-loss": {"tip_loss": True},
-                 "compressibility": {"compressibility": True}, "tail-wake": {"tail_wake": True},
-                 "download": {"download": True}, "hub-drag": {"hub_drag": True}}
+AERO_SWITCHES = {"pitt-peters": ("inflow", "pitt-peters", "uniform"), "tip-loss": ("tip_loss", True, False),
+                 "compressibility": ("compressibility", True, False), "tail-wake": ("tail_wake", True, False),
+                 "download": ("download", True, False), "hub-drag": ("hub_drag", True, False)}
+"""Aerodynamics switches: name -> (Config field, value when on, value when off)."""
+
+FULL = {field: on for field, on, _ in AERO_SWITCHES.values()}
+NONE = {field: off for field, _, off in AERO_SWITCHES.values()}
+
+
+def applicable_switches(cfg: Config) -> list[str]:
+    """The switches that apply to a scene configured by ``cfg`` (its rotors and airframe)."""
+    def applies(name: str) -> bool:
+        field, on, _ = AERO_SWITCHES[name]
+        try:
+            replace(cfg, **{**NONE, field: on})
+        except ValueError:
+            return False
+        return True
+    return [n for n in AERO_SWITCHES if applies(n)]
+
+
+def aero_switches(scene: Scene) -> list[str]:
+    """The aerodynamics switches that are on in ``scene``."""
+    cfg = replace(_config(scene), **{k: v for k, v in scene.options.items() if k in NONE})
+    return [n for n, (field, on, _) in AERO_SWITCHES.items() if getattr(cfg, field) == on]
 
 
 def with_aero(scene: Scene, switches: str) -> Scene:
-    """``scene`` with the rotor-aerodynamics switches named in ``switches`` (comma-separated
-    names of :data:`AERO_SWITCHES`, or "full" for all) turned on."""
-    names = list(AERO_SWITCHES) if switches.strip() == "full" else [n.strip() for n in switches.split(",") if n.strip()]
-    unknown = [n for n in names if n not in AERO_SWITCHES]
-    if unknown:
-        raise ValueError(f"unknown rotor-aerodynamics switch {unknown[0]!r}; known: {', '.join(AERO_SWITCHES)}, full")
-    options = {k: v for n in names for k, v in AERO_SWITCHES[n].items()}
+    """``scene`` with exactly the aerodynamics switches named in ``switches`` on: comma-separated
+    names of :data:`AERO_SWITCHES`, "full" (every switch that applies to the scene) or "none"
+    (the paper's model: uniform inflow, no tip loss, compressibility, wake on the airframe,
+    download or hub drag)."""
+    ok = applicable_switches(_config(scene))
+    if not ok:
+        raise ValueError(f"scene {scene.name!r} models no rotor or airframe aerodynamics: no switch applies")
+    words = [n.strip() for n in switches.split(",") if n.strip()]
+    names = ok if words == ["full"] else [] if words == ["none"] else words
+    for n in names:
+        if n not in AERO_SWITCHES:
+            raise ValueError(f"unknown aerodynamics switch {n!r}; known: {', '.join(AERO_SWITCHES)}, full, none")
+        if n not in ok:
+            raise ValueError(f"aerodynamics switch {n!r} does not apply to scene {scene.name!r}, which models "
+                             f"{'only ' + ', '.join(ok) if ok else 'no rotor or airframe aerodynamics'}")
+    options = {**NONE, **{AERO_SWITCHES[n][0]: AERO_SWITCHES[n][1] for n in names}}
     return replace(scene, options={**scene.options, **options})
+
+
+def _config(scene: Scene) -> Config:
+    cfg = getattr(scene.builder, "config", None)
+    if cfg is None:
+        raise ValueError(f"scene {scene.name!r} is not a Bo105 scene: it has no aerodynamics switches")
+    return cfg
 
 
 def _builder(cfg: Config, name: str):
     def make(**options) -> Model:
         return build(replace(cfg, **options), name=f"bo105-{name}")
+    make.config = cfg
     return make
 
 
@@ -518,12 +572,15 @@ SCENE_CONFIGS = {
     "structural": (Config(rotors="free", rotor_aero=False, airframe_aero=False, dampers=False),
                    "the paper's conservative case: free fuselage, free hubs spinning from the initial "
                    "condition, free pitch hinges, no aerodynamics, no dampers", True),
-    "forward-flight": (Config(speed=10.0, trim="forward-flight"), "the paper's aeromechanic case: free flight at 10 m/s with blade-element "
-                       "rotors, dynamic inflow, lag dampers, fuselage and empennage loads, trimmed controls and attitude",
-                       False),
-    "hover": (Config(speed=0.0, trim="hover"), "as forward-flight, at zero speed", False),
-    "ground-run": (Config(fuselage="clamped", airframe_aero=False, speed=0.0, trim="hover"),
-                   "fuselage clamped to the ground, both rotors with aerodynamics and dampers, hover controls", False),
+    "forward-flight": (Config(speed=10.0, trim="forward-flight", **FULL),
+                       "the paper's aeromechanic case: free flight at 10 m/s with blade-element rotors (Pitt-Peters "
+                       "inflow, tip loss, compressibility), lag dampers, fuselage, hub and empennage loads in the rotor's "
+                       "wake, trimmed controls and attitude", False),
+    "hover": (Config(speed=0.0, trim="hover", **FULL), "as forward-flight, at zero speed", False),
+    "ground-run": (Config(fuselage="clamped", airframe_aero=False, speed=0.0, trim="hover",
+                          **{k: v for k, v in FULL.items() if k not in ("tail_wake", "download", "hub_drag")}),
+                   "fuselage clamped to the ground, both rotors with aerodynamics (Pitt-Peters inflow, tip loss, "
+                   "compressibility) and dampers, hover controls", False),
     "single-blade": (Config(fuselage="none", blades=1, tail_rotor=False, rotor_aero=False, airframe_aero=False,
                             dampers=False, shaft_tilt=False, pitch_hinge=False),
                      "hub clamped and driven (vertical shaft), one blade on flap and lag hinges with springs, "

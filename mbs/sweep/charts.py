@@ -1,6 +1,7 @@
 """The charts of a sweep, drawn from its results table (PNG files in the output folder).
 
-trim: controls and attitude (deg) against the first axis (speed); simulate: the envelope
+trim: controls and attitude (deg) and the rotors' power (kW) against the first axis (speed), each
+alone and the three side by side (``trim_summary.png``); simulate: the envelope
 (min to max, and the mean) of each plotted coordinate and output against the first axis;
 floquet: frequency (Hz) and ``Re λ`` (1/s) of every mode against the first axis (rotor speed).
 Other axes give one line per combination of their values. Failed points are marked with a
@@ -84,14 +85,41 @@ def _save(fig, plt, path: Path, title: str) -> Path:
     return path
 
 
+POWER = ("main_rotor.power", "tail_rotor.power")
+
+
 def _trim(rows: list[dict], names: list[str], out: Path) -> list[Path]:
-    """Controls and attitude (deg) against the first axis."""
-    controls = [c for c in CONTROLS if c in rows[0] or any(c in r for r in rows)]
+    """Controls and attitude (deg) and the rotors' power (kW) against the first axis."""
+    controls = [c for c in CONTROLS if any(c in r for r in rows)]
+    power = [c for c in POWER if any(r.get(c) is not None for r in rows)]
     deg = 180 / np.pi
-    return [_line_chart(rows, names, {c: [c] for c in controls}, deg, "deg", out / "trim_controls.png",
-                        "trim: controls"),
-            _line_chart(rows, names, {"roll": ["roll"], "pitch": ["pitch"]}, deg, "deg", out / "trim_attitude.png",
-                        "trim: attitude")]
+    paths = [_line_chart(rows, names, {c: [c] for c in controls}, deg, "deg", out / "trim_controls.png",
+                         "trim: controls"),
+             _line_chart(rows, names, {"roll": ["roll"], "pitch": ["pitch"]}, deg, "deg", out / "trim_attitude.png",
+                         "trim: attitude")]
+    if power:
+        paths.append(_line_chart(rows, names, {"rotor power": power}, 1e-3, "kW", out / "trim_power.png",
+                                 "trim: aerodynamic shaft power"))
+    return paths + [_trim_summary(rows, names, controls, power, out / "trim_summary.png")]
+
+
+def _trim_summary(rows, names, controls, power, path: Path) -> Path:
+    """Controls, attitude (deg) and power (kW) side by side, one line per quantity (first group)."""
+    plt = _pyplot()
+    panels = [("controls (deg)", controls, 180 / np.pi), ("attitude (deg)", ["roll", "pitch"], 180 / np.pi),
+              ("shaft power (kW)", power, 1e-3)]
+    panels = [p for p in panels if p[1]]
+    fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 3.6), squeeze=False)
+    group = next(iter(_groups(rows, names).values()))
+    for ax, (title, cols, scale) in zip(axes[0], panels):
+        for c in cols:
+            ax.plot(*_series(group, names[0], c, scale), marker="o", ms=3, label=c.replace("_", " "))
+        _mark_failed(ax, rows, names[0])
+        ax.set_title(title, fontsize=9)
+        ax.set_xlabel(_axis_label(names[0]))
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.18), ncol=2, frameon=False)
+    return _save(fig, plt, path, "trim over speed: controls, attitude and power")
 
 
 def _simulate(rows: list[dict], names: list[str], out: Path) -> list[Path]:

@@ -64,9 +64,11 @@ def trim_point(built, scene: str, inputs: dict, options: dict) -> tuple[dict, st
                method=options.get("method", "rk4"), steps_per_rev=options.get("steps_per_rev"),
                tol=options.get("tol", 1e-10), max_iterations=options.get("iterations", 20),
                system=system, stepper=stepper)
-    out = {**res.controls, "roll": res.roll, "pitch": res.pitch, "thrust": res.thrust,
-           "iterations": res.iterations, "max_abs_residual": float(np.abs(res.residual).max())}
-    return out, ("ok" if res.converged else "failed"), res.reason
+    work = {"iterations": res.iterations, "max_abs_residual": float(np.abs(res.residual).max())}
+    if not res.converged:  # the last iterate is no trim: only the work is reported
+        return work, "failed", res.reason
+    return {**res.controls, "roll": res.roll, "pitch": res.pitch, "thrust": res.thrust, **res.output_means,
+            **work}, "ok", res.reason
 
 
 def simulate_point(built, scene: str, inputs: dict, options: dict) -> tuple[dict, str, str]:
