@@ -58,7 +58,7 @@ def scene_table(rows: list[dict]) -> str:
 
 
 def _scene(args):
-    """The scene named on the command line, with the ``--aero`` switches turned on."""
+    """The scene named on the command line with exactly the ``--aero`` switches on (when given)."""
     if not getattr(args, "aero", None):
         return args.scene
     from mbs import scenes
@@ -139,11 +139,12 @@ def cmd_floquet(args) -> int:
     if args.sweep:
         return _floquet_sweep(args)
     settings = parse_settings(args.set)
-    system, stepper = evaluators(scenes.get(args.scene), args.method, args.backend)
+    sc = _scene(args)
+    system, stepper = evaluators(scenes.get(sc) if isinstance(sc, str) else sc, args.method, args.backend)
     if settings:
         system = WithParameters(system, **settings)
         system.params()
-    res = floquet(args.scene, speed=args.speed, method=args.method, steps_per_rev=args.steps_per_rev,
+    res = floquet(sc, speed=args.speed, method=args.method, steps_per_rev=args.steps_per_rev,
                   backend=args.backend, system=system, stepper=stepper, frame=args.frame)
     out, lines = res.summary(), _floquet_lines(res)
     if args.out:
@@ -226,7 +227,7 @@ def _sweep_lines(res: dict, points) -> list[str]:
 def cmd_derivatives(args) -> int:
     from mbs.analysis.derivatives import derivatives, write_matrices
 
-    res = derivatives(args.scene, speed=args.speed, method=args.method, steps_per_rev=args.steps_per_rev,
+    res = derivatives(_scene(args), speed=args.speed, method=args.method, steps_per_rev=args.steps_per_rev,
                       backend=args.backend)
     out, lines = res.summary(), _derivative_lines(res)
     if args.mat:
@@ -329,8 +330,9 @@ def _aero(p) -> None:
     from mbs.models.bo105 import AERO_SWITCHES
 
     p.add_argument("--aero", metavar="SWITCHES", default=None,
-                   help="rotor-aerodynamics switches to turn on (Bo105 scenes): comma-separated "
-                        f"{', '.join(AERO_SWITCHES)}, or full")
+                   help="aerodynamics switches that are on (Bo105 scenes), the others off: comma-separated "
+                        f"{', '.join(AERO_SWITCHES)}; or full (every switch the scene models, the default) or "
+                        "none (the paper's model: uniform inflow, free-stream airframe)")
 
 
 def _quiet(p) -> None:
@@ -374,6 +376,7 @@ def register(sub, bench) -> None:
                    ".csv (default: print only); with --sweep the fan plot's files (default out/floquet)")
     _quiet(p)
     add_json(p)
+    _aero(p)
     p.set_defaults(fn=cmd_floquet)
 
     p = sub.add_parser("derivatives", help="stability and control derivatives at trim (quasi-static rotor in its "
@@ -382,6 +385,7 @@ def register(sub, bench) -> None:
     p.add_argument("--mat", metavar="FILE", default=None, type=A.output_file(".mat", ".npz"),
                    help="write A, B and the mode names to FILE (.mat for MATLAB, or .npz)")
     add_json(p)
+    _aero(p)
     p.set_defaults(fn=cmd_derivatives)
 
     p = sub.add_parser("scenes", help="list the scenes: bodies, degrees of freedom, force elements")

@@ -162,7 +162,7 @@ def floquet(scene: str = "forward-flight", speed: float | None = None, method: s
 
     if frame not in FRAMES:
         raise ValueError(f"unknown frame {frame!r}; choose one of {FRAMES}")
-    sc = scenes.get(scene)
+    sc = scenes.get(scene) if isinstance(scene, str) else scene
     _check(sc, trimmable(sc))
     if system is None and stepper is None:
         system, stepper = evaluators(sc, method, backend)
