@@ -20,6 +20,7 @@ from mbs import arguments, cli
 
 HELI = Path(sys.executable).with_name("heli")
 PACKAGE_TRIMS = Path(mbs.__file__).resolve().parent / "models" / "bo105_trim.toml"
+PACKAGE_TRIMS_TEXT = PACKAGE_TRIMS.read_text()
 NOT_TRIMMABLE = ("demo-rotor", "demo-driven", "structural", "single-blade", "ground-resonance")
 TRIMMABLE = "trimmable scenes: forward-flight, ground-run, hover, single-blade-aero"
 
@@ -136,7 +137,7 @@ def test_bad_invocation_is_one_line_and_exit_2(line, words, places, capsys, tmp_
     code, err = run_main(argv, capsys)
     assert_one_line_error(code, err, [places.get(w, w) for w in words])
     assert sorted(p.name for p in tmp_path.iterdir()) == before  # nothing written (no out/ folder)
-    assert PACKAGE_TRIMS.read_text().startswith("# Trimmed flight conditions")
+    assert PACKAGE_TRIMS.read_text() == PACKAGE_TRIMS_TEXT  # the package's trims untouched
 
 
 # -- the commonest mistakes, through the installed script ----------------------------------------------
@@ -241,5 +242,6 @@ def test_scenes_does_not_call_velocities_degrees_of_freedom(capsys):
     dof_lines = [line for line in out.splitlines() if "degrees of freedom" in line]
     assert len(dof_lines) == len(mbs.scenes.all_scenes())
     assert all("_rate" not in line and ".u" not in line for line in dof_lines)
-    assert "  15 degrees of freedom + 2 extra states (main_rotor.inflow, tail_rotor.inflow)" in out
+    assert ("  15 degrees of freedom + 4 extra states (main_rotor.inflow, main_rotor.inflow_1s, main_rotor.inflow_1c, "
+            "tail_rotor.inflow)") in out
     assert "  16 position coordinates: fuselage.x, fuselage.y, fuselage.z, fuselage.qw" in out

@@ -177,20 +177,6 @@ def stored_trim(key: str | None, speed: float) -> dict | None:
     return entry if entry and abs(entry["speed"] - speed) < 1e-6 else None
 
 
-def write_trim(key: str, result) -> Path:
-    """Store a :class:`mbs.trim.Trim` under ``key`` in ``bo105_trim.toml`` (kept sorted)."""
-    entries = tomllib.loads(TRIM_FILE.read_text()) if TRIM_FILE.exists() else {}
-    entries[key] = {"speed": result.speed, **result.controls, "roll": result.roll, "pitch": result.pitch,
-                    **{k: v for k, v in result.state.items() if k.endswith(".inflow")},
-                    "max_abs_residual": float(np.abs(result.residual).max())}
-    lines = ["# Trimmed flight conditions of the Bo105 model (DER): written by `heli trim SCENE --write`",
-             "# (mbs/trim.py). Angles in rad, speed and inflow in m/s, residual in m/s^2 or rad/s^2.", ""]
-    for name, e in sorted(entries.items()):
-        lines += [f'["{name}"]'] + [f'"{k}" = {float(v)!r}' for k, v in e.items()] + [""]
-    TRIM_FILE.write_text("\n".join(lines))
-    return TRIM_FILE
-
-
 # -- the tree ------------------------------------------------------------------------------
 
 def _box_inertia(mass: float, lx: float, ly: float, lz: float) -> np.ndarray:
