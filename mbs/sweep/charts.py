@@ -104,16 +104,20 @@ def _trim(rows: list[dict], names: list[str], out: Path) -> list[Path]:
 
 
 def _trim_summary(rows, names, controls, power, path: Path) -> Path:
-    """Controls, attitude (deg) and power (kW) side by side, one line per quantity (first group)."""
+    """Collectives, cyclics, attitude (deg) and power (kW) side by side, one line per quantity
+    (first group)."""
     plt = _pyplot()
-    panels = [("controls (deg)", controls, 180 / np.pi), ("attitude (deg)", ["roll", "pitch"], 180 / np.pi),
-              ("shaft power (kW)", power, 1e-3)]
+    deg = 180 / np.pi
+    panels = [("collective pitch (deg)", [c for c in controls if "collective" in c], deg),
+              ("cyclic pitch (deg)", [c for c in controls if "cyclic" in c], deg),
+              ("attitude (deg)", ["roll", "pitch"], deg), ("shaft power (kW)", power, 1e-3)]
     panels = [p for p in panels if p[1]]
-    fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 3.6), squeeze=False)
+    fig, axes = plt.subplots(1, len(panels), figsize=(3.6 * len(panels), 3.6), squeeze=False)
     group = next(iter(_groups(rows, names).values()))
     for ax, (title, cols, scale) in zip(axes[0], panels):
         for c in cols:
-            ax.plot(*_series(group, names[0], c, scale), marker="o", ms=3, label=c.replace("_", " "))
+            label = c.split(".")[0] if c.endswith(".power") else c
+            ax.plot(*_series(group, names[0], c, scale), marker="o", ms=3, label=label.replace("_", " "))
         _mark_failed(ax, rows, names[0])
         ax.set_title(title, fontsize=9)
         ax.set_xlabel(_axis_label(names[0]))
