@@ -4,7 +4,8 @@ the main-rotor azimuth (readout), taken from a :class:`viewer.motion.Recording`.
 Hinge angles are the scene's plot panels (``Scene.plots``: coordinates or outputs), else the
 coordinates called ``*.flap``, ``*.lag`` and ``*.teeter``. Pitch inputs are the parameters
 whose names contain "collective" or "cyclic", and any other parameter that changes during
-the run. Angles are shown in degrees.
+the run. Rotor power: the outputs called ``*.power``, when the model has them. Angles are shown
+in degrees, power in kW.
 """
 from __future__ import annotations
 
@@ -77,15 +78,25 @@ def hinge_panels(rec) -> dict[str, list[str]]:
     return out
 
 
+def power_panels(rec) -> dict[str, list[str]]:
+    """Panel title -> names: the rotors' shaft power outputs (W), if any."""
+    return {"rotor shaft power (W)": [n for n in rec.info.output_names if n.endswith(".power")]}
+
+
+UNITS = {"(rad)": ("(deg)", np.degrees), "(W)": ("(kW)", lambda w: w * 1e-3)}
+
+
 def panels(rec, rows: np.ndarray) -> list[Panel]:
-    """The plot: pitch inputs first (if any), then the hinge-angle panels; angles in degrees."""
-    groups = {**input_panels(rec), **hinge_panels(rec)}
+    """The plot: pitch inputs first (if any), then the hinge-angle panels, then rotor power;
+    angles in degrees, power in kW."""
+    groups = {**input_panels(rec), **hinge_panels(rec), **power_panels(rec)}
     out = []
     for title, names in groups.items():
         if names:
             values = np.column_stack([signal(rec, n, rows) for n in names])
-            if title.endswith("(rad)"):
-                title, values = title[:-5] + "(deg)", np.degrees(values)
+            for unit, (shown, convert) in UNITS.items():
+                if title.endswith(unit):
+                    title, values = title[:-len(unit)] + shown, convert(values)
             out.append(Panel(title, list(names), values))
     return out
 
