@@ -94,24 +94,30 @@ class Wake:
     rho: float
     geometry: WakeGeometry
 
+    def __post_init__(self):
+        """The rotor's flow, shared by every point: thrust axis, through-flow ``λ``, the in-plane
+        air velocity per ``λ`` (the wake centre's drift per metre of depth), ``V_T/λ``,
+        ``cos χ`` and the swirl's ``Q/(ρ A λ)``."""
+        self.axis = self.shaft[:, 2]
+        lam = self._through_flow(self.axis)
+        air_xy = self.air - ca.dot(self.air, self.axis) * self.axis
+        v_total = ca.sqrt(ca.dot(air_xy, air_xy) + lam**2)
+        self.drift, self.stretch, self.cos_skew = air_xy / lam, v_total / lam, lam / v_total
+        self.swirl = self.torque / (self.rho * np.pi * self.radius**2 * lam)
+
     def velocity(self, point):
         """Induced air velocity (3,) (m/s, world) of the wake at ``point`` (3,) (m, world)."""
-        axis = self.shaft[:, 2]
-        r = point - self.hub
+        axis, r = self.axis, point - self.hub
         depth = -ca.dot(r, axis)
-        lam = self._through_flow(axis)
-        air_xy = self.air - ca.dot(self.air, axis) * axis
-        offset = r + depth * axis - depth / lam * air_xy  # in-plane, from the wake's centre
+        offset = r + depth * (axis - self.drift)  # in-plane, from the wake's centre
         e_x, e_y = ca.dot(offset, self.shaft[:, 0]), ca.dot(offset, self.shaft[:, 1])
         e2 = e_x**2 + e_y**2
-        v_total = ca.sqrt(ca.dot(air_xy, air_xy) + lam**2)
-        along = depth * v_total / lam
+        along = depth * self.stretch
         grow = along / ca.sqrt(along**2 + self.radius**2)
-        immersion = self.immersion(ca.sqrt(e2 + 1e-12), depth, lam / v_total)
-        v_disc = self._disc_inflow(e_x, e_y)
-        swirl = self.torque / (self.rho * np.pi * self.radius**2 * lam * (e2 + self.geometry.core**2))
+        immersion = self.immersion(ca.sqrt(e2 + 1e-12), depth, self.cos_skew)
+        swirl = self.swirl / (e2 + self.geometry.core**2)
         tangential = ca.cross(axis, e_x * self.shaft[:, 0] + e_y * self.shaft[:, 1])
-        return immersion * (-(1 + grow) * v_disc * axis + swirl * tangential)
+        return immersion * (-(1 + grow) * self._disc_inflow(e_x, e_y) * axis + swirl * tangential)
 
     def immersion(self, distance, depth, cos_skew):
         """Share (0..1) of the wake's velocity at a point ``distance`` (m) from its centre,
