@@ -39,6 +39,21 @@ def random_tree(seed: int, n_bodies: int = 12, free_base: bool = True, serial: b
     return m
 
 
+def random_chain(seed: int, n_links: int, free_base: bool = False) -> Model:
+    """``n_links`` bodies in series (the deepest tree): random hinge axes, placements, masses,
+    centres of mass and full inertias; the first body on a free joint when ``free_base``."""
+    rng = np.random.default_rng(seed)
+    m = Model(f"chain{n_links}-{seed}{'f' if free_base else ''}", gravity=(0, 0, 9.81))
+    parent = "world"
+    for i in range(n_links):
+        joint = FreeJoint() if i == 0 and free_base else Hinge(rng.normal(size=3))
+        m.add_body(f"b{i}", parent, joint, mass=rng.uniform(0.5, 5.0), com=rng.normal(size=3) * 0.3,
+                   inertia=random_inertia(rng), at=rng.normal(size=3) * 0.5 if i else np.zeros(3),
+                   frame=Rotation.random(random_state=rng).as_matrix())
+        parent = f"b{i}"
+    return m
+
+
 def random_state(system, seed: int, scale: float = 1.0) -> np.ndarray:
     rng = np.random.default_rng(seed)
     x = system.x0()

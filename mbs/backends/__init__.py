@@ -8,12 +8,13 @@ from __future__ import annotations
 BACKENDS = ("compiled", "vm")
 
 
-def build(model, backend: str = "compiled", dtype: str = "float64"):
+def build(model, backend: str = "compiled", dtype: str = "float64", path: str | None = None):
     """Build ``model`` (a :class:`mbs.Model`) into a runnable :class:`mbs.System`.
 
     backend: ``"compiled"`` (generated C, cached on disk; float64 or float32) or ``"vm"``
-    (CasADi's virtual machine, float64). Raises :class:`mbs.CompilerNotFound` if the compiled
-    evaluator is asked for and no C compiler exists.
+    (CasADi's virtual machine, float64). path: the forward-dynamics path, a key of
+    :data:`mbs.dynamics.PATHS` (default: the one with fewer operations). Raises
+    :class:`mbs.CompilerNotFound` if the compiled evaluator is asked for and no C compiler exists.
     """
     from mbs.backends.compiled import CompiledSystem, compile_source, generate
     from mbs.backends.vm import VMSystem
@@ -23,7 +24,7 @@ def build(model, backend: str = "compiled", dtype: str = "float64"):
         raise ValueError(f"unknown backend {backend!r}; choose one of {BACKENDS}")
     if dtype not in ("float64", "float32"):
         raise ValueError(f"unknown dtype {dtype!r}; choose 'float64' or 'float32'")
-    vm = VMSystem(symbolic(model), dtype if backend == "vm" else "float64")
+    vm = VMSystem(symbolic(model, path), dtype if backend == "vm" else "float64")
     if backend == "vm":
         return vm
     folder = compile_source(generate(vm.functions, vm.info, dtype), vm.info)

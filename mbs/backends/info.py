@@ -89,7 +89,7 @@ def info_of(symbolic, methods: dict[str, int]) -> ModelInfo:
     outputs = [dict(name=o.name, unit=o.unit, description=o.description) for o in model.outputs.values()]
     return ModelInfo(model.name, lay.q_names, lay.v_names, params, bodies,
                      initial_state(symbolic).tolist(), model.gravity.tolist(), methods, outputs,
-                     lay.z_names)
+                     lay.z_names, {"dynamics": symbolic.path, "operations": dict(symbolic.operations)})
 
 
 def initial_state(symbolic) -> np.ndarray:

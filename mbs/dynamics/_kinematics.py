@@ -1,0 +1,80 @@
+"""The tree traversal (the paper's) and what forward-mode AD takes from it.
+
+Body states ``V`` stack, per body, the centre-of-mass velocity (world components, m/s) and
+the angular velocity (body components, rad/s), so that the body mass matrix is
+``M = blockdiag(m I, J_c)``. From ``V`` the AD gives each body's own columns of
+``J_u = dV/du`` (its joint's motion subspace) and, along ``(F, 1)``, ``H = dV/ds F + dV/dt``
+(the velocity-product accelerations, with the rates and accelerations of driven joints).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import casadi as ca
+
+from mbs.joints import Params, Relative, compose
+
+
+def _placement(body) -> Relative:
+    z = ca.SX.zeros(3)
+    return Relative(ca.DM(body.at), ca.DM(body.frame), z, z)
+
+
+def traverse(lay, s, u, t, p: Params) -> dict[str, Relative]:
+    """Absolute motion of every body frame, root to leaves (the paper's traversal)."""
+    z = ca.SX.zeros(3)
+    world = Relative(z, ca.SX.eye(3), z, z)
+    motions: dict[str, Relative] = {}
+    for b in lay.bodies:
+        parent = motions.get(b.parent, world)
+        rel = b.joint.relative(s[lay.q_slices[b.name]], u[lay.v_slices[b.name]], t, p)
+        motions[b.name] = compose(compose(parent, _placement(b)), rel)
+    return motions
+
+
+def body_states(lay, motions) -> ca.SX:
+    """``V``: per body (centre-of-mass velocity in world, angular velocity in body), (6 nb,)."""
+    parts = []
+    for b in lay.bodies:
+        m = motions[b.name]
+        parts += [m.velocity + ca.mtimes(m.rotation, ca.cross(m.omega, ca.DM(b.com))), m.omega]
+    return ca.vertcat(*parts)
+
+
+def poses(lay, motions) -> ca.SX:
+    """Per body its origin (3, m, world) and rotation body -> world (9, row major), (12 nb,)."""
+    return ca.vertcat(*[ca.vertcat(motions[b.name].position, ca.reshape(motions[b.name].rotation.T, 9, 1))
+                        for b in lay.bodies])
+
+
+def position_rates(lay, s, u) -> ca.SX:
+    """``s' = F(s, u)``, (nq,)."""
+    return ca.vertcat(*[b.joint.qdot(s[lay.q_slices[b.name]], u[lay.v_slices[b.name]]) for b in lay.bodies],
+                      ca.SX(0, 1))
+
+
+@dataclass
+class Kinematics:
+    """The tree's motion at a symbolic state: body-frame ``motions``, ``V`` (6 nb,), ``H``
+    (6 nb,), ``own`` per moving body its columns of ``J_u`` (6, nk) and ``sdot`` (nq,)."""
+
+    motions: dict[str, Relative]
+    V: ca.SX
+    H: ca.SX
+    own: dict[str, ca.SX]
+    sdot: ca.SX
+
+    def rows(self, i: int) -> slice:
+        """The rows of body ``i`` (layout order) in ``V`` and ``H``."""
+        return slice(6 * i, 6 * i + 6)
+
+
+def kinematics(lay, s, u, t, p: Params) -> Kinematics:
+    """Traverse the tree and differentiate: one direction along ``(F, 1)`` for ``H`` and, per
+    moving body, one per rate of its own joint for its columns of ``J_u``."""
+    motions = traverse(lay, s, u, t, p)
+    V, sdot = body_states(lay, motions), position_rates(lay, s, u)
+    H = ca.jtimes(V, ca.vertcat(s, t), ca.vertcat(sdot, 1))
+    own = {b.name: ca.jtimes(V[6 * i:6 * i + 6], u[lay.v_slices[b.name]], ca.SX.eye(b.joint.nv))
+           for i, b in enumerate(lay.bodies) if b.joint.nv}
+    return Kinematics(motions, V, H, own, sdot)

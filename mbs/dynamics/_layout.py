@@ -1,0 +1,35 @@
+"""Where each body's coordinates live in the state."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from mbs import tree as _tree
+from mbs.backends.info import StateSizes
+
+
+@dataclass
+class Layout(StateSizes):
+    """Bodies parents first and the slices of their coordinates in ``s`` and rates in ``u``;
+    numeric data only."""
+
+    bodies: list
+    q_slices: dict[str, slice] = field(default_factory=dict)
+    v_slices: dict[str, slice] = field(default_factory=dict)
+    q_names: list[str] = field(default_factory=list)
+    v_names: list[str] = field(default_factory=list)
+    z_names: list[str] = field(default_factory=list)
+
+    @classmethod
+    def of(cls, model: _tree.Model) -> "Layout":
+        lay = cls(model.order())
+        for b in lay.bodies:
+            lay.q_slices[b.name] = slice(len(lay.q_names), len(lay.q_names) + b.joint.nq)
+            lay.v_slices[b.name] = slice(len(lay.v_names), len(lay.v_names) + b.joint.nv)
+            lay.q_names += [f"{b.name}.{n}" for n in b.joint.q_names]
+            lay.v_names += [f"{b.name}.{n}" for n in b.joint.v_names]
+        lay.z_names = list(model.states)
+        return lay
+
+    def moving(self) -> list:
+        """The bodies whose joints have rates (the others are fixed or driven)."""
+        return [b for b in self.bodies if b.joint.nv]
