@@ -124,8 +124,15 @@ class Problem:
         """``f(t, x) -> x'`` calling the generated code directly (for scipy)."""
         p = self.p
         if self.backend == "compiled":
-            raw = self.system.function("rhs")
-            return lambda t, x: raw(x, t, p)[0]
+            rhs = self.system.bind("rhs")
+            x_in, t_in, p_in = rhs.inputs
+            p_in[:] = p
+
+            def f(t, x):
+                x_in[:], t_in[0] = x, t
+                rhs()
+                return rhs.outputs[0].copy()
+            return f
         raw = self.system.functions["rhs"]
         return lambda t, x: np.asarray(raw(x, t, p)).ravel()
 

@@ -3,13 +3,16 @@
 The generated source (plus a small driver that loops fixed steps in C, so a whole
 communication step or simulation chunk is one call) is compiled with the machine's C
 compiler into a shared library, cached on disk under a hash of the source and flags.
-The library directory holds ``model.c``, ``model.so`` and ``info.json`` (with the digest
-files of the last two, checked before a cached folder is used); loading it needs only numpy
+The source is cut into translation units (functions that call one another stay together),
+compiled in parallel, each with the flags its size calls for, then linked. The library
+directory holds the sources (``model.c``, ``model_1.c``, ...), ``model.so`` and ``info.json``
+(with the digest files of the last two, checked before a cached folder is used); loading it needs only numpy
 and ctypes (no CasADi), which is what the FMU ships.
 """
 from __future__ import annotations
 
 import ctypes
+import functools
 import hashlib
 import logging
 import os
@@ -22,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from mbs.backends.info import ModelInfo
-from mbs.backends.system import System
+from mbs.backends.system import Bound, System
 
 _CINT = ctypes.c_longlong
 _REALS = {"float64": ("double", ctypes.c_double), "float32": ("float", ctypes.c_float)}
@@ -96,28 +99,68 @@ def cache_dir() -> Path:
 
 
 CFLAGS = ["-O2", "-fPIC", "-shared", "-fno-math-errno"]
-LARGE_SOURCE_BYTES = 1_500_000
-"""Above this size of C source, compile with ``-O1``: gcc's ``-O2`` time grows steeply with the
-size of one generated function (a 40-link chain, 2.7 MB: 311 s at ``-O2``, 19 s at ``-O1``,
-whose code runs 2x slower, still 4x faster than the virtual machine)."""
+LARGE_SOURCE_BYTES = 800_000
+"""Above this size of one translation unit, compile with ``-O1``: gcc's ``-O2`` time grows
+steeply with the size of one generated function (its register allocation), ``-O1``'s about
+linearly. The 100-link chain's right-hand side (1.8 MB): 61 s at ``-O2``, 8 s at ``-O1``,
+whose code runs about 10 % slower; the 40-link chain's (0.7 MB): 9 s and 6 s."""
 
 
 def compile_flags(source: str) -> list[str]:
-    """The compiler flags for ``source``: :data:`CFLAGS`, with ``-O1`` for large sources."""
+    """The compiler flags for ``source`` (one translation unit): :data:`CFLAGS`, with ``-O1``
+    above :data:`LARGE_SOURCE_BYTES`."""
     if len(source) <= LARGE_SOURCE_BYTES:
         return list(CFLAGS)
     return ["-O1" if f == "-O2" else f for f in CFLAGS]
 
 
+NOT_GENERATED = ("parts",)
+"""Functions of a model that run only symbolically: ``parts`` (the composite path's ``Mt``,
+O(n²) entries on a chain) serves the held-fuselage analyses and the tests; a right-hand side
+that needs it carries it along."""
+
+UNIT_SEPARATOR = "\n/* ---- next translation unit ---- */\n"
+"""Between the translation units of one generated source (each compiled on its own, in parallel)."""
+
+
+def translation_units(functions: dict, methods) -> list[list[str]]:
+    """The names of ``functions`` grouped into translation units: functions that call one
+    another or a common function share a unit, so that each generated function is compiled
+    once; the unit of the fixed-step drivers' functions (``incr_<method>``, ``project``) first."""
+    root = {n: n for n in functions}
+
+    def find(n: str) -> str:
+        while root[n] != n:
+            n = root[n]
+        return n
+    owner: dict[str, str] = {}
+    for name, f in functions.items():
+        for callee in [name, *(g.name() for g in f.find_functions())]:
+            root[find(owner.setdefault(callee, name))] = find(name)
+    driven = [n for n in [*(f"incr_{m}" for m in methods), "project"] if n in functions and methods]
+    for n in driven[1:]:
+        root[find(n)] = find(driven[0])
+    groups: dict[str, list[str]] = {}
+    for n in sorted(functions, key=lambda n: n not in driven):
+        groups.setdefault(find(n), []).append(n)
+    return list(groups.values())
+
+
 def generate(functions: dict, info: ModelInfo, dtype: str) -> str:
-    """C source of ``functions`` (CasADi) plus one fixed-step driver per method."""
+    """C source of ``functions`` (CasADi; without :data:`NOT_GENERATED`) plus one fixed-step
+    driver per method, as translation units joined by :data:`UNIT_SEPARATOR`."""
     import casadi as ca
 
-    gen = ca.CodeGenerator("model.c", {"casadi_real": _REALS[dtype][0], "with_header": False})
-    for f in functions.values():
-        gen.add(f)
-    drivers = "".join(DRIVER.format(m=m, nx=info.nx) for m in info.methods)
-    return gen.dump() + drivers
+    functions = {n: f for n, f in functions.items() if n not in NOT_GENERATED}
+    units = []
+    for k, names in enumerate(translation_units(functions, info.methods)):
+        gen = ca.CodeGenerator(f"model_{k}.c" if k else "model.c", {"casadi_real": _REALS[dtype][0],
+                                                                    "with_header": False})
+        for name in names:
+            gen.add(functions[name])
+        units.append(gen.dump())
+    units[0] += "".join(DRIVER.format(m=m, nx=info.nx) for m in info.methods)
+    return UNIT_SEPARATOR.join(units)
 
 
 def compile_source(source: str, info: ModelInfo, directory: Path | None = None) -> Path:
@@ -132,7 +175,7 @@ def compile_source(source: str, info: ModelInfo, directory: Path | None = None) 
     """
     from mbs.backends.cache import replace_dir, writable_dir
 
-    cc, flags = find_compiler(), compile_flags(source)
+    cc, flags = find_compiler(), [" ".join(compile_flags(u)) for u in source.split(UNIT_SEPARATOR)]
     key = hashlib.sha256("\n".join([source, info.to_json(), cc, *flags]).encode()).hexdigest()[:20]
     folder = (directory or cache_dir()) / f"{info.name}-{key}"
     bad = library_problem(folder)
@@ -142,7 +185,7 @@ def compile_source(source: str, info: ModelInfo, directory: Path | None = None) 
         logging.getLogger(__name__).warning("rebuilding %s: %s", folder, bad)
     tmp = Path(tempfile.mkdtemp(dir=writable_dir(folder.parent, "compiled-model cache"), prefix=".build-"))
     try:
-        _compile_into(tmp, cc, flags, source, info)
+        _compile_into(tmp, cc, source, info)
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise
@@ -152,22 +195,44 @@ def compile_source(source: str, info: ModelInfo, directory: Path | None = None) 
     return replace_dir(tmp, folder)
 
 
-def _compile_into(folder: Path, cc: str, flags: list[str], source: str, info: ModelInfo) -> None:
-    """Write ``model.c``, compile ``model.so`` and write ``info.json`` into ``folder``,
-    recording the digests of the library and of the description."""
+def _compile_into(folder: Path, cc: str, source: str, info: ModelInfo) -> None:
+    """Compile ``source`` into ``folder/model.so`` (:func:`_compile_units`, then one link) and
+    write ``info.json``, recording the digests of the library and of the description."""
     from mbs.backends.cache import record
 
-    (folder / "model.c").write_text(source)
-    start = time.perf_counter()
-    proc = subprocess.run([cc, *flags, "-o", str(folder / "model.so"), str(folder / "model.c"), "-lm"],
-                          capture_output=True, text=True)
-    if proc.returncode:
-        raise RuntimeError(f"compiling {info.name} failed:\n{proc.stderr[-2000:]}")
+    start, units = time.perf_counter(), source.split(UNIT_SEPARATOR)
+    objects = _compile_units(folder, cc, units)
+    _run([cc, "-shared", "-o", str(folder / "model.so"), *map(str, objects), "-lm"], info.name)
+    for o in objects:
+        o.unlink()
     info.extra["compile_s"] = time.perf_counter() - start
-    info.extra["cflags"] = flags
+    info.extra["cflags"] = compile_flags(max(units, key=len))
+    info.extra["units"] = [{"bytes": len(u), "cflags": compile_flags(u)} for u in units]
     (folder / "info.json").write_text(info.to_json())
     for name in LIBRARY_FILES:
         record(folder / name)
+
+
+def _compile_units(folder: Path, cc: str, units: list[str]) -> list[Path]:
+    """Write the translation units (``model.c``, ``model_1.c``, ...) and compile them to object
+    files all at once, each with its :func:`compile_flags`; returns the object files."""
+    jobs = []
+    for k, unit in enumerate(units):
+        path = folder / (f"model_{k}.c" if k else "model.c")
+        path.write_text(unit)
+        flags = [f for f in compile_flags(unit) if f != "-shared"]
+        cmd = [cc, *flags, "-c", "-o", str(path.with_suffix(".o")), str(path)]
+        jobs.append((path.with_suffix(".o"), subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True)))
+    errors = [err for _, p in jobs if (err := p.communicate()[1]) and p.returncode]
+    if errors:
+        raise RuntimeError(f"compiling {folder.name} failed:\n{errors[0][-2000:]}")
+    return [o for o, _ in jobs]
+
+
+def _run(cmd: list[str], name: str) -> None:
+    proc = subprocess.run(cmd, capture_output=True, text=True)
+    if proc.returncode:
+        raise RuntimeError(f"compiling {name} failed:\n{proc.stderr[-2000:]}")
 
 
 LIBRARY_FILES = ("model.so", "info.json")
@@ -202,22 +267,21 @@ def check_library(folder: Path) -> None:
 
 
 class CFunction:
-    """One generated CasADi function called through ctypes with preallocated buffers."""
+    """One generated CasADi function called through ctypes with preallocated buffers.
+
+    ``f(*args)`` copies the arguments into the buffers and returns copies of the outputs;
+    :meth:`bind` gives a call without either (see :class:`mbs.backends.system.Bound`)."""
 
     def __init__(self, lib: ctypes.CDLL, name: str, ctype):
-        self.name, self._f, self._np = name, getattr(lib, name), np.dtype(ctype)
-        self._f.restype = ctypes.c_int
-        self._f.argtypes = [ctypes.c_void_p] * 4 + [ctypes.c_int]
+        self.name, self._np = name, np.dtype(ctype)
         sizes = [_CINT() for _ in range(4)]
         getattr(lib, name + "_work")(*[ctypes.byref(s) for s in sizes])
+        self._sizes = [max(s.value, 1) for s in sizes]
         n_in, n_out = (self._query(lib, name + s, _CINT)() for s in ("_n_in", "_n_out"))
         self.ins = [np.zeros(self._nnz(lib, name + "_sparsity_in", i), self._np) for i in range(n_in)]
         self.outs = [np.zeros(self._nnz(lib, name + "_sparsity_out", i), self._np) for i in range(n_out)]
-        self._arg = (ctypes.c_void_p * max(sizes[0].value, 1))(*[a.ctypes.data for a in self.ins])
-        self._res = (ctypes.c_void_p * max(sizes[1].value, 1))(*[a.ctypes.data for a in self.outs])
-        self._iw = np.zeros(max(sizes[2].value, 1), np.int64)
-        self._w = np.zeros(max(sizes[3].value, 1), self._np)
-        self._call_args = (self._arg, self._res, self._iw.ctypes.data, self._w.ctypes.data, 0)
+        self._lib = lib
+        self._run = self._caller(self.ins, self.outs)
 
     @staticmethod
     def _query(lib, name, restype):
@@ -230,12 +294,31 @@ class CFunction:
         sp = f(i)  # (nrow, ncol, 1) when dense, else (nrow, ncol, colind..., row...)
         return int(sp[0] * sp[1]) if sp[2] == 1 else int(sp[2 + sp[1]])
 
+    def _caller(self, ins: list[np.ndarray], outs: list[np.ndarray]):
+        """A call of the function with every argument converted once: reads ``ins``, writes
+        ``outs`` (buffers that must outlive it); returns the function's status (0: success)."""
+        f = getattr(ctypes.CDLL(self._lib._name), self.name)  # own handle: its conversions are ours
+        f.restype, f.argtypes = ctypes.c_int, None
+        arg = (ctypes.c_void_p * self._sizes[0])(*[a.ctypes.data for a in ins])
+        res = (ctypes.c_void_p * self._sizes[1])(*[a.ctypes.data for a in outs])
+        iw, w = np.zeros(self._sizes[2], np.int64), np.zeros(self._sizes[3], self._np)
+        keep = (arg, res, iw, w)  # referenced by the call below
+        call = functools.partial(f, *[ctypes.c_void_p(ctypes.addressof(a)) for a in keep[:2]],
+                                 *[ctypes.c_void_p(a.ctypes.data) for a in keep[2:]], ctypes.c_int(0))
+        call.keep = keep
+        return call
+
     def __call__(self, *args) -> list[np.ndarray]:
         for buf, a in zip(self.ins, args):
             buf[:] = a
-        if self._f(*self._call_args):
+        if self._run():
             raise FloatingPointError(f"generated function {self.name} reported an error")
         return [o.copy() for o in self.outs]
+
+    def bind(self) -> Bound:
+        """This function on buffers of its own (:class:`mbs.backends.system.Bound`)."""
+        ins, outs = [np.zeros_like(a) for a in self.ins], [np.zeros_like(a) for a in self.outs]
+        return Bound(self.name, ins, outs, self._caller(ins, outs))
 
 
 class CompiledSystem(System):
@@ -261,12 +344,16 @@ class CompiledSystem(System):
         return f
 
     def function(self, name: str) -> CFunction:
+        """The generated function ``name`` (raw: no checks of its arguments)."""
         if name not in self._fns:
             self._fns[name] = CFunction(self._lib, name, self._ctype)
         return self._fns[name]
 
     def _eval(self, name, *args):
         return [o.astype(float) for o in self.function(name)(*args)]
+
+    def bind(self, name: str) -> Bound:
+        return self.function(name).bind()
 
     def _run(self, method, x0, t0, h, k0, n, every, p, comp, compensated=True):
         f = getattr(self._lib, f"mbs_run_{method}")

@@ -53,6 +53,26 @@ class Trajectory:
         return self.x[:, self.info.state_names.index(name)]
 
 
+class Bound:
+    """One of the model's functions bound to fixed buffers, for inner loops (scipy's
+    right-hand side, Newton iterations): write the arguments into ``inputs`` (arrays in the
+    function's input order, e.g. ``x``, ``t``, ``p`` for ``rhs``), call with no argument,
+    read ``outputs`` (updated in place, not copied). Nothing is checked or converted per
+    call; a failed evaluation raises FloatingPointError.
+
+    >>> rhs = system.bind("rhs")                                # doctest: +SKIP
+    >>> rhs.inputs[0][:] = x; rhs.inputs[2][:] = system.params()  # doctest: +SKIP
+    >>> rhs(); xdot = rhs.outputs[0]                            # doctest: +SKIP
+    """
+
+    def __init__(self, name: str, inputs: list[np.ndarray], outputs: list[np.ndarray], call: Callable[[], int]):
+        self.name, self.inputs, self.outputs, self._call = name, inputs, outputs, call
+
+    def __call__(self) -> None:
+        if self._call():
+            raise FloatingPointError(f"generated function {self.name} reported an error")
+
+
 class System:
     """Numerical model; see the module docstring for the contract."""
 
@@ -126,6 +146,11 @@ class System:
     def project(self, x) -> np.ndarray:
         """``x`` with every quaternion normalised (the integrators do this after each step)."""
         return self._eval("project", self.check_state(x))[0]
+
+    def bind(self, name: str) -> Bound:
+        """The function ``name`` (e.g. ``"rhs"``, ``"step_rk4"``) on fixed buffers: the
+        cheapest repeated call from Python (:class:`Bound`)."""
+        raise NotImplementedError
 
     def rhs(self, x, t: float = 0.0, p=None) -> np.ndarray:
         """``x' = f(x, t, p)``, shape (nx,)."""

@@ -5,7 +5,7 @@ import casadi as ca
 import numpy as np
 
 from mbs.backends.info import info_of
-from mbs.backends.system import System
+from mbs.backends.system import Bound, System
 
 
 def _flat(dm) -> np.ndarray:
@@ -35,6 +35,17 @@ class VMSystem(System):
     def _eval(self, name, *args):
         out = self.functions[name](*args)
         return [_flat(o) for o in (out if isinstance(out, (list, tuple)) else [out])]
+
+    def bind(self, name):
+        f = self.functions[name]
+        ins = [np.zeros(f.nnz_in(i)) for i in range(f.n_in())]
+        outs = [np.zeros(f.nnz_out(i)) for i in range(f.n_out())]
+
+        def call() -> int:
+            for o, v in zip(outs, self._eval(name, *ins)):
+                o[:] = v
+            return 0
+        return Bound(name, ins, outs, call)
 
     def _run(self, method, x0, t0, h, k0, n, every, p, comp, compensated=True):
         incr, project = self.functions[f"incr_{method}"], self.functions["project"]
