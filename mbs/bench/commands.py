@@ -27,6 +27,7 @@ def _tree_lines(c: dict, what: str) -> list[str]:
     lines = [f"{what} {c['model']} ({c['nv']} DOF, no springs), one forward dynamics call:",
              f"  {'engine':36} {'µs':>9} {'ours / them':>13} {'max rel. diff':>15}",
              _engine_line("ours, compiled C (raw ctypes call)", c["compiled_rhs_us"], None, None),
+             _engine_line("ours, compiled C (bound call)", c.get("compiled_rhs_bound_us"), None, None),
              _engine_line("ours, compiled C via System.rhs", c["compiled_rhs_checked_us"], None, None),
              _engine_line("ours, CasADi virtual machine", c["vm_rhs_us"], None, None)]
     for key, name, fn in (("pinocchio_aba", "pinocchio", "pinocchio.aba"),
@@ -40,6 +41,12 @@ def _tree_lines(c: dict, what: str) -> list[str]:
             lines.append(f"    {fn}: {c[f'{key}_error']}")
     lines.append(f"  RK4 step, ours: {c['compiled_rk4_step_us']:.2f} µs (one call), "
                  f"{c['compiled_rk4_step_in_run_us']:.2f} µs inside a 1000-step run")
+    if "mujoco_rk4_step_us" in c:
+        lines.append(f"  RK4 step, MuJoCo: {c['mujoco_rk4_step_us']:.2f} µs (one mj_step), "
+                     f"{c['mujoco_rk4_step_in_run_us']:.2f} µs inside mj_step(nstep=1000); ours / MuJoCo "
+                     f"{c['ratio_rk4_step_to_mujoco']:.2f} and {c['ratio_rk4_step_in_run_to_mujoco']:.2f}")
+    lines.append(f"  {c.get('dynamics', '?')} path, {c.get('operations', 0)} operations; first build: "
+                 f"code generation {c.get('codegen_s') or 0:.1f} s, compile {c.get('compile_s') or 0:.1f} s")
     return lines
 
 
@@ -52,7 +59,8 @@ def cmd_bench_speed(args) -> int:
     lines = [f"machine: {m['cpu']}, {m['cores']} cores; python {m['python']}, numpy {m['numpy']}, "
              f"casadi {m['casadi']}, {m['cc']}", *_scene_lines(res),
              *_tree_lines(res["conservative_tree"], "conservative tree"),
-             *_tree_lines(res["bo105_tree"], "Bo105 structural tree")]
+             *_tree_lines(res["bo105_tree"], "Bo105 structural tree"),
+             *[line for c in res.get("trees", []) for line in _tree_lines(c, c["row"])]]
     emit(res, args.json, lines)
     return 0
 

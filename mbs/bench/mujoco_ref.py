@@ -105,8 +105,8 @@ class MujocoTree:
     """A compiled MuJoCo model of ``model`` with state conversion to and from ours.
 
     ``set_state(x)`` writes our ``x = (s, u)`` into ``data.qpos``/``data.qvel``;
-    ``forward()`` is one raw ``mj_forward``; ``accelerations(x)`` returns ``u'`` (nv,) in our
-    coordinates.
+    ``forward()`` is one raw ``mj_forward``, ``step()`` one ``mj_step`` (RK4 after
+    ``use_rk4(h)``); ``accelerations(x)`` returns ``u'`` (nv,) in our coordinates.
     """
 
     def __init__(self, model: Model):
@@ -151,6 +151,15 @@ class MujocoTree:
 
     def forward(self) -> None:
         self.mj.mj_forward(self.m, self.d)
+
+    def use_rk4(self, h: float) -> None:
+        """Integrate with MuJoCo's RK4 at the step ``h`` (s) in :meth:`step`."""
+        self.m.opt.integrator = self.mj.mjtIntegrator.mjINT_RK4
+        self.m.opt.timestep = h
+
+    def step(self) -> None:
+        """One raw ``mj_step`` (the state advances)."""
+        self.mj.mj_step(self.m, self.d)
 
     def accelerations(self, x: np.ndarray) -> np.ndarray:
         """Our ``u'`` (nv,) at ``x`` from ``mj_forward``."""

@@ -7,11 +7,12 @@ Two families of conservative trees:
 * ``chain``: ``n`` links on hinges with random axes, one after the other: ``n`` degrees of
   freedom, as deep as a tree gets (every rate moves every later body).
 
-Per size: symbolic build and C generation time (together, "code generation"), C compile
-time (separately; on a cache hit, the time measured when the library was first built),
-and medians of one raw right-hand side and one RK4 step, for the compiled C and for
-CasADi's virtual machine. Sizes whose generated code is too large to compile in a
-benchmark (``max_instructions``) are timed with the virtual machine only; its cost is
+Per size: the forward-dynamics path the builder takes and the operations of one
+right-hand side by each path, symbolic build and C generation time (together, "code
+generation"), C compile time (separately; on a cache hit, the time measured when the
+library was first built), and medians of one raw right-hand side and one RK4 step, for the
+compiled C and for CasADi's virtual machine. Sizes whose right-hand side has more than
+``max_instructions`` operations are timed with the virtual machine only; its cost is
 proportional to the number of operations, so it measures the same growth. The growth
 exponent is the least-squares slope in log-log, over all sizes and over the upper half.
 """
@@ -35,9 +36,9 @@ ROTOR_BLADES = (2, 3, 4, 6, 8, 12, 16)
 CHAIN_DOF = (5, 10, 20, 40, 70, 100)
 QUICK_ROTOR_BLADES = (2, 4, 8, 16)
 QUICK_CHAIN_DOF = (5, 10, 20, 40)
-MAX_INSTRUCTIONS = 30_000  # right-hand-side operations above which a size is not compiled (gcc -O2 time grows steeply)
-COLUMNS = ("family", "size", "dof", "instructions", "build_s", "generate_s", "codegen_s", "compile_s",
-           "compile_cached", "rhs_us", "rk4_us", "vm_rhs_us", "vm_rk4_us")
+MAX_INSTRUCTIONS = 100_000  # right-hand-side operations above which a size is not compiled
+COLUMNS = ("family", "size", "dof", "path", "instructions", "ops_composite", "ops_articulated", "build_s",
+           "generate_s", "codegen_s", "compile_s", "compile_cached", "rhs_us", "rk4_us", "vm_rhs_us", "vm_rk4_us")
 
 
 def chain(n: int, seed: int = 0) -> Model:
@@ -136,8 +137,10 @@ def measure(family: str, size: int, max_instructions: int = MAX_INSTRUCTIONS, ca
     model = FAMILIES[family](size)
     vm, build_s = _timed(lambda: VMSystem(symbolic(model)))
     source, generate_s = _timed(lambda: generate(vm.functions, vm.info, "float64"))
-    ops = int(vm.functions["parts"].n_instructions())
-    row = dict(family=family, size=size, dof=vm.info.nv, instructions=ops, build_s=build_s,
+    path, counts = vm.info.extra["dynamics"], vm.info.extra["operations"]
+    ops = counts[path]
+    row = dict(family=family, size=size, dof=vm.info.nv, path=path, instructions=ops,
+               ops_composite=counts["composite"], ops_articulated=counts["articulated"], build_s=build_s,
                generate_s=generate_s, codegen_s=build_s + generate_s, compile_s=None, compile_cached=None,
                rhs_us=None, rk4_us=None)
     x, t, h, p = _state(vm), 0.0, 1e-3, vm.params()
@@ -261,11 +264,12 @@ def _fmt(v, spec: str) -> str:
 
 def table(res: dict) -> list[str]:
     """Human-readable rows, exponents and the target verdict."""
-    lines = [f"{'family':6} {'size':>4} {'DOF':>4} {'ops':>9} {'codegen s':>9} {'compile s':>10} "
+    lines = [f"{'family':6} {'size':>4} {'DOF':>4} {'path':>11} {'ops':>9} {'codegen s':>9} {'compile s':>10} "
              f"{'rhs µs':>9} {'RK4 µs':>9} {'VM rhs µs':>10}"]
     for r in res["rows"]:
         comp = _fmt(r["compile_s"], ".1f") + ("*" if r["compile_cached"] else " ")
-        lines.append(f"{r['family']:6} {r['size']:4d} {r['dof']:4d} {r['instructions']:9d} {r['codegen_s']:9.2f} "
+        lines.append(f"{r['family']:6} {r['size']:4d} {r['dof']:4d} {r['path']:>11} {r['instructions']:9d} "
+                     f"{r['codegen_s']:9.2f} "
                      f"{comp:>10} {_fmt(r['rhs_us'], '.2f'):>9} {_fmt(r['rk4_us'], '.2f'):>9} "
                      f"{r['vm_rhs_us']:10.1f}")
     lines.append("* compile time measured when the library was first built (cache hit now); "

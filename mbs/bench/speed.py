@@ -1,18 +1,19 @@
-"""``heli bench speed``: the Bo105 scenes, and two conservative trees in three engines.
+"""``heli bench speed``: the Bo105 scenes, and conservative trees in three engines.
 
 All figures are medians of raw calls in µs (see :func:`mbs.bench.timing.median_time`),
-measured in one run. The conservative trees (the demo rotor and the Bo105 structural tree,
-both without springs) are also built in Pinocchio (``pinocchio.aba``) and MuJoCo
-(``mj_forward``); each reference is timed only after its accelerations were checked
-against ours.
+measured in one run. The conservative trees, shallow (the demo rotor and the Bo105
+structural tree, both without springs) and deep (:data:`DEEP_TREES`: chains of 40 and 100
+links), are also built in Pinocchio (``pinocchio.aba``) and MuJoCo (``mj_forward``, and its
+RK4 step); each reference is timed only after its accelerations were checked against ours.
 """
 from __future__ import annotations
 
 from typing import Callable
 
+import time
+
 import numpy as np
 
-import mbs
 from mbs.bench.timing import machine, median_time
 from mbs.models.demo import spinning_rotor
 from mbs.tree import Model
@@ -20,6 +21,10 @@ from mbs.tree import Model
 BO105_SCENES = ("structural", "forward-flight", "hover", "ground-run", "single-blade")
 STEPS_PER_REV = 100
 AGREEMENT = 1e-8  # largest relative acceleration difference accepted before timing a reference
+DEEP_TREES = {"chain40": 40, "chain100": 100}
+"""Rows of deep trees: name -> links of :func:`mbs.bench.scaling.chain`."""
+CHAIN_STEP = 1e-3  # s, the RK4 step of the chains, ours and MuJoCo's
+RUN_STEPS = 1000  # steps of one C run (ours) and of one mj_step call (MuJoCo)
 
 
 def _rel_diff(ours: np.ndarray, theirs: np.ndarray) -> float:
@@ -40,7 +45,7 @@ def _pinocchio_aba(model, system, x):
     return (lambda: pin.aba(pm, data, q, v, tau)), pin.__version__
 
 
-def _mujoco_forward(model, x):
+def _mujoco_tree(model, x):
     """``(tree, version)`` with the state set; ``tree`` is None with the reason when unavailable."""
     try:
         import mujoco
@@ -53,28 +58,65 @@ def _mujoco_forward(model, x):
     return tree, mujoco.__version__
 
 
-def _add_reference(out: dict, key: str, call, accel: np.ndarray, ours: np.ndarray) -> None:
+def _add_reference(out: dict, key: str, call, accel: np.ndarray, ours: np.ndarray) -> bool:
     """Check ``accel`` against ``ours``; time ``call`` only if they agree to ``AGREEMENT``."""
     diff = _rel_diff(ours, accel)
     out[f"max_rel_diff_to_{key}"] = diff
     if diff > AGREEMENT:
         out[f"{key}_error"] = f"accelerations differ by {diff:.1e} (relative) from ours: not timed"
-        return
+        return False
     out[f"{key}_us"] = 1e6 * median_time(call)
     out[f"ratio_rhs_to_{key}"] = out["compiled_rhs_us"] / out[f"{key}_us"]
+    out[f"ratio_bound_rhs_to_{key}"] = out["compiled_rhs_bound_us"] / out[f"{key}_us"]
+    return True
+
+
+def _add_mujoco_rk4(out: dict, tree, x, h: float) -> None:
+    """MuJoCo's RK4 step at ``h`` from our state ``x``: per step of ``mj_step(nstep=RUN_STEPS)``
+    and of one ``mj_step``, against ours inside a C run and in one call."""
+    tree.use_rk4(h)
+
+    def run():
+        tree.set_state(x)
+        tree.mj.mj_step(tree.m, tree.d, RUN_STEPS)
+    out["mujoco_rk4_step_in_run_us"] = 1e6 * median_time(run) / RUN_STEPS
+    tree.set_state(x)
+    out["mujoco_rk4_step_us"] = 1e6 * median_time(tree.step)
+    out["ratio_rk4_step_in_run_to_mujoco"] = out["compiled_rk4_step_in_run_us"] / out["mujoco_rk4_step_in_run_us"]
+    out["ratio_rk4_step_to_mujoco"] = out["compiled_rk4_step_us"] / out["mujoco_rk4_step_us"]
+
+
+def _build(model) -> tuple[object, object, float]:
+    """``(compiled, vm, codegen_s)``: symbolic build and C generation timed; the compile is
+    cached (its time, measured at the first build, is the library's ``compile_s``)."""
+    from mbs.backends.compiled import CompiledSystem, compile_source, generate
+    from mbs.backends.vm import VMSystem
+    from mbs.dynamics import symbolic
+
+    start = time.perf_counter()
+    vm = VMSystem(symbolic(model))
+    source = generate(vm.functions, vm.info, "float64")
+    codegen_s = time.perf_counter() - start
+    return CompiledSystem(compile_source(source, vm.info)), vm, codegen_s
 
 
 def _ours(model, h: float) -> tuple[dict, object]:
-    compiled, vm = mbs.build(model, "compiled"), mbs.build(model, "vm")
+    compiled, vm, codegen_s = _build(model)
     x, t, p = compiled.x0(), np.zeros(1), compiled.params()
-    rhs_raw, rk4_raw = compiled.function("rhs"), compiled.function("step_rk4")
-    out = {"model": model.name, "nv": compiled.info.nv, "nx": compiled.info.nx,
+    rhs_raw, rk4_raw, bound = compiled.function("rhs"), compiled.function("step_rk4"), compiled.bind("rhs")
+    for buf, v in zip(bound.inputs, (x, t, p)):
+        buf[:] = v
+    info = compiled.info.extra
+    out = {"model": model.name, "nv": compiled.info.nv, "nx": compiled.info.nx, "dynamics": info["dynamics"],
+           "operations": info["operations"][info["dynamics"]],
            "compiled_rhs_us": 1e6 * median_time(lambda: rhs_raw(x, t, p)),
+           "compiled_rhs_bound_us": 1e6 * median_time(bound),
            "compiled_rhs_checked_us": 1e6 * median_time(lambda: compiled.rhs(x)),
            "compiled_rk4_step_us": 1e6 * median_time(lambda: rk4_raw(x, t, h, p)),
-           "compiled_rk4_step_in_run_us": 1e6 * median_time(lambda: compiled.run(x, 0.0, h, 1000, every=1000)) / 1000,
+           "compiled_rk4_step_in_run_us": 1e6 * median_time(
+               lambda: compiled.run(x, 0.0, h, RUN_STEPS, every=RUN_STEPS)) / RUN_STEPS,
            "vm_rhs_us": 1e6 * median_time(lambda: vm.functions["rhs"](x, 0.0, p)),
-           "compile_s": compiled.info.extra.get("compile_s")}
+           "h_s": h, "codegen_s": codegen_s, "compile_s": info.get("compile_s"), "cflags": info.get("cflags")}
     return out, compiled
 
 
@@ -95,24 +137,33 @@ def bo105_tree() -> Model:
     return model
 
 
-def conservative_tree_speed(model: Model | None = None, omega: float = 44.4) -> dict:
-    """Medians (µs) of one right-hand side and one RK4 step (``STEPS_PER_REV`` steps per
-    revolution at ``omega`` rad/s) on a conservative tree without force elements (default
-    :func:`demo_tree`), and of the same tree's forward dynamics in Pinocchio (ABA) and
-    MuJoCo (``mj_forward``), each checked against ours first."""
+def conservative_tree_speed(model: Model | None = None, omega: float = 44.4, h: float | None = None) -> dict:
+    """Medians (µs) of one right-hand side and one RK4 step (step ``h``, default
+    ``STEPS_PER_REV`` steps per revolution at ``omega`` rad/s) on a conservative tree without
+    force elements (default :func:`demo_tree`), and of the same tree's forward dynamics in
+    Pinocchio (ABA) and MuJoCo (``mj_forward``, and MuJoCo's RK4 step), each checked against
+    ours first."""
     model = demo_tree() if model is None else model
     if model.forces:
         raise ValueError(f"model {model.name!r} has force elements; the references need a bare tree")
-    out, compiled = _ours(model, 2 * np.pi / omega / STEPS_PER_REV)
+    out, compiled = _ours(model, 2 * np.pi / omega / STEPS_PER_REV if h is None else h)
     x = compiled.x0()
     ours = compiled.rhs(x)[compiled.info.nq:]
     aba, out["pinocchio"] = _pinocchio_aba(model, compiled, x)
     if aba is not None:
         _add_reference(out, "pinocchio_aba", aba, aba(), ours)
-    tree, out["mujoco"] = _mujoco_forward(model, x)
-    if tree is not None:
-        _add_reference(out, "mujoco_forward", tree.forward, tree.accelerations(x), ours)
+    tree, out["mujoco"] = _mujoco_tree(model, x)
+    if tree is not None and _add_reference(out, "mujoco_forward", tree.forward, tree.accelerations(x), ours):
+        _add_mujoco_rk4(out, tree, x, out["h_s"])
     return out
+
+
+def deep_tree_speed(name: str) -> dict:
+    """One row of :data:`DEEP_TREES` (:func:`conservative_tree_speed` of the chain, RK4 at
+    ``CHAIN_STEP``), named ``row``."""
+    from mbs.bench.scaling import chain
+
+    return {"row": name, **conservative_tree_speed(chain(DEEP_TREES[name]), h=CHAIN_STEP)}
 
 
 def scene_speed(name: str, steps_per_rev: int = STEPS_PER_REV, run_steps: int = 200) -> dict:
@@ -159,19 +210,17 @@ def toolchain() -> dict:
 
 def run(progress: Callable[[int, int], None] | None = None) -> dict:
     """Every measurement of ``heli bench speed`` in one run; ``progress(done, total)``."""
-    rows, total = [], len(BO105_SCENES) + 2
-    for i, name in enumerate(BO105_SCENES):
-        rows.append(scene_speed(name))
+    jobs = [*((lambda n=n: scene_speed(n)) for n in BO105_SCENES), conservative_tree_speed,
+            lambda: conservative_tree_speed(bo105_tree(), _bo105_omega()),
+            *((lambda n=n: deep_tree_speed(n)) for n in DEEP_TREES)]
+    done = []
+    for job in jobs:
+        done.append(job())
         if progress:
-            progress(i + 1, total)
-    tree = conservative_tree_speed()
-    if progress:
-        progress(total - 1, total)
-    bo105 = conservative_tree_speed(bo105_tree(), _bo105_omega())
-    if progress:
-        progress(total, total)
+            progress(len(done), len(jobs))
+    n = len(BO105_SCENES)
     return {"benchmark": "speed", "machine": {**machine(), **toolchain()}, "steps_per_rev": STEPS_PER_REV,
-            "bo105": rows, "conservative_tree": tree, "bo105_tree": bo105}
+            "bo105": done[:n], "conservative_tree": done[n], "bo105_tree": done[n + 1], "trees": done[n + 2:]}
 
 
 def _bo105_omega() -> float:
