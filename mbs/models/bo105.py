@@ -386,10 +386,12 @@ def _add_parameters(m: Model, d: Data, cfg: Config, trim: TrimEstimate, stored: 
     for name, value, what in (("collective", trim.collective, "main-rotor collective pitch at the blade root"),
                               ("lateral_cyclic", trim.lateral_cyclic, "main-rotor lateral cyclic θ1c"),
                               ("longitudinal_cyclic", trim.longitudinal_cyclic, "main-rotor longitudinal cyclic θ1s")):
-        m.add_parameter(name, value, "rad", what, control=True, low=mr[f"{name}_min"], high=mr[f"{name}_max"])
+        low, high = mr[f"{name}_min"], mr[f"{name}_max"]  # the estimate beyond the controls' reach: clipped
+        m.add_parameter(name, float(np.clip(value, low, high)), "rad", what, control=True, low=low, high=high)
     if cfg.tail_rotor:
-        m.add_parameter("tail_collective", trim.tail_collective, "rad", "tail-rotor collective pitch", control=True,
-                        low=tr["collective_min"], high=tr["collective_max"])
+        low, high = tr["collective_min"], tr["collective_max"]
+        m.add_parameter("tail_collective", float(np.clip(trim.tail_collective, low, high)), "rad",
+                        "tail-rotor collective pitch", control=True, low=low, high=high)
 
 
 def _add_outputs(m: Model, d: Data, cfg: Config) -> None:
