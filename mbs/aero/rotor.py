@@ -40,12 +40,22 @@ class Rotor:
     shaft_body: str | None = None
     shaft_frame: np.ndarray = field(default_factory=lambda: np.eye(3))
     speed_ratio: float = 1.0
+    pieces: dict = field(default_factory=dict)
 
     def stations(self) -> tuple[np.ndarray, float]:
         """Strip mid-radii (m, from the rotor axis) and width (m)."""
         r0 = self.root_cutout * self.radius
         dr = (self.radius - r0) / self.elements
         return r0 + dr * (np.arange(self.elements) + 0.5), dr
+
+    def bodies(self, blade: str) -> list[tuple[str, float, np.ndarray]]:
+        """The bodies of ``blade`` with the radius of their joints (m) and which stations each
+        carries (mask): ``pieces[blade]`` lists them root first for a blade of several bodies
+        (an elastic blade's segments); otherwise the blade is one body jointed at ``hinge_radius``."""
+        parts = self.pieces.get(blade, [(blade, self.hinge_radius)])
+        radii, ends = self.stations()[0], [r for _, r in parts[1:]] + [np.inf]
+        return [(body, r, (radii >= (r if k else -np.inf)) & (radii < end))
+                for k, ((body, r), end) in enumerate(zip(parts, ends))]
 
 
 @dataclass(frozen=True)
@@ -134,9 +144,14 @@ class RotorAero(ForceElement):
         return -self.kappa * inf.induced_velocity(v, *disc_point) * axis
 
     def _blade(self, state, loads, blade, hub, axis, v, shaft) -> DiscLoads:
-        """Loads of one blade's elements, computed in blade axes: the blade's own velocity,
-        thrust axis and shaft axes are turned into them once, and the element forces are summed
-        into one force and torque on the blade."""
+        """Loads of one blade's elements, body by body (:meth:`Rotor.bodies`)."""
+        return sum((self._body(state, loads, body, root, keep, hub, axis, v, shaft)
+                    for body, root, keep in self.rotor.bodies(blade) if keep.any()), DiscLoads())
+
+    def _body(self, state, loads, blade, root, keep, hub, axis, v, shaft) -> DiscLoads:
+        """Loads of the elements ``keep`` of one blade body jointed at radius ``root``, computed
+        in its axes: its own velocity, thrust axis and shaft axes are turned into them once,
+        and the element forces are summed into one force and torque on the body."""
         radii, dr = self.rotor.stations()
         m = state.body(blade)
         turn_in = m.rotation.T
@@ -144,8 +159,8 @@ class RotorAero(ForceElement):
         shaft_b, hinge = ca.mtimes(turn_in, shaft[:, :2]), ca.mtimes(turn_in, m.position - hub.position)
         force, torque, out = ca.SX.zeros(3), ca.SX.zeros(3), DiscLoads()
         per_radius = 1.0 / self.rotor.radius
-        for r, lift in zip(radii, self.lift):
-            arm = r - self.rotor.hinge_radius
+        for r, lift in zip(radii[keep], np.array(self.lift)[keep]):
+            arm = r - root
             lever = hinge + ca.DM([arm, 0, 0])
             disc_point = (ca.dot(lever, shaft_b[:, 0]) * per_radius, ca.dot(lever, shaft_b[:, 1]) * per_radius)
             velocity = origin + arm * ca.vertcat(0, m.omega[2], -m.omega[1])  # + ω × (arm, 0, 0)
