@@ -29,6 +29,7 @@ from mbs import _rotation as rot
 from mbs.aero import (Airfoil, Compressibility, Download, FuselageAero, HubDrag, LiftingSurface, Rotor,
                       RotorAero, RotorModel, WakeGeometry, momentum_inflow)
 from mbs.joints import DrivenHinge, Fixed, FreeJoint, Hinge, Serial
+from mbs.models.elastic_blade import add_elastic_blade, rotor_pieces
 from mbs.scenes import Scene, register
 from mbs.tree import Model
 
@@ -72,7 +73,8 @@ class Config:
     B R on both rotors); compressibility (Prandtl-Glauert lift slope and drag divergence on
     both rotors); tail_wake (the main rotor's wake on the horizontal tail and fin); download
     (the wake's vertical drag on the fuselage); hub_drag (drag of the main-rotor hub). All off:
-    the model of the paper's scenes.
+    the model of the paper's scenes. blade_segments: main-rotor blades as elastic chains of
+    that many segments (:mod:`mbs.models.elastic_blade`); 0: rigid blades.
     """
 
     fuselage: str = "free"
@@ -93,6 +95,7 @@ class Config:
     tail_wake: bool = False
     download: bool = False
     hub_drag: bool = False
+    blade_segments: int = 0
 
     def __post_init__(self):
         needs_rotor = [n for n in ("tail_wake", "download", "tip_loss", "compressibility") if getattr(self, n)]
@@ -274,6 +277,9 @@ def _add_main_rotor(m: Model, d: Data, cfg: Config, parent: str) -> None:
     e = mr["flap_hinge_offset"]
     for k in range(cfg.blades):
         psi0 = 2 * np.pi * k / mr["n_blades"]
+        if cfg.blade_segments:  # elastic, after the pitch bearing (the rigid blade joint's last part)
+            add_elastic_blade(m, d, cfg, k, _rz(psi0), _blade_joint(d, cfg, psi0).parts[2:])
+            continue
         m.add_body(f"blade{k + 1}", "main_hub", _blade_joint(d, cfg, psi0), mass=mr["blade_mass"],
                    com=((big_r - e) / 2, 0, 0), inertia=_box_inertia(mr["blade_mass"], big_r - e, c, t),
                    at=e * _rz(psi0)[:, 0], frame=_rz(psi0),
@@ -342,7 +348,7 @@ def _add_rotor_aero(m: Model, d: Data, cfg: Config, trim: TrimEstimate, parent: 
     shaft_body = None if parent == "world" else parent
     main = Rotor("main_rotor", "main_hub", [f"blade{k + 1}" for k in range(cfg.blades)], mr["radius"], mr["chord"],
                  mr["twist"], mr["root_cutout"], int(cfg.elements or mr["elements"]), mr["flap_hinge_offset"],
-                 shaft_body, shaft_frame(tilt))
+                 shaft_body, shaft_frame(tilt), pieces=rotor_pieces(d, cfg))
     main_model = rotor_model(d, cfg, "main_rotor")
     _add_inflow_states(m, "main_rotor", main_model, trim.inflow_main)
     m.add_force(RotorAero(main, _airfoil(mr), rho, mr["kappa"], main_model))
@@ -583,3 +589,11 @@ SCENE_CONFIGS = {
 for _name, (_cfg, _text, _conservative) in SCENE_CONFIGS.items():
     register(Scene(_name, _text, _builder(_cfg, _name), omega=load_data()["main_rotor"]["omega"],
                    conservative=_conservative, plots=_plots(_cfg)))
+
+ELASTIC_ROTOR = Config(fuselage="none", tail_rotor=False, airframe_aero=False, shaft_tilt=False, speed=0.0,
+                       trim="hover", blade_segments=8)
+register(Scene("elastic-rotor", "hub clamped and driven (vertical shaft), four elastic blades of 8 segments on flap, "
+               "lag and torsion hinges with springs (first frequencies 1.117, 0.68 and 3.7/rev), blade-element "
+               "aerodynamics with uniform dynamic inflow, hover controls; RK4 at 200 steps per revolution",
+               _builder(ELASTIC_ROTOR, "elastic-rotor"), omega=load_data()["main_rotor"]["omega"], steps_per_rev=200,
+               plots=_plots(ELASTIC_ROTOR)))
