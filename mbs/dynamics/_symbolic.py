@@ -49,25 +49,29 @@ class Symbolic:
         return self.functions[name]
 
 
+def _ancestry(lay) -> np.ndarray:
+    """(nb, nb): 1 where body ``j`` is body ``i`` or one of its ancestors."""
+    index = {b.name: i for i, b in enumerate(lay.bodies)}
+    out = np.zeros((len(index), len(index)))
+    for i, b in enumerate(lay.bodies):
+        name = b.name
+        while name in index:
+            out[i, index[name]] = 1.0
+            name = lay.bodies[index[name]].parent
+    return out
+
+
 def _kin(lay, args, names, kin: Kinematics, spatial: dict) -> ca.Function:
     """``kin``: ``V`` and ``H`` from the AD and ``J_u`` (6 nb, nv) from each rate's twist:
     block ``(i, k)`` is body ``i``'s state map times ``ξ_k`` when ``b_k`` is ``b_i`` or one of
     its ancestors, formed by sparse products (compact code for any depth)."""
-    bodies = lay.bodies
-    maps = ca.diagcat(*[spatial[b.name].to_body_state for b in bodies])
-    twists = ca.diagcat(*[spatial[b.name].twist for b in bodies])
+    maps = ca.diagcat(*[spatial[b.name].to_body_state for b in lay.bodies])
+    twists = ca.diagcat(*[spatial[b.name].twist for b in lay.bodies])
     blocks = ca.Function("kin_blocks", args, [kin.V, kin.H, maps, twists], names, ["V", "H", "maps", "twists"])
-    index = {b.name: i for i, b in enumerate(bodies)}
-    above = np.zeros((len(bodies), len(bodies)))
-    for i, b in enumerate(bodies):
-        name = b.name
-        while name in index:
-            above[i, index[name]] = 1.0
-            name = bodies[index[name]].parent
     mx = [ca.MX.sym(n, a.sparsity()) for n, a in zip(names, args)]
     v, h, m, xi = blocks(*mx)
-    ju = ca.densify(ca.mtimes(m, ca.mtimes(ca.DM(ca.sparsify(ca.DM(np.kron(above, np.eye(6))))), xi)))
-    return ca.Function("kin", mx, [v, ju, h], names, ["V", "Ju", "H"])
+    spread = ca.sparsify(ca.DM(np.kron(_ancestry(lay), np.eye(6))))
+    return ca.Function("kin", mx, [v, ca.densify(ca.mtimes(m, ca.mtimes(spread, xi))), h], names, ["V", "Ju", "H"])
 
 
 def choose(operations: dict[str, int], path: str | None) -> str:
