@@ -47,7 +47,8 @@ def _tree_lines(c: dict, what: str) -> list[str]:
                      f"{c['ratio_rk4_step_to_mujoco']:.2f} and {c['ratio_rk4_step_in_run_to_mujoco']:.2f}")
     if "scene_real_time_factor" in c:
         lines.append(f"  the scene with aerodynamics, RK4 at {c['steps_per_rev']} steps/rev: rhs {c['scene_rhs_us']:.2f} µs, "
-                     f"{c['scene_rk4_step_in_run_us']:.2f} µs per step in a run, {c['scene_real_time_factor']:.1f}x real time")
+                     f"{c['scene_rk4_step_in_run_us']:.2f} µs per step in a run, {c['scene_real_time_factor']:.1f}x real time "
+                     f"({c['scene_real_time_factor_cpu']:.1f}x in CPU time)")
     lines.append(f"  {c.get('dynamics', '?')} path, {c.get('operations', 0)} operations; first build: "
                  f"code generation {c.get('codegen_s') or 0:.1f} s, compile {c.get('compile_s') or 0:.1f} s")
     return lines

@@ -13,7 +13,8 @@ from half-way to its inboard neighbour to half-way to its outboard one (the root
 tip closing the first and the last). Each segment carries the blade's mass per length with
 the inertia of a box (its length, chord, thickness), the root stub's mass lumped on the
 first hinge, so the centrifugal stiffening, the propeller moment in torsion and the
-couplings come from the multibody dynamics itself.
+couplings come from the multibody dynamics itself. The root lag hinge carries the rigid
+blade's lag damper (``main_rotor.lag_damping``) when the scene has dampers.
 
 The data file gives the blade's first rotating frequencies (``[elastic_blade]`` in
 ``bo105.toml``) and the stiffnesses ``EI`` and ``GJ`` of the continuous blade that has them
