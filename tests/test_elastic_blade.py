@@ -72,3 +72,12 @@ def test_elastic_rotor_scene_has_96_rates_and_the_rigid_rotors_thrust():
 def test_segment_counts_must_be_whole_and_positive(bad):
     with pytest.raises(ValueError, match=f"blade_segments = {bad!r}: an elastic blade needs a whole number"):
         bo105.build(replace(bo105.ELASTIC_ROTOR, blade_segments=bad))
+
+
+def test_a_free_pitch_bearing_in_front_of_the_elastic_blade_is_refused():
+    """Its axis is the root torsion hinge's: the mass matrix would be singular."""
+    with pytest.raises(ValueError, match="needs a driven pitch bearing or none"):
+        bo105.build(replace(bo105.ELASTIC_ROTOR, rotors="free"))
+    free = bo105.build(replace(bo105.ELASTIC_ROTOR, rotors="free", pitch_hinge=False, rotor_aero=False))
+    system = mbs.build(free, "vm")
+    assert np.all(np.isfinite(system.rhs(system.x0())))

@@ -135,9 +135,13 @@ def _check(n) -> int:
 def add_segmented_blade(m: Model, blade: Blade, n: int, name: str, parent: str, frame: np.ndarray,
                         inboard: Sequence[Joint] = (), dampers: bool = True, color: str = "#d62728") -> list[str]:
     """Add ``blade`` cut into ``n`` segments to ``m``, hanging on ``parent`` with the hub-frame
-    axes ``frame`` (x along the span), after the ``inboard`` joints (e.g. the pitch bearing).
-    Returns the segment names, root first."""
+    axes ``frame`` (x along the span), after the ``inboard`` joints (e.g. the pitch bearing;
+    without rates: a free one would turn about the root torsion hinge's axis). Returns the
+    segment names, root first."""
     n = _check(n)
+    if any(j.nv for j in inboard):
+        raise ValueError(f"blade {name!r}: an elastic blade needs a driven pitch bearing or none; a free one "
+                         "(rotors='free' with pitch_hinge) turns about the root torsion hinge's axis")
     names, (hinges, lengths, spans) = segment_names(name, n), layout(blade, n)
     for j, body in enumerate(names):
         root = j == 0
