@@ -482,6 +482,20 @@ def fmu_problem(path: Path) -> str | None:
     return f"{path} has a corrupt member {bad}" if bad else None
 
 
+def family_problem(scene_names) -> str | None:
+    """Why the scenes ``scene_names`` cannot share one FMU (a scene with a run-time parameter
+    the first, primary scene lacks), found on their models before anything is compiled; None
+    when they can."""
+    from mbs import scenes as registry
+
+    models = [registry.get(n).model() for n in scene_names]
+    for name, model in zip(scene_names[1:], models[1:]):
+        missing = [p for p in model.parameters if p not in models[0].parameters]
+        if missing:
+            return f"scene {name!r} has parameters {missing} that the primary scene lacks"
+    return None
+
+
 def ensure_fmu(scene_names=DEFAULT_SCENES, force: bool = False, log=None) -> tuple[Path, float]:
     """The cached FMU of ``scene_names`` (built in a subprocess if absent or not intact);
     returns (path, build seconds, 0 if it came from the cache). The FMU's digest is recorded
@@ -501,6 +515,9 @@ def ensure_fmu(scene_names=DEFAULT_SCENES, force: bool = False, log=None) -> tup
             log(f"rebuilding the cached FMU: {reason}")
     writable_dir(path.parent, "FMU cache")
     find_compiler()
+    problem = family_problem(scene_names)
+    if problem:
+        raise ValueError(f"cannot build the FMU of {', '.join(scene_names)}: {problem}")
     if log:
         log(f"building the FMU for {', '.join(scene_names)} (compiles the models once; cached) ...")
     start = time.perf_counter()

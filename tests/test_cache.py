@@ -127,7 +127,7 @@ def test_simulate_with_an_unwritable_cache_is_a_one_line_error(tmp_path):
                 MBS_CACHE_DIR="/dev/null/mbs-cache")
     assert proc.returncode == 2, proc.stderr
     lines = proc.stderr.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("heli: error: ") and "/dev/null/mbs-cache" in lines[0]
+    assert len(lines) == 1 and lines[0].startswith("heli simulate: error: ") and "/dev/null/mbs-cache" in lines[0]
     assert "MBS_CACHE_DIR" in lines[0]
 
 
