@@ -198,7 +198,8 @@ def test_a_thousand_instances_do_not_leak(fmu_path, tmp_path):
 
 def test_instantiate_with_damaged_resources_gives_an_instance_answering_errors(fmu_path, tmp_path):
     res = probe("broken_resources", {"fmu": str(fmu_path), "damage": "heli_models/spec.json"}, tmp_path)
-    if "skipped" in res:
+    if "skipped" in res:  # the native FMU compiles its data in: it has no resources to damage
+        assert "Native" in fmu_path.name, res
         pytest.skip(res["skipped"])
     for rec in [res["setup"], *res["get"], res["step"]]:
         assert_refused(rec, (ERROR,))
