@@ -11,6 +11,7 @@ wanted is refused before a computation, not after it.
 from __future__ import annotations
 
 import argparse
+import errno
 import math
 import tempfile
 from pathlib import Path
@@ -82,8 +83,9 @@ def folder_problem(path: Path) -> str | None:
     try:
         with tempfile.TemporaryFile(dir=existing, prefix=".heli-write-test-"):
             pass
-    except OSError as exc:
-        return f"{existing} is not writable ({exc.strerror or type(exc).__name__})"
+    except OSError as exc:  # ENOENT from an existing folder: a virtual file system such as /proc
+        reason = "it accepts no new files" if exc.errno == errno.ENOENT else exc.strerror or type(exc).__name__
+        return f"{existing} is not writable ({reason})"
     return None
 
 

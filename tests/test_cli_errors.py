@@ -40,6 +40,7 @@ CASES = [
     ("simulate forward-flight --aero bogus", ["--aero", "'bogus'", "pitt-peters"]),
     ("simulate structural --out /dev/null/x", ["--out", "'/dev/null/x'", "/dev/null is a file, not a folder"]),
     ("simulate structural --out FILE", ["--out", "FILE", "exists and is not a folder"]),
+    ("figures --out /proc/x", ["--out", "'/proc/x'", "/proc is not writable (it accepts no new files)"]),
     ("simulate structural --bogus", ["unrecognized arguments: --bogus"]),
     *[(f"trim {scene}", [f"scene {scene!r} cannot be trimmed", TRIMMABLE]) for scene in NOT_TRIMMABLE],
     ("trim hover --speed nan", ["--speed", "nan is not a finite number"]),
