@@ -27,11 +27,11 @@ def _equilibrium(loads, v_inplane, v_normal):
     step = ca.Function("step", [v], [ca.solve(ca.jacobian(rates, v), rates), rates])
     x = np.array([momentum_inflow(loads[0], RHO, RADIUS, v_inplane, v_normal), 0.0, 0.0])
     for _ in range(50):
-        dx = np.ravel(step(x)[0])
+        dx = step(x)[0].full().ravel()
         x = x - dx
         if np.abs(dx).max() < 1e-13 * np.abs(x).max():
             break
-    assert np.abs(np.ravel(step(x)[1])).max() < 1e-9
+    assert np.abs(step(x)[1].full()).max() < 1e-9
     return x
 
 
