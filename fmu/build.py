@@ -255,17 +255,17 @@ def _hinge_states(info) -> list[int]:
 
 
 def _forward_speed(info, body: dict, x0: np.ndarray) -> dict:
-    q = [info.state_names.index(n) for n in body["q_names"][3:7]]
-    v = [info.state_names.index(n) for n in body["v_names"][:3]]
-    return {"q": q, "v": v, "default": float((_matrix(x0[q]) @ x0[v])[0])}
-
-
-def _matrix(q) -> np.ndarray:
-    from mbs._rotation import quat_to_matrix
-
+    """The free body's velocity indices ``v``, the level-flight direction in body axes at the
+    start's attitude (``direction = R(q0)^T e_x``: ``initial_forward_speed`` V gives the body
+    velocity V·direction) and the start's own forward speed ``default`` (m/s)."""
     import casadi as ca
 
-    return np.array(ca.DM(quat_to_matrix(ca.DM(q))))
+    from mbs._rotation import quat_to_matrix
+
+    q = [info.state_names.index(n) for n in body["q_names"][3:7]]
+    v = [info.state_names.index(n) for n in body["v_names"][:3]]
+    r = np.array(ca.DM(quat_to_matrix(ca.DM(x0[q]))))
+    return {"v": v, "direction": r[0].tolist(), "default": float(r[0] @ x0[v])}
 
 
 def fmu_outputs(vm, computed):

@@ -71,14 +71,6 @@ FALLBACK = {Real: math.nan, String: "", Integer: 0, Boolean: False}  # what a fa
 UNSET = object()  # a setting equal to its start value: the scene in use supplies the value
 
 
-def quat_to_matrix(q) -> np.ndarray:
-    """Rotation matrix (body -> world) of the quaternion ``q = (w, x, y, z)``."""
-    w, x, y, z = np.asarray(q, dtype=float) / np.linalg.norm(q)
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
-
-
 class Stepper:
     """One instance's numerics through the core's evaluator interface (``_run``, ``_eval``),
     for any evaluator: state ``x`` (nx,), summation compensation ``comp`` (nx,) and
@@ -628,7 +620,8 @@ class HeliRotorSlave(Fmi2Slave):
         self._p = self._cache = None
 
     def _with_forward_speed(self, start: dict, x0: np.ndarray, speed: float) -> np.ndarray:
-        """Initial body velocity ``R(q0)^T (speed, 0, 0)`` (m/s): level flight north at the start's attitude."""
+        """Initial body velocity ``R(q0)^T (speed, 0, 0)`` (m/s): level flight north at the start's attitude
+        (``R(q0)^T e_x`` computed at build time)."""
         fs = start["forward_speed"]
         if fs is None:
             if speed != 0.0:
@@ -636,7 +629,7 @@ class HeliRotorSlave(Fmi2Slave):
                                f"{self._use('scene')!r} has no free fuselage")
             return x0
         x0 = x0.copy()
-        x0[fs["v"]] = quat_to_matrix(x0[fs["q"]]).T @ np.array([speed, 0.0, 0.0])
+        x0[fs["v"]] = speed * np.asarray(fs["direction"])
         return x0
 
     def _system(self, group: str, evaluator: str):

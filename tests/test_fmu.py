@@ -185,8 +185,10 @@ def test_rk8_integrator_equals_the_core_run_with_rk8(fmu_path, spec, dt, names, 
     assert np.max(np.abs(np.subtract(run["seesaw.teeter"], rk4["seesaw.teeter"]))) > 1e-7
 
 
-def test_initial_forward_speed_sets_the_flight_speed(fmu_path, tmp_path):
+@pytest.mark.parametrize("start", ["scene", "periodic"])
+def test_initial_forward_speed_sets_the_flight_speed(start, fmu_path, tmp_path):
     res = host("initial", {"fmu": str(fmu_path), "reals": {"initial_forward_speed": 25.0},
+                           "strings": {"initial_state": start},
                            "names": ["fuselage.u", "fuselage.v", "fuselage.w", "fuselage.roll",
                                      "fuselage.pitch", "fuselage.yaw"]}, tmp_path)
     u, v, w, roll, pitch, yaw = res["values"]

@@ -169,8 +169,9 @@ def test_c_host_equals_fmpy_and_the_pythonfmu_fmu(scene, native_fmu, python_fmu,
 
 
 @pytest.mark.parametrize("settings", [{"integrator": "rk8"}, {"initial_forward_speed": 25.0},
-                                      {"omega": 40.0, "max_step": 4e-4}, {"initial_state": "periodic"}],
-                         ids=["rk8", "speed", "omega-max_step", "periodic"])
+                                      {"omega": 40.0, "max_step": 4e-4}, {"initial_state": "periodic"},
+                                      {"initial_state": "periodic", "initial_forward_speed": 25.0}],
+                         ids=["rk8", "speed", "omega-max_step", "periodic", "periodic-speed"])
 def test_parameters_act_as_in_the_pythonfmu_fmu(settings, native_fmu, python_fmu, spec, facts, tmp_path):
     dt, names = facts["step"], facts["outputs"]
     native = fmpy_run(native_fmu, "forward-flight", spec, dt, 60, names, tmp_path, settings)

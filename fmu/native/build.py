@@ -208,13 +208,19 @@ def _scene_tables(spec: dict, name: str, k: int) -> str:
 def _scene_entry(spec: dict, name: str, k: int, group_index: dict) -> str:
     sc = spec["scenes"][name]
     fs, periodic = sc["forward_speed"], sc.get("periodic")
-    q, v = (fs["q"], fs["v"]) if fs else ([0] * 4, [0] * 3)
+    v, direction = (fs["v"], fs["direction"]) if fs else ([0] * 3, [0.0] * 3)
     pfs = periodic["forward_speed"] if periodic else None
+    p_direction = pfs["direction"] if pfs else [0.0] * 3
     tables = f"periodic_x0_{k}, periodic_defaults_{k}" if periodic else "NULL, NULL"
     return (f"  {{{c_string(name)}, {group_index[sc['group']]}, x0_{k}, {c_real(sc['omega'])}, {sc['steps_per_rev']}, "
             f"{len(sc['parameter_order'])}, params_{k}, defaults_{k}, low_{k}, high_{k}, {int(fs is not None)}, "
-            f"{{{', '.join(map(str, q))}}}, {{{', '.join(map(str, v))}}}, {c_real(fs['default'] if fs else 0.0)}, "
-            f"{tables}, {c_real(pfs['default'] if pfs else 0.0)}}}")
+            f"{{{', '.join(map(str, v))}}}, {_c_reals(direction)}, {c_real(fs['default'] if fs else 0.0)}, "
+            f"{tables}, {_c_reals(p_direction)}, {c_real(pfs['default'] if pfs else 0.0)}}}")
+
+
+def _c_reals(values) -> str:
+    """A C initializer ``{a, b, c}`` of exact doubles."""
+    return "{" + ", ".join(map(c_real, values)) + "}"
 
 
 def data_source(spec: dict, groups: dict, guid: str) -> str:

@@ -324,9 +324,9 @@ static void fill_params(const instance* c, int scene, double* p) {
 static int initial_state(instance* c, int scene, double* x, char* msg) {
   const heli_scene* sc = &M->scenes[scene];
   int vr = M->vr_forward_speed, j, periodic = periodic_in_use(c);
-  double speed, q[4], n;
+  double speed;
   char a[32];
-  const double* x0 = periodic && sc->periodic_x0 ? sc->periodic_x0 : sc->x0;
+  const double *dir, *x0 = periodic && sc->periodic_x0 ? sc->periodic_x0 : sc->x0;
   memcpy(x, x0, sizeof(double) * (size_t) M->groups[sc->group].nx);
   if (periodic && !sc->periodic_x0) {
     snprintf(msg, MSG_LEN, "parameter 'initial_state' = 'periodic': the scene '%s' has no periodic start (it cannot "
@@ -341,12 +341,8 @@ static int initial_state(instance* c, int scene, double* x, char* msg) {
              repr(speed, a), sc->name);
     return 1;
   }
-  for (j = 0; j < 4; ++j) q[j] = x[sc->fs_q[j]];
-  n = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-  for (j = 0; j < 4; ++j) q[j] /= n;
-  x[sc->fs_v[0]] = (1 - 2 * (q[2] * q[2] + q[3] * q[3])) * speed;
-  x[sc->fs_v[1]] = 2 * (q[1] * q[2] - q[0] * q[3]) * speed;
-  x[sc->fs_v[2]] = 2 * (q[1] * q[3] + q[0] * q[2]) * speed;
+  dir = periodic ? sc->periodic_fs_dir : sc->fs_dir;
+  for (j = 0; j < 3; ++j) x[sc->fs_v[j]] = dir[j] * speed;
   return 0;
 }
 

@@ -62,10 +62,12 @@ typedef struct {
   const double* low;          /* range by value reference */
   const double* high;
   int free_body;              /* has a free fuselage: initial_forward_speed applies */
-  int fs_q[4], fs_v[3];       /* state indices of its quaternion (w, x, y, z) and velocity */
+  int fs_v[3];                /* state indices of its body velocity */
+  double fs_dir[3];           /* level flight in body axes at the scene's own start: R(q0)^T e_x */
   double fs_default;          /* the scene's own initial forward speed (m/s) */
   const double* periodic_x0;  /* initial_state = "periodic": the trim's state, NULL when the scene has none */
   const double* periodic_defaults; /* by value reference: the defaults with the trim's controls */
+  double periodic_fs_dir[3];  /* level flight in body axes at the trim's attitude */
   double periodic_fs_default; /* the trim's initial forward speed (m/s) */
 } heli_scene;
 
