@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import json
+import logging
 import sys
 
 COMMAND_MODULES = ("mbs.commands", "mbs.bench.commands", "mbs.bench.stability", "mbs.bench.work_precision",
@@ -84,9 +85,26 @@ USER_ERRORS = (ValueError, RuntimeError, OSError, KeyError, argparse.ArgumentTyp
 unwritable folder, a missing compiler): reported in one line, exit status 2."""
 
 
+class _Stderr(logging.Handler):
+    """Log records of the ``mbs`` package as plain lines on the current ``sys.stderr``."""
+
+    def emit(self, record: logging.LogRecord) -> None:
+        print(self.format(record), file=sys.stderr, flush=True)
+
+
+def _show_messages(quiet: bool) -> None:
+    """Messages of the ``mbs`` logger on stderr: long builds (INFO) unless ``quiet``, cache
+    repairs (WARNING) always."""
+    log = logging.getLogger("mbs")
+    if not any(isinstance(h, _Stderr) for h in log.handlers):
+        log.addHandler(_Stderr())
+    log.setLevel(logging.WARNING if quiet else logging.INFO)
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = parser()
     args = ap.parse_args(argv)
+    _show_messages(bool(getattr(args, "quiet", False)))
     prog = " ".join(["heli", *(getattr(args, k) for k in ("command", "bench", "fmu_command", "kind")
                                if isinstance(getattr(args, k, None), str))])
     try:

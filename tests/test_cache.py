@@ -122,6 +122,22 @@ def test_compiled_system_refuses_a_library_that_fails_its_digest(own_cache, tmp_
         CompiledSystem(folder)
 
 
+def test_heli_announces_a_long_compile_once_and_not_when_quiet(own_cache, tmp_path, monkeypatch, capsys):
+    from mbs.backends import compiled
+    from mbs.cli import main
+
+    monkeypatch.setattr(compiled, "ANNOUNCE_SOURCE_BYTES", 0)  # every compile counts as long here
+    run = ["simulate", "single-blade", "--revs", "0.05", "--out", str(tmp_path / "out")]
+    assert main([*run, "--quiet"]) == 0
+    assert "compiling" not in capsys.readouterr().err
+    shutil.rmtree(own_cache)
+    assert main(run) == 0
+    announced = [line for line in capsys.readouterr().err.splitlines() if line.startswith("compiling ")]
+    assert len(announced) == 1 and "MB of C, once (cached in " in announced[0] and str(own_cache) in announced[0]
+    assert main(run) == 0
+    assert "compiling" not in capsys.readouterr().err  # cached now
+
+
 def test_simulate_with_an_unwritable_cache_is_a_one_line_error(tmp_path):
     proc = heli(["simulate", "ground-run", "--revs", "0.01", "--out", str(tmp_path / "out"), "--quiet"], tmp_path,
                 MBS_CACHE_DIR="/dev/null/mbs-cache")

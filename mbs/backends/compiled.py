@@ -106,6 +106,12 @@ linearly. The 100-link chain's right-hand side (1.8 MB): 61 s at ``-O2``, 8 s at
 whose code runs about 10 % slower; the 40-link chain's (0.7 MB): 9 s and 6 s."""
 
 
+ANNOUNCE_SOURCE_BYTES = LARGE_SOURCE_BYTES
+"""A compile of more C than this (tens of seconds to minutes) is announced on the ``mbs``
+logger (level INFO; the ``heli`` command shows it on stderr), so a first run does not wait
+in silence."""
+
+
 def compile_flags(source: str) -> list[str]:
     """The compiler flags for ``source`` (one translation unit): :data:`CFLAGS`, with ``-O1``
     above :data:`LARGE_SOURCE_BYTES`."""
@@ -184,6 +190,9 @@ def compile_source(source: str, info: ModelInfo, directory: Path | None = None) 
     if folder.exists():
         logging.getLogger(__name__).warning("rebuilding %s: %s", folder, bad)
     tmp = Path(tempfile.mkdtemp(dir=writable_dir(folder.parent, "compiled-model cache"), prefix=".build-"))
+    if len(source) > ANNOUNCE_SOURCE_BYTES:
+        logging.getLogger(__name__).info("compiling %s: %.1f MB of C, once (cached in %s) ...", info.name,
+                                         len(source) / 1e6, folder.parent)
     try:
         _compile_into(tmp, cc, source, info)
     except BaseException:
