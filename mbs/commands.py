@@ -133,14 +133,16 @@ def _trim_lines(res) -> list[str]:
 def cmd_floquet(args) -> int:
     from mbs import scenes
     from mbs.analysis.fanplot import WithParameters, parse_settings
-    from mbs.analysis.floquet import floquet
+    from mbs.analysis.floquet import check_scene, floquet
     from mbs.analysis.trim import evaluators
 
     if args.sweep:
         return _floquet_sweep(args)
     settings = parse_settings(args.set)
     sc = _scene(args)
-    system, stepper = evaluators(scenes.get(sc) if isinstance(sc, str) else sc, args.method, args.backend)
+    scene = scenes.get(sc) if isinstance(sc, str) else sc
+    check_scene(scene)
+    system, stepper = evaluators(scene, args.method, args.backend)
     if settings:
         system = WithParameters(system, **settings)
         system.params()

@@ -113,12 +113,11 @@ class FanPlotAnalysis:
     def __init__(self, scene, settings: dict[str, float] | None = None, method: str = "rk4",
                  steps_per_rev: int | None = None, backend: str = "compiled", fixed_frame: bool = True):
         from mbs import scenes
-        from mbs.analysis.floquet import _check
+        from mbs.analysis.floquet import check_scene
         from mbs.analysis.monodromy import TangentStepper
-        from mbs.analysis.trim import trimmable
 
         self.scene = scenes.get(scene) if isinstance(scene, str) else scene
-        _check(self.scene, trimmable(self.scene))
+        check_scene(self.scene)
         self.system = self.scene.system(backend)
         self.settings = dict(settings or {})
         self.system.params(self.settings)  # unknown names, values outside their ranges

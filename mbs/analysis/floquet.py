@@ -158,12 +158,12 @@ def floquet(scene: str = "forward-flight", speed: float | None = None, method: s
     modes there (regressing lag, ...), ``"rotating"`` per blade."""
     from mbs import scenes
     from mbs.analysis.monodromy import TangentStepper
-    from mbs.analysis.trim import evaluators, periodic_solution, trimmable
+    from mbs.analysis.trim import evaluators, periodic_solution
 
     if frame not in FRAMES:
         raise ValueError(f"unknown frame {frame!r}; choose one of {FRAMES}")
     sc = scenes.get(scene) if isinstance(scene, str) else scene
-    _check(sc, trimmable(sc))
+    check_scene(sc)
     if system is None and stepper is None:
         system, stepper = evaluators(sc, method, backend)
     system = system or sc.system(backend)
@@ -207,10 +207,14 @@ def fixed_frame_names(res: Floquet, scale: np.ndarray | None = None) -> list[str
     return [mode_name(b0 @ (m.vector / s), res.coordinates, m.exponent.imag, m.omega, groups) for m in res.modes]
 
 
-def _check(sc, trimmable: bool) -> None:
+def check_scene(sc) -> None:
+    """Refuse (ValueError) a scene (:class:`mbs.scenes.Scene`) without a periodic solution to
+    analyse; symbolic only, so callers check before anything is compiled."""
+    from mbs.analysis.trim import trimmable
+
     model = sc.model()
     free = any(b.joint.__class__.__name__ == "FreeJoint" for b in model.bodies.values())
-    if not trimmable and (free or "omega" not in model.parameters):
+    if not trimmable(sc) and (free or "omega" not in model.parameters):
         raise ValueError(f"scene {sc.name!r} has no periodic solution to analyse: Floquet analysis needs "
                          "driven rotors and either a trimmable scene or a fuselage that is not free")
 
