@@ -41,6 +41,23 @@ def test_single_blade_monodromy_equals_central_differences(single_blade, backend
     assert sens.steps == n and sens.nfev == n * stepper.stages and sens.nfwd >= n * stepper.stages * (nx + 1)
 
 
+def test_narrower_blocks_give_the_same_sensitivities(single_blade, monkeypatch):
+    """The block width bounds the generated code of large models (one direction per block for
+    the 193-state elastic rotor, 8 for the Bo105 scenes); the derivative does not depend on it."""
+    from mbs.analysis import monodromy
+
+    assert [monodromy.block_width(nx, 4) for nx in (22, 35, 47, 48, 49, 193)] == [8, 8, 8, 8, 7, 1]
+    sc, system = single_blade
+    x0, p = system.x0(**{"blade1.flap": 0.02, "blade1.lag_rate": 0.3}), system.params()
+    h = sc.revolution(system) / 50
+    wide = TangentStepper(sc.model(), "rk4", "compiled")
+    monkeypatch.setattr(monodromy, "STATE_DIRECTIONS_PER_BLOCK", system.info.nx)  # one direction per block
+    narrow = TangentStepper(sc.model(), "rk4", "compiled")
+    assert (wide.block, narrow.block) == (8, 1)
+    a, b = wide.monodromy(x0, p, 0.0, h, 50), narrow.monodromy(x0, p, 0.0, h, 50)
+    assert np.array_equal(a.x, b.x) and np.abs(a.dx - b.dx).max() <= 1e-13 * np.abs(a.dx).max()
+
+
 def test_forward_flight_sensitivity_to_state_and_controls_equals_central_differences():
     """The full helicopter (33 states, 5 parameters), 6 steps from its initial state; the
     directions are propagated in blocks, so 38 columns test the padding of the last one."""

@@ -37,7 +37,7 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from mbs.analysis.monodromy import DIRECTIONS_PER_RHS_CALL, TangentStepper, _evaluator, tangent_step
+from mbs.analysis.monodromy import TangentStepper, _evaluator, block_width, tangent_step
 from mbs.analysis.newton import newton
 from mbs.analysis.period import RotorPeriod
 from mbs.analysis.shooting import TrimLayout, quaternion, residual_scales
@@ -95,8 +95,8 @@ class HeldStepper(TangentStepper):
             raise ValueError(f"model {model.name!r} has no free fuselage to hold")
         rhs = held_rhs(sym["parts"], self.lay, sym.layout.nq)
         self.method, self.stages = method, tab.stages
-        self.block = max(1, DIRECTIONS_PER_RHS_CALL // tab.stages)
         self.nx, self.np = rhs.size1_in(0), rhs.size1_in(2)
+        self.block = block_width(self.nx, tab.stages)
         step = tangent_step(rhs, held_project(sym["project"]), tab, self.block)
         fn = ca.Function(f"held_{step.name()}", step.mx_in(), step.call(step.mx_in()),
                          step.name_in(), step.name_out())
