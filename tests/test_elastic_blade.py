@@ -81,3 +81,19 @@ def test_a_free_pitch_bearing_in_front_of_the_elastic_blade_is_refused():
     free = bo105.build(replace(bo105.ELASTIC_ROTOR, rotors="free", pitch_hinge=False, rotor_aero=False))
     system = mbs.build(free, "vm")
     assert np.all(np.isfinite(system.rhs(system.x0())))
+
+
+def test_elastic_rotor_hover_is_stable_with_its_structural_damping():
+    """Floquet analysis of the periodic hover (one direction per tangent call, 193 states):
+    stable; the first torsion mode has the data's structural damping ratio (1 %, which the
+    stiffness-proportional hinge dampers give at that frequency; the aerodynamics add little);
+    the second torsion mode, weakly unstable without structural damping, decays."""
+    from mbs.analysis.floquet import floquet
+
+    res = floquet("elastic-rotor")
+    assert res.trim.converged and max(abs(m.multiplier) for m in res.modes) < 0.95
+    torsion = sorted((m for m in res.modes if m.name.endswith("torsion")), key=lambda m: m.per_rev)
+    first = min(torsion, key=lambda m: abs(m.per_rev - 3.7))  # the collective/differential pair
+    assert first.damping_ratio == pytest.approx(DATA["elastic_blade"]["structural_damping"], rel=0.2)
+    second = [m for m in torsion if 10 < m.per_rev < 11]
+    assert second and max(m.exponent.real for m in second) < -5.0

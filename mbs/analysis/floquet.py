@@ -120,7 +120,7 @@ def group_of(name: str) -> str:
         return "tail rotor"
     if ".inflow" in name:
         return "inflow"
-    for key in ("flap", "lag"):
+    for key in ("flap", "lag", "torsion"):
         if name.rsplit(".", 1)[-1].startswith(key):
             return key
     return "body"

@@ -22,17 +22,26 @@ from typing import Callable
 
 import numpy as np
 
-BLADE = re.compile(r"^blade(\d+)\.(.+)$")
+BLADE = re.compile(r"^blade(\d+)(?:_(\d+))?\.(.+)$")
+"""A per-blade coordinate: ``blade<k>.<dof>``, or ``blade<k>_<segment>.<dof>`` on the segments
+of an elastic blade (:mod:`mbs.models.elastic_blade`)."""
+
+
+def dof_of(key: str) -> str:
+    """The coordinate (``flap``, ``lag_rate``, ...) of a :func:`blade_groups` key."""
+    return key.split("#", 1)[0]
 
 
 def blade_groups(names: list[str]) -> dict[str, list[int]]:
-    """Per-blade coordinates: suffix (``lag``, ``lag_rate``, ...) -> indices into ``names`` by
-    blade number, for suffixes present on every blade of a rotor with at least 3 blades."""
+    """Per-blade coordinates: key (``lag``, ``lag_rate``, ...; ``lag#2`` on segment 2 of an
+    elastic blade) -> indices into ``names`` by blade number, for keys present on every blade
+    of a rotor with at least 3 blades."""
     found: dict[str, dict[int, int]] = {}
     for i, name in enumerate(names):
         m = BLADE.match(name)
         if m:
-            found.setdefault(m.group(2), {})[int(m.group(1))] = i
+            key = m.group(3) + (f"#{m.group(2)}" if m.group(2) else "")
+            found.setdefault(key, {})[int(m.group(1))] = i
     groups = {s: [idx[k] for k in sorted(idx)] for s, idx in found.items()}
     return {s: g for s, g in groups.items() if len(g) >= 3 and sorted(found[s]) == list(range(1, len(g) + 1))}
 
@@ -98,9 +107,9 @@ def _energies(vector, names, frequency, omega, groups) -> dict[str, float]:
     for i, name in enumerate(names):
         if i not in in_blades and not name.endswith("_rate"):
             out[groups[name]] = out.get(groups[name], 0.0) + abs(vector[i]) ** 2
-    for suffix, idx in blades.items():
-        if not suffix.endswith("_rate"):
-            for part, w in _blade_parts(vector[idx], suffix, frequency, omega).items():
+    for key, idx in blades.items():
+        if not dof_of(key).endswith("_rate"):
+            for part, w in _blade_parts(vector[idx], dof_of(key), frequency, omega).items():
                 out[part] = out.get(part, 0.0) + w
     return out
 

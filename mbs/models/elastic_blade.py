@@ -44,8 +44,9 @@ BEAM_ELEMENTS = 48  # finite elements of the continuous reference blade
 class Blade:
     """A uniform elastic blade from ``root`` to ``tip`` (m from the rotor axis): mass per
     length ``mass`` (kg/m), section ``chord`` and ``thickness`` (m; the segments' inertia),
-    bending stiffness in flap and lag and torsional stiffness (N m²), and the damping of the
-    root lag hinge (N m s/rad)."""
+    bending stiffness in flap and lag and torsional stiffness (N m²), the damping of the
+    root lag hinge (N m s/rad) and the structural damping, stiffness-proportional: each
+    hinge's damping is ``damping_time[direction]`` (s) times its spring stiffness."""
 
     root: float
     tip: float
@@ -56,6 +57,7 @@ class Blade:
     lag_stiffness: float
     torsion_stiffness: float
     lag_damping: float = 0.0
+    damping_time: tuple[float, float, float] = (0.0, 0.0, 0.0)  # flap, lag, torsion
 
     @property
     def length(self) -> float:
@@ -72,13 +74,15 @@ class Blade:
 
 def blade_from_data(d, **stiffness: float) -> Blade:
     """The Bo105 blade of the data ``d`` (``mbs.models.bo105.load_data()``): the rigid blade's
-    span, mass and section, the ``[elastic_blade]`` stiffnesses (or those given) and lag
-    damper."""
+    span, mass and section, the ``[elastic_blade]`` stiffnesses (or those given), lag damper
+    and structural damping (the damping ratio ``structural_damping`` at each direction's first
+    frequency at the nominal rotor speed: ``damping_time = 2 ζ / ω``)."""
     mr, eb = d["main_rotor"], d["elastic_blade"]
     root, tip = mr["flap_hinge_offset"], mr["radius"]
     values = {f"{k}_stiffness": stiffness.get(k, eb[f"{k}_stiffness"]) for k in DIRECTIONS}
+    times = tuple(2 * eb["structural_damping"] / (eb[f"{k}_frequency"] * mr["omega"]) for k in DIRECTIONS)
     return Blade(root, tip, mr["blade_mass"] / (tip - root), mr["chord"], mr["blade_thickness"],
-                 lag_damping=mr["lag_damping"], **values)
+                 lag_damping=mr["lag_damping"], damping_time=times, **values)
 
 
 # -- the segmented blade ------------------------------------------------------------------
@@ -109,10 +113,13 @@ def pieces(blade: Blade, names: list[str], n: int) -> dict[str, list[tuple[str, 
 
 
 def _hinges(blade: Blade, span: float, root: bool, dampers: bool) -> list[Joint]:
-    """Flap, lag and torsion hinges with the springs of ``span`` (m) of blade."""
-    damping = {"lag": blade.lag_damping if dampers and root else 0.0}
-    return [Hinge(AXES[k], name=k, stiffness=blade.stiffness(k) / span, damping=damping.get(k, 0.0))
-            for k in DIRECTIONS]
+    """Flap, lag and torsion hinges with the springs of ``span`` (m) of blade; with
+    ``dampers``, the structural damping and, at the root, the lag damper."""
+    root_lag = blade.lag_damping if dampers and root else 0.0
+    stiff = {k: blade.stiffness(k) / span for k in DIRECTIONS}
+    damping = {k: (t * stiff[k] if dampers else 0.0) + (root_lag if k == "lag" else 0.0)
+               for k, t in zip(DIRECTIONS, blade.damping_time)}
+    return [Hinge(AXES[k], name=k, stiffness=stiff[k], damping=damping[k]) for k in DIRECTIONS]
 
 
 def _segment_inertia(blade: Blade, length: float, stub: float) -> tuple[float, np.ndarray, np.ndarray]:
