@@ -13,8 +13,10 @@ from half-way to its inboard neighbour to half-way to its outboard one (the root
 tip closing the first and the last). Each segment carries the blade's mass per length with
 the inertia of a box (its length, chord, thickness), the root stub's mass lumped on the
 first hinge, so the centrifugal stiffening, the propeller moment in torsion and the
-couplings come from the multibody dynamics itself. The root lag hinge carries the rigid
-blade's lag damper (``main_rotor.lag_damping``) when the scene has dampers.
+couplings come from the multibody dynamics itself. When the scene has dampers, every hinge
+carries structural damping proportional to its spring (``[elastic_blade]
+structural_damping``: that ratio at the direction's first frequency, more on higher modes)
+and the root lag hinge the rigid blade's lag damper (``main_rotor.lag_damping``).
 
 The data file gives the blade's first rotating frequencies (``[elastic_blade]`` in
 ``bo105.toml``) and the stiffnesses ``EI`` and ``GJ`` of the continuous blade that has them
