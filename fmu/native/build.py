@@ -83,6 +83,11 @@ def c_string(s: str | None) -> str:
     return '"' + "".join(out) + '"'
 
 
+def c_reals(values) -> str:
+    """A C initializer ``{a, b, c}`` of exact doubles (:func:`c_real`)."""
+    return "{" + ", ".join(map(c_real, values)) + "}"
+
+
 def c_array(ctype: str, name: str, items: list[str]) -> str:
     return f"static const {ctype} {name}[{max(len(items), 1)}] = {{{', '.join(items) or '0'}}};\n"
 
@@ -214,13 +219,9 @@ def _scene_entry(spec: dict, name: str, k: int, group_index: dict) -> str:
     tables = f"periodic_x0_{k}, periodic_defaults_{k}" if periodic else "NULL, NULL"
     return (f"  {{{c_string(name)}, {group_index[sc['group']]}, x0_{k}, {c_real(sc['omega'])}, {sc['steps_per_rev']}, "
             f"{len(sc['parameter_order'])}, params_{k}, defaults_{k}, low_{k}, high_{k}, {int(fs is not None)}, "
-            f"{{{', '.join(map(str, v))}}}, {_c_reals(direction)}, {c_real(fs['default'] if fs else 0.0)}, "
-            f"{tables}, {_c_reals(p_direction)}, {c_real(pfs['default'] if pfs else 0.0)}}}")
+            f"{{{', '.join(map(str, v))}}}, {c_reals(direction)}, {c_real(fs['default'] if fs else 0.0)}, "
+            f"{tables}, {c_reals(p_direction)}, {c_real(pfs['default'] if pfs else 0.0)}}}")
 
-
-def _c_reals(values) -> str:
-    """A C initializer ``{a, b, c}`` of exact doubles."""
-    return "{" + ", ".join(map(c_real, values)) + "}"
 
 
 def data_source(spec: dict, groups: dict, guid: str) -> str:
