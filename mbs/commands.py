@@ -62,7 +62,7 @@ def _scene(args):
     if not getattr(args, "aero", None):
         return args.scene
     from mbs import scenes
-    from mbs.models.bo105 import with_aero
+    from mbs.models.helicopter import with_aero
 
     try:
         return with_aero(scenes.get(args.scene), args.aero)
@@ -329,7 +329,7 @@ def _backend(p) -> None:
 
 
 def _aero(p) -> None:
-    from mbs.models.bo105 import AERO_SWITCHES
+    from mbs.models.helicopter import AERO_SWITCHES
 
     p.add_argument("--aero", metavar="SWITCHES", default=None,
                    help="aerodynamics switches that are on (Bo105 scenes), the others off: comma-separated "

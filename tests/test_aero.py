@@ -14,7 +14,8 @@ from mbs.aero.inflow import wake_skew
 from mbs.aero.sections import section_force, turn
 from mbs.aero.tiploss import effective_radius_factor, lift_factors
 from mbs.aero.wake import Wake
-from mbs.models import bo105
+from mbs import aircraft
+from mbs.models import helicopter
 
 RHO, RADIUS, WEIGHT = 1.225, 4.91, 2200 * 9.80665
 
@@ -88,8 +89,8 @@ def test_compressibility_corrections():
 
 # -- the Bo105 model with the switches: periodic trims ---------------------------------------
 
-VARIANTS = {"none": bo105.NONE, "full": bo105.FULL,
-            **{name: {**bo105.NONE, field: on} for name, (field, on, _) in bo105.AERO_SWITCHES.items()}}
+VARIANTS = {"none": helicopter.NONE, "full": helicopter.FULL,
+            **{name: {**helicopter.NONE, field: on} for name, (field, on, _) in helicopter.AERO_SWITCHES.items()}}
 
 
 @pytest.fixture(scope="module")
@@ -129,7 +130,7 @@ def test_rotor_power_and_torque_outputs_in_hover(trims):
     """Shaft torque of the blade-element forces and power = torque Ω: within 3 % of momentum
     plus profile power (reference: 338 kW, 7.6 kN m); the tail rotor's thrust times its arm
     balances the main-rotor torque to 5 %."""
-    res, data = trims("none"), bo105.load_data()
+    res, data = trims("none"), aircraft.load().data
     out, omega = res.output_means, data["main_rotor"]["omega"]
     assert out["main_rotor.power"] == pytest.approx(out["main_rotor.torque"] * omega, rel=1e-12)
     assert out["main_rotor.power"] == pytest.approx(_hover_closed_form(data)[0], rel=0.03)
@@ -155,7 +156,7 @@ def _hover_collective(data, tip_loss: float = 1.0, glauert=lambda x: 1.0) -> flo
 
 
 def test_tip_loss_raises_collective_and_power_as_the_closed_form_predicts(trims):
-    data = bo105.load_data()
+    data = aircraft.load().data
     b = data["main_rotor"]["tip_loss"]
     d_theta = trims("tip-loss").controls["collective"] - trims("none").controls["collective"]
     expected = _hover_collective(data, b) - _hover_collective(data)
@@ -168,7 +169,7 @@ def test_tip_loss_raises_collective_and_power_as_the_closed_form_predicts(trims)
 def test_compressibility_lowers_the_hover_collective_as_prandtl_glauert_predicts(trims):
     """Hover tip Mach 0.64: below drag divergence, so only the lift slope rises, by
     ``1/sqrt(1 − (x M_tip)²)`` along the blade."""
-    data = bo105.load_data()
+    data = aircraft.load().data
     tip_mach = data["main_rotor"]["omega"] * data["main_rotor"]["radius"] / data["environment"]["speed_of_sound"]
     d_theta = trims("compressibility").controls["collective"] - trims("none").controls["collective"]
     expected = (_hover_collective(data, glauert=lambda x: 1 / np.sqrt(1 - (x * tip_mach) ** 2))
@@ -187,7 +188,7 @@ def test_compressibility_drag_rise_costs_power_at_70_m_s(trims):
     """Advancing tip Mach 0.85: the power rise equals the profile power of Lock's drag rise over
     the disc on the model's strips, ``N_b/(2π) ∮ Σ ½ ρ c U³ Δc_d(U/a) Δr dψ`` with
     ``U = Ω r + V sin ψ``, within 20 % (the Prandtl–Glauert lift slope changes the rest)."""
-    data = bo105.load_data()
+    data = aircraft.load().data
     mr = data["main_rotor"]
     comp = Compressibility(data["environment"]["speed_of_sound"], mr["mach_dd"], mr["mach_limit"])
     r0, dr = mr["root_cutout"] * mr["radius"], (1 - mr["root_cutout"]) * mr["radius"] / mr["elements"]
@@ -206,7 +207,7 @@ def test_pitt_peters_trim_at_30_m_s_has_the_skewed_wake_gradient(trims):
     at the trim's own wake skew, within 20 % (the rest is driven by the rotor's pitching
     moment); the lateral gradient is small against it."""
     res = trims("pitt-peters", 30.0)
-    out, x, tilt = res.output_means, res.state, bo105.load_data()["main_rotor"]["shaft_tilt"]
+    out, x, tilt = res.output_means, res.state, aircraft.load().data["main_rotor"]["shaft_tilt"]
     u, w = x["fuselage.u"], x["fuselage.w"]
     v_normal = u * np.sin(tilt) - w * np.cos(tilt)
     v_inplane = np.sqrt(u**2 + w**2 - v_normal**2)
@@ -226,7 +227,7 @@ def test_heli_trim_turns_the_switches_on_from_the_command_line(capsys):
     res = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
     assert res["converged"] and res["outputs"]["main_rotor.inflow_ratio_1c"] > 0
     with pytest.raises(ValueError, match="unknown aerodynamics switch 'tiploss'"):
-        bo105.with_aero(scenes.get("hover"), "tiploss")
+        helicopter.with_aero(scenes.get("hover"), "tiploss")
 
 
 # -- the switches added with the wake: reference runs, closed forms --------------------------
@@ -239,7 +240,7 @@ def test_every_switch_off_gives_the_model_before_the_switches():
     off, from the recorded state and parameters, equals the run recorded with the model before
     any switch existed (``tests/data/bo105_runs_before_switches.json``) to 1e-12."""
     for name, ref in json.loads((DATA / "bo105_runs_before_switches.json").read_text()).items():
-        system = bo105.with_aero(scenes.get(name), "none").system("compiled")
+        system = helicopter.with_aero(scenes.get(name), "none").system("compiled")
         assert list(system.info.state_names) == ref["state_names"]
         x0, p = np.array(ref["x0"]), np.array(ref["params"])
         x = system.run(x0, 0.0, ref["h"], ref["steps"], every=ref["steps"], p=p).x[-1]
@@ -249,7 +250,7 @@ def test_every_switch_off_gives_the_model_before_the_switches():
 def _wake(air=(0.0, 0.0, 0.0), v0=10.0, torque=7600.0):
     """A wake at the origin, shaft frame = world axes (x aft, y advancing side, z up)."""
     return Wake(ca.DM.zeros(3), ca.DM.eye(3), [v0], ca.DM(air), torque, RADIUS, RHO,
-                bo105.main_rotor_wake(bo105.load_data()))
+                helicopter.main_rotor_wake(aircraft.load().data))
 
 
 def _velocity(wake, point) -> np.ndarray:
@@ -282,7 +283,7 @@ def test_skewed_wake_centre_moves_downstream_by_h_tan_chi():
 
 def _depth(point) -> float:
     """Depth (m) below the main-rotor disc of a point (m, body axes), whatever the attitude."""
-    mr = bo105.load_data()["main_rotor"]
+    mr = aircraft.load().data["main_rotor"]
     axis = np.array([np.sin(mr["shaft_tilt"]), 0, -np.cos(mr["shaft_tilt"])])
     return float(-(np.asarray(point) - [mr["hub_x"], 0, mr["hub_z"]]) @ axis)
 
@@ -303,7 +304,7 @@ def test_download_in_hover_adds_the_closed_form_download_to_thrust_and_power(tri
     """Cabin and boom panels, fully in the hovering wake at their depths h, carry
     ``D = Σ ½ ρ S c_d ((1 + h/sqrt(h² + R²)) v_h)²`` with ``v_h`` at the thrust ``W + D``: the
     trimmed thrust rises by D, the power by ``dP/dT · D``, each within 20 %; the collective rises."""
-    data = bo105.load_data()
+    data = aircraft.load().data
     download = 0.0
     for _ in range(3):
         v_h = _hover_power_per_thrust(data, WEIGHT + download)[0]
@@ -321,7 +322,7 @@ def test_hub_drag_costs_its_parasite_power_and_tilts_the_aircraft_forward(trims)
     """At 50 m/s: ``ΔP = ½ ρ f V³`` and the pitch falls by ``D/W`` (the disc tilts forward to
     carry the drag) less ``h_R D/(N_b/2 K_β + T h_R)`` (the drag's nose-up moment about the CG,
     taken by the hub), each within 20 %. In hover it changes nothing."""
-    data, speed = bo105.load_data(), 50.0
+    data, speed = aircraft.load().data, 50.0
     mr = data["main_rotor"]
     drag = 0.5 * RHO * data["hub_drag"]["flat_plate_area"] * speed**2
     on, off = trims("hub-drag", speed), trims("none", speed)
@@ -336,7 +337,7 @@ def _tail_force(data, air) -> np.ndarray:
     """The horizontal tail's force (N, body axes) in the air velocity ``air`` (m/s, body axes)."""
     ht = data["horizontal_tail"]
     c, n = np.array([1.0, 0, 0]), np.array([0, 0, -1.0])
-    f_c, f_n = section_force(*turn(air @ c, air @ n, ht["incidence"]), bo105._airfoil(ht), RHO, ht["area"])
+    f_c, f_n = section_force(*turn(air @ c, air @ n, ht["incidence"]), helicopter.airfoil(ht), RHO, ht["area"])
     f_c, f_n = turn(float(f_c), float(f_n), -ht["incidence"])
     return f_c * c + f_n * n
 
@@ -366,7 +367,7 @@ def test_tail_wake_misses_the_hovering_tail_and_pitches_the_nose_up_beyond(trims
     contracted wake, so the trim barely moves; at 10 and 30 m/s the skewed wake covers it, its
     downwash equals the closed form within 5 % and loads the tail down, and the nose rises by the
     closed-form amount within 20 %."""
-    data = bo105.load_data()
+    data = aircraft.load().data
     assert abs(trims("tail-wake").pitch - trims("none").pitch) < np.radians(0.02)
     assert trims("tail-wake").output_means["horizontal_tail.downwash"] < 1.0
     for speed in (10.0, 30.0):

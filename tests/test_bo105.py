@@ -6,7 +6,8 @@ import pytest
 
 from mbs import analysis, scenes
 from mbs.cli import main
-from mbs.models import bo105
+from mbs import aircraft
+from mbs.models import helicopter
 from mbs.simulate import simulate
 
 ALLOWED_SOURCES = {"S1", "S1a", "S1b", "S2", "S3", "DER", "EST", "STD"}
@@ -22,12 +23,19 @@ def _rev(sim):
 
 
 def test_every_datum_has_unit_and_source():
-    data = bo105.load_data()
+    """Every entry of the Bo105's file has a unit and a known source; the others are the
+    schema's defaults or derived by the loader, and say so."""
+    data = aircraft.load().data
     for section, entries in data.meta.items():
         for name, meta in entries.items():
             assert meta["unit"], f"{section}.{name} has no unit"
-            assert meta["source"] in ALLOWED_SOURCES, f"{section}.{name}: source {meta['source']!r}"
+            if meta["origin"] in ("file", "override"):
+                assert meta["source"] in ALLOWED_SOURCES, f"{section}.{name}: source {meta['source']!r}"
+            else:
+                assert (meta["origin"], meta["source"]) in (("default", "default"), ("derived", "DER"))
     assert data.meta["main_rotor"]["lag_frequency"]["source"] == "EST"  # not found: stays marked
+    assert data.meta["main_rotor"]["blade_mass"]["origin"] == "override"
+    assert data.meta["wake"]["core"]["origin"] == "derived"
 
 
 def test_scenes_build_only_what_they_need():
@@ -94,7 +102,7 @@ def test_lag_frequency_with_clamped_fuselage_matches_closed_form():
 
 def test_fig2_seesaw_at_tail_rotor_rate_with_varying_amplitude(forward_flight):
     sim, T = forward_flight, _rev(forward_flight)
-    gear = bo105.load_data()["tail_rotor"]["gear_ratio"]
+    gear = aircraft.load().data["tail_rotor"]["gear_ratio"]
     teeter = sim.traj.column("seesaw.teeter")
     assert abs(analysis.dominant_frequency(sim.traj.t, teeter) * T / gear - 1) < 0.05
     env = analysis.envelope(sim.traj.t, teeter, T / gear)[: int(3 * gear)]
@@ -102,7 +110,7 @@ def test_fig2_seesaw_at_tail_rotor_rate_with_varying_amplitude(forward_flight):
 
 
 def _closed_form(sim):
-    d, b = bo105.load_data(), sim.system.info.bodies[sim.system.info.body_names.index("blade1")]
+    d, b = aircraft.load().data, sim.system.info.bodies[sim.system.info.body_names.index("blade1")]
     mr = d["main_rotor"]
     return analysis.flap_lag_frequencies(b["mass"], b["com"], b["inertia"], mr["flap_hinge_offset"],
                                          mr["flap_stiffness"], mr["lag_stiffness"], mr["omega"])
@@ -136,7 +144,7 @@ def test_stored_trim_holds_the_flight_condition(scene):
     assert np.abs(speed - speed[0]).max() < 0.2 and np.abs(rates).max() < 0.1
     assert np.abs(rates[sim.traj.t > 5 * _rev(sim)]).max() < 0.02
     thrust = sim.outputs[:, info.output_names.index("main_rotor.thrust")]
-    weight = bo105.load_data()["aircraft"]["mass"] * 9.80665
+    weight = aircraft.load().data["aircraft"]["mass"] * 9.80665
     assert abs(thrust[sim.traj.t > 2 * _rev(sim)].mean() / weight - 1) < 0.03
     assert u0 > 9.9 if scene == "forward-flight" else abs(u0) < 1e-9
 

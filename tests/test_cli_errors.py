@@ -19,7 +19,7 @@ import mbs
 from mbs import arguments, cli
 
 HELI = Path(sys.executable).with_name("heli")
-PACKAGE_TRIMS = Path(mbs.__file__).resolve().parent / "models" / "bo105_trim.toml"
+PACKAGE_TRIMS = Path(mbs.__file__).resolve().parent / "aircraft" / "data" / "bo105_trim.toml"
 PACKAGE_TRIMS_TEXT = PACKAGE_TRIMS.read_text()
 NOT_TRIMMABLE = ("demo-rotor", "demo-driven", "structural", "single-blade", "ground-resonance")
 TRIMMABLE = "trimmable scenes: elastic-rotor, forward-flight, ground-run, hover, single-blade-aero"

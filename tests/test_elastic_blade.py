@@ -6,10 +6,12 @@ import numpy as np
 import pytest
 
 import mbs
-from mbs.models import bo105
+from mbs import aircraft
+from mbs.models import helicopter
+from mbs.models.helicopter.scenes import ELASTIC_ROTOR
 from mbs.models import elastic_blade as eb
 
-DATA = bo105.load_data()
+DATA = aircraft.load().data
 OMEGA = DATA["main_rotor"]["omega"]
 TARGETS = {k: DATA["elastic_blade"][f"{k}_frequency"] for k in eb.DIRECTIONS}
 
@@ -43,7 +45,7 @@ def test_segmented_blade_frequencies_match_the_targets_and_converge():
 
 def test_segments_carry_the_blade_mass_and_their_springs_its_flexibility():
     blade = eb.blade_from_data(DATA)
-    m = bo105.build(replace(bo105.ELASTIC_ROTOR, blades=1, rotor_aero=False), name="one-blade")
+    m = helicopter.build(replace(ELASTIC_ROTOR, blades=1, rotor_aero=False), name="one-blade")
     segments = [m.bodies[n] for n in eb.segment_names("blade1", 8)]
     assert sum(b.mass for b in segments) == pytest.approx(DATA["main_rotor"]["blade_mass"], rel=1e-12)
     springs = {f.coordinate: f.stiffness for f in m.forces}
@@ -57,8 +59,8 @@ def test_segments_carry_the_blade_mass_and_their_springs_its_flexibility():
 def test_elastic_rotor_scene_has_96_rates_and_the_rigid_rotors_thrust():
     """Four blades of 8 segments; at the start (straight blades at the estimated coning) the
     blade elements, spread over the segments, give the rigid rotor's thrust and torque."""
-    elastic = mbs.build(bo105.build(bo105.ELASTIC_ROTOR, name="elastic"), "vm")
-    rigid = mbs.build(bo105.build(replace(bo105.ELASTIC_ROTOR, blade_segments=0), name="rigid"), "vm")
+    elastic = mbs.build(helicopter.build(ELASTIC_ROTOR, name="elastic"), "vm")
+    rigid = mbs.build(helicopter.build(replace(ELASTIC_ROTOR, blade_segments=0), name="rigid"), "vm")
     assert elastic.info.nv == 4 * 8 * 3 and elastic.info.nz == 1
     out = [dict(zip(s.info.output_names, s.outputs(s.x0()))) for s in (elastic, rigid)]
     for key in ("main_rotor.thrust", "main_rotor.torque"):
@@ -71,14 +73,14 @@ def test_elastic_rotor_scene_has_96_rates_and_the_rigid_rotors_thrust():
 @pytest.mark.parametrize("bad", [-1, 2.5, True])
 def test_segment_counts_must_be_whole_and_positive(bad):
     with pytest.raises(ValueError, match=f"blade_segments = {bad!r}: an elastic blade needs a whole number"):
-        bo105.build(replace(bo105.ELASTIC_ROTOR, blade_segments=bad))
+        helicopter.build(replace(ELASTIC_ROTOR, blade_segments=bad))
 
 
 def test_a_free_pitch_bearing_in_front_of_the_elastic_blade_is_refused():
     """Its axis is the root torsion hinge's: the mass matrix would be singular."""
     with pytest.raises(ValueError, match="needs a driven pitch bearing or none"):
-        bo105.build(replace(bo105.ELASTIC_ROTOR, rotors="free"))
-    free = bo105.build(replace(bo105.ELASTIC_ROTOR, rotors="free", pitch_hinge=False, rotor_aero=False))
+        helicopter.build(replace(ELASTIC_ROTOR, rotors="free"))
+    free = helicopter.build(replace(ELASTIC_ROTOR, rotors="free", pitch_hinge=False, rotor_aero=False))
     system = mbs.build(free, "vm")
     assert np.all(np.isfinite(system.rhs(system.x0())))
 

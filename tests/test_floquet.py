@@ -14,11 +14,12 @@ from mbs.analysis.floquet import analyse, floquet
 from mbs.analysis.monodromy import TangentStepper
 from mbs.analysis.trim import periodic_solution
 from mbs.cli import main
-from mbs.models import bo105
+from mbs import aircraft
+from mbs.models import helicopter
 
 
 def _closed_form(system):
-    b, mr = system.info.bodies[system.info.body_names.index("blade1")], bo105.load_data()["main_rotor"]
+    b, mr = system.info.bodies[system.info.body_names.index("blade1")], aircraft.load().data["main_rotor"]
     return flap_lag_frequencies(b["mass"], b["com"], b["inertia"], mr["flap_hinge_offset"], mr["flap_stiffness"],
                                 mr["lag_stiffness"], mr["omega"])
 

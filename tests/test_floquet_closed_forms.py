@@ -11,7 +11,8 @@ from mbs.analysis import flap_lag_frequencies, hinge_inertia
 from mbs.analysis.floquet import analyse
 from mbs.analysis.monodromy import TangentStepper
 from mbs.analysis.trim import periodic_solution
-from mbs.models import bo105
+from mbs import aircraft
+from mbs.models import helicopter
 from mbs.models.mathieu import PERIOD, mathieu
 
 
@@ -35,7 +36,7 @@ def _blade_constants(system, sol) -> dict:
     """The model's own numbers: hinge inertia ``I_β`` (kg m²), flap frequency ``ν`` (per rev)
     from the spring and centrifugal stiffness, and the strip sums ``Σ r^k Δr`` over the
     blade elements (8 strips from the 0.2 R root cut-out), hover inflow ``v`` (m/s)."""
-    d = bo105.load_data()
+    d = aircraft.load().data
     mr, rho = d["main_rotor"], d["environment"]["rho"]
     b = system.info.bodies[system.info.body_names.index("blade1")]
     nu, _ = flap_lag_frequencies(b["mass"], b["com"], b["inertia"], mr["flap_hinge_offset"], mr["flap_stiffness"],

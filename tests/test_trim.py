@@ -9,7 +9,8 @@ from mbs import scenes
 from mbs.analysis.monodromy import TangentStepper
 from mbs.analysis.trim import periodic_solution, trim
 from mbs.cli import main
-from mbs.models.bo105 import estimate_trim, load_data, with_aero
+from mbs.aircraft import load as load_aircraft
+from mbs.models.helicopter import estimate_trim, with_aero
 
 QUADRATIC_C = 10.0  # r_{k+1} <= C r_k^2 + FLOOR once r_k < 1e-4 (measured C: 0.2 .. 7)
 FLOOR = 1e-13  # round-off level of the scaled residual (measured 1e-16 .. 2e-15)
@@ -83,7 +84,7 @@ def test_hover_collective_matches_blade_element_momentum_theory():
     """The paper's aerodynamics (every switch off): strip theory on the model's own strips (8
     from the 0.2 R cut-out, linear twist, κ v uniform inflow from momentum theory at the trim's
     mean thrust): within 2 %; and the closed-form estimate (no cut-out) too."""
-    res, d = periodic_solution(with_aero(scenes.get("forward-flight"), "none"), speed=0.0), load_data()
+    res, d = periodic_solution(with_aero(scenes.get("forward-flight"), "none"), speed=0.0), load_aircraft().data
     mr, rho = d["main_rotor"], d["environment"]["rho"]
     big_r, omega, thrust = mr["radius"], mr["omega"], res.thrust
     v = np.sqrt(thrust / (2 * rho * np.pi * big_r**2))

@@ -42,9 +42,9 @@ def test_scene_has_one_node_per_body_nested_as_the_tree(flight):
 
 
 def test_geometry_is_sized_from_the_model(flight):
-    from mbs.models.bo105 import load_data
+    from mbs.aircraft import load as load_aircraft
 
-    mr = load_data()["main_rotor"]
+    mr = load_aircraft().data["main_rotor"]
     scene = build_scene(flight.system.info)
     (blade,) = scene.parts["blade1"]
     assert blade.kind == "box"

@@ -24,8 +24,9 @@ class Rotor:
     """Geometry of a rotor for :class:`RotorAero`; stations are equal-width strips.
 
     ``shaft_body``/``shaft_frame``: the body carrying the hub joint (``None``: the world) and
-    the hub frame at zero azimuth in its axes (3, 3), i.e. the non-rotating shaft frame (x at
-    ψ = 0, y at ψ = 90°, z the thrust axis); ``speed_ratio``: rotor speed per ``omega``.
+    the rotor's azimuth frame in its axes (3, 3): x at ψ = 0, y at ψ = 90° (ψ in the sense of
+    rotation), z the thrust axis; left-handed for a rotor turning against its thrust axis
+    (:attr:`sense`); ``speed_ratio``: rotor speed per ``omega``.
     """
 
     name: str
@@ -41,6 +42,12 @@ class Rotor:
     shaft_frame: np.ndarray = field(default_factory=lambda: np.eye(3))
     speed_ratio: float = 1.0
     pieces: dict = field(default_factory=dict)
+
+    @property
+    def sense(self) -> int:
+        """+1 when the rotor turns about its thrust axis (right-handed azimuth frame; blade y
+        towards the leading edge), -1 when against it (blade y towards the trailing edge)."""
+        return 1 if np.linalg.det(self.shaft_frame) > 0 else -1
 
     def stations(self) -> tuple[np.ndarray, float]:
         """Strip mid-radii (m, from the rotor axis) and width (m)."""
@@ -100,7 +107,8 @@ class RotorAero(ForceElement):
     """Blade-element loads on every blade of ``rotor`` plus its dynamic inflow states.
 
     Blade body frames: x along the span (from the blade's joint at ``hinge_radius`` from the
-    rotor axis), y towards the leading edge, z the lift direction at zero pitch. The hub
+    rotor axis), y towards the leading edge (the trailing edge when the rotor turns against
+    its thrust axis, :attr:`Rotor.sense`), z the lift direction at zero pitch. The hub
     frame's z axis is the rotor's thrust axis. The inflow states (m/s) are positive down
     through the disc (against the thrust axis); the blades see ``κ`` times the induced
     velocity. Signals: ``<name>.thrust`` (N), ``<name>.torque`` (N m, shaft torque),
@@ -166,7 +174,7 @@ class RotorAero(ForceElement):
             velocity = origin + arm * ca.vertcat(0, m.omega[2], -m.omega[1])  # + ω × (arm, 0, 0)
             f = self._element_force(self._air(disc_point, axis_b, v) - velocity, r, dr, lift)
             force, torque = force + f, torque + arm * ca.vertcat(0, -f[2], f[1])  # + (arm, 0, 0) × f
-            out = out + self._element_loads(f, lever, axis_b, disc_point)
+            out = out + self._element_loads(f, lever, axis_b, disc_point, self.rotor.sense)
         loads.add_force(blade, force, point=[0.0, 0.0, 0.0], frame="body", rotation=m.rotation)
         loads.add_torque(blade, torque)
         return out
@@ -174,17 +182,19 @@ class RotorAero(ForceElement):
     def _element_force(self, w, r: float, dr: float, lift: float):
         """Element force (3,) (N, blade axes) from the air velocity ``w`` (3,) (m/s, blade axes)."""
         twist = self.rotor.twist * r / self.rotor.radius
-        f_c, f_n = section_force(*turn(w[1], w[2], twist), self.airfoil, self.rho, self.rotor.chord * dr,
+        sense = self.rotor.sense  # blade y along the leading edge (+1) or the trailing edge (-1)
+        f_c, f_n = section_force(*turn(sense * w[1], w[2], twist), self.airfoil, self.rho, self.rotor.chord * dr,
                                  lift, self.coefficients)
         f_y, f_z = turn(f_c, f_n, -twist)
-        return ca.vertcat(0, f_y, f_z)
+        return ca.vertcat(0, sense * f_y, f_z)
 
     @staticmethod
-    def _element_loads(force, lever, axis, disc_point) -> DiscLoads:
-        """Thrust, shaft torque and thrust moments of one element force (3,) (N) at ``lever`` (m
-        from the hub), both in the frame of ``axis``; ``disc_point`` its ``(x/R, y/R)``."""
+    def _element_loads(force, lever, axis, disc_point, sense: int) -> DiscLoads:
+        """Thrust, shaft torque (about the axis of rotation) and thrust moments of one element
+        force (3,) (N) at ``lever`` (m from the hub), both in the frame of ``axis``;
+        ``disc_point`` its ``(x/R, y/R)`` in the azimuth frame."""
         d_thrust = ca.dot(force, axis)
-        return DiscLoads(d_thrust, -ca.dot(axis, ca.cross(lever, force)), d_thrust * disc_point[1],
+        return DiscLoads(d_thrust, -sense * ca.dot(axis, ca.cross(lever, force)), d_thrust * disc_point[1],
                          d_thrust * disc_point[0])
 
     def _inflow_rates(self, hub_velocity, axis, v, disc: DiscLoads) -> list:
@@ -200,7 +210,7 @@ class RotorAero(ForceElement):
         try:
             speed = self.rotor.speed_ratio * state.p["omega"]
         except KeyError:  # rotor turning freely: its own angular speed about the shaft
-            speed = hub.omega[2]
+            speed = self.rotor.sense * hub.omega[2]
         name = self.rotor.name
         state.signals.update({f"{name}.thrust": disc.thrust, f"{name}.torque": disc.torque,
                               f"{name}.power": disc.torque * speed})

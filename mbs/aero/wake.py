@@ -79,8 +79,9 @@ class Wake:
     """The wake of one rotor in the current state (symbolic), published by its
     :class:`mbs.aero.RotorAero` as the signal ``<rotor>.wake``.
 
-    ``hub`` (3,) m and ``shaft`` (3, 3) the non-rotating shaft frame (x at ψ = 0, y at 90°,
-    z the thrust axis), world; ``inflow`` the rotor's inflow states (m/s: ``[v0]`` or
+    ``hub`` (3,) m and ``shaft`` (3, 3) the rotor's azimuth frame (x at ψ = 0, y at 90° in the
+    sense of rotation, z the thrust axis; left-handed for a rotor turning against its thrust
+    axis), world; ``inflow`` the rotor's inflow states (m/s: ``[v0]`` or
     ``[v0, v1s, v1c]``); ``air`` (3,) the air velocity relative to the hub (m/s, world);
     ``torque`` N m; ``radius`` m (the effective disc with tip loss); ``rho`` kg/m³.
     """
@@ -116,7 +117,7 @@ class Wake:
         grow = along / ca.sqrt(along**2 + self.radius**2)
         immersion = self.immersion(ca.sqrt(e2 + 1e-12), depth, self.cos_skew)
         swirl = self.swirl / (e2 + self.geometry.core**2)
-        tangential = ca.cross(axis, e_x * self.shaft[:, 0] + e_y * self.shaft[:, 1])
+        tangential = e_x * self.shaft[:, 1] - e_y * self.shaft[:, 0]  # along increasing azimuth: the rotation
         return immersion * (-(1 + grow) * self._disc_inflow(e_x, e_y) * axis + swirl * tangential)
 
     def immersion(self, distance, depth, cos_skew):

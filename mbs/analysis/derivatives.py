@@ -175,7 +175,7 @@ def derivatives(scene: str = "forward-flight", speed: float | None = None, metho
     """Stability and control derivatives of ``scene`` (free-flying, trimmable) at ``speed`` m/s."""
     from mbs import scenes
     from mbs.analysis.monodromy import TangentStepper
-    from mbs.analysis.trim import _bo105_data, _check_scene, periodic_solution
+    from mbs.analysis.trim import _check_scene, periodic_solution
 
     sc = _check_scene(scene)
     system = system or sc.system(backend)
@@ -188,8 +188,7 @@ def derivatives(scene: str = "forward-flight", speed: float | None = None, metho
     if not sol.converged:
         raise RuntimeError(f"no trim of {scene!r} at {sol.speed:g} m/s: {sol.reason}")
     held_stepper = held_stepper or HeldStepper(sc.model(), method, backend)
-    radius = _bo105_data()["main_rotor"]["radius"] if system.info.name.startswith("bo105") else 1.0
-    return linearise(sol, system, held_stepper, radius, start)
+    return linearise(sol, system, held_stepper, sol.radius, start)
 
 
 def _free_scenes(scenes) -> list[str]:

@@ -186,7 +186,7 @@ def in_fixed_frame(sol, system, stepper, record_every: int = 2) -> Floquet:
 
     names = coordinate_functions(TrimLayout.of(system.info), system.info.nx)[0]
     res = analyse(sol, system, stepper, record_every, frame=transform(names, sol.period.omega))
-    scale = residual_scales(names, sol.period.omega, _radius(system))
+    scale = residual_scales(names, sol.period.omega, sol.radius)
     for m, label in zip(res.modes, fixed_frame_names(res, scale)):
         m.label = label
     res.frame = "fixed (multi-blade)"
@@ -239,16 +239,10 @@ def analyse(sol, system, stepper, record_every: int = 2, frame=None) -> Floquet:
     t = np.arange(len(phi)) * record_every * per.revolution / sol.steps_per_rev
     if frame is not None:
         phi = frame(t) @ phi
-    scale = residual_scales(names, per.omega, _radius(system))
+    scale = residual_scales(names, per.omega, sol.radius)
     modes = _modes(psi, phi, t, per, names, scale, flip)
     return Floquet(sol.scene, sol.speed, modes, names, per.revs, per.full_revs, sol, sens.nfwd,
                    time.perf_counter() - start)
-
-
-def _radius(system) -> float:
-    from mbs.analysis.trim import _bo105_data
-
-    return _bo105_data()["main_rotor"]["radius"] if system.info.name.startswith("bo105") else 1.0
 
 
 def _modes(psi, phi, t, per, names, scale, flip) -> list[FloquetMode]:

@@ -14,6 +14,11 @@ has turned 10.5 times, so the whole model satisfies
 and a solution with ``x(2T) = S x(0)`` repeats after ``4T``. The trim therefore shoots over
 ``2T`` with the symmetry ``S`` (half the cost of ``4T``), and the monodromy of the full
 period is ``(S M_2T)²``.
+
+A rigid tail rotor of ``N`` identical blades has no states of its own: the model repeats when
+the tail rotor has turned by a multiple of ``2π/N``, after the denominator of ``g N``
+main-rotor revolutions. A ratio without a small denominator gives no usable period: refused
+beyond :data:`mbs.aircraft.checks.MAX_PERIOD_REVS` revolutions.
 """
 from __future__ import annotations
 
@@ -56,20 +61,32 @@ class RotorPeriod:
         return s
 
 
+def scene_period(sc, system, p=None) -> RotorPeriod:
+    """The period of the scene ``sc``'s model ``system`` at the parameters ``p`` (its
+    aircraft's gear ratio)."""
+    gear = sc.aircraft.data["tail_rotor"]["gear_ratio"] if sc.aircraft is not None else None
+    return rotor_period(system.info, 2 * np.pi / sc.revolution(system, p), gear)
+
+
 def rotor_period(info, omega: float, gear_ratio: float | None = None) -> RotorPeriod:
     """The period of a model described by ``info`` (:class:`mbs.backends.info.ModelInfo`).
 
-    gear_ratio: tail-rotor speed over main-rotor speed when the model has a tail rotor
-    (output ``tail_rotor.azimuth``); by default the Bo105's, from its data file.
+    gear_ratio: tail-rotor speed over main-rotor speed, needed when the model has a tail rotor
+    (output ``tail_rotor.azimuth``). ValueError when the rotors repeat only after more than
+    :data:`mbs.aircraft.checks.MAX_PERIOD_REVS` revolutions.
     """
+    from mbs.aircraft import checks
+
     if "tail_rotor.azimuth" not in info.output_names:
         return RotorPeriod(1, 1, (), omega)
     if gear_ratio is None:
-        from mbs.models.bo105 import load_data
-
-        gear_ratio = load_data()["tail_rotor"]["gear_ratio"]
-    full = Fraction(gear_ratio).limit_denominator(1000).denominator
+        raise ValueError("the model has a tail rotor: its period needs the tail-rotor gear ratio")
     teetering = all(n in info.state_names for n in TEETER_STATES)
+    blades = 1 if teetering else max(1, sum(n.startswith("tail_blade") for n in info.body_names))
+    problem = checks.period_problem(gear_ratio, blades)
+    if problem:
+        raise ValueError(problem)
+    full = checks.rotor_period(gear_ratio, blades)[0]
     half = Fraction(2 * gear_ratio).limit_denominator(1000).denominator
     if not teetering or half == full:
         return RotorPeriod(full, full, (), omega)

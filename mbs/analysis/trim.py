@@ -10,8 +10,8 @@ discrete map from forward-mode AD (:mod:`mbs.analysis.monodromy`) chained with t
 Jacobians of the small maps ``z -> x(0)`` and ``x(τ) -> r``. A backtracking line search makes
 it robust far from the solution; near it the steps are full and convergence is quadratic.
 
-Start: the closed-form estimate of :func:`mbs.models.bo105.estimate_trim` at the requested
-speed (momentum and blade-element theory), for Bo105 scenes; the scene's defaults otherwise.
+Start: the closed-form estimate of :func:`mbs.models.helicopter.estimate_trim` at the requested
+speed (momentum and blade-element theory), for helicopter scenes; the scene's defaults otherwise.
 The trim reports the period means of the model's outputs (rotor thrust, aerodynamic shaft
 torque and power, inflow ratios): the torque is that of the blade-element forces about the
 shaft, the drive's torque in a trim (the hubs are driven joints, whose constraint torque the
@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from mbs.analysis.newton import Failure, Iteration, newton
-from mbs.analysis.period import RotorPeriod, rotor_period
+from mbs.analysis.period import RotorPeriod, scene_period
 from mbs.analysis.shooting import TrimLayout, residual_function, residual_scales, start_function
 
 TORQUE_NOTE = ("rotor torque and power: aerodynamic shaft torque of the blade-element forces (N m) and "
@@ -65,6 +65,8 @@ class Trim:
     setup_s: float = 0.0
     thrust: float | None = None
     output_means: dict[str, float] = field(default_factory=dict)
+    radius: float = 1.0  # m: the length scaling position residuals (the main-rotor radius)
+    aircraft: str | None = None  # the aircraft's name, for a helicopter scene
 
     @property
     def iterations(self) -> int:
@@ -81,7 +83,8 @@ class Trim:
 
     def summary(self) -> dict:
         """Plain-data form (JSON)."""
-        return {"scene": self.scene, "speed": self.speed, "climb_rate": self.climb_rate, "method": self.method,
+        return {"scene": self.scene, "aircraft": self.aircraft, "speed": self.speed, "climb_rate": self.climb_rate,
+                "method": self.method,
                 "steps_per_rev": self.steps_per_rev, "converged": self.converged, "reason": self.reason,
                 "controls": self.controls, "controls_deg": {k: float(np.degrees(v)) for k, v in self.controls.items()},
                 "roll": self.roll, "pitch": self.pitch, "state": self.state,
@@ -112,7 +115,7 @@ class ShootingProblem:
     def __init__(self, system, stepper, period: RotorPeriod, steps_per_rev: int, path, radius: float,
                  speed: float = 0.0):
         info = system.info
-        self.speed = speed
+        self.speed, self.radius = speed, radius
         self.system, self.stepper, self.period = system, stepper, period
         self.lay = TrimLayout.of(info)
         self.h, self.n = period.revolution / steps_per_rev, period.revs * steps_per_rev
@@ -178,7 +181,7 @@ def trimmable(scene) -> bool:
     return any(p.control for p in model.parameters.values()) and any(n.endswith(".inflow") for n in model.states)
 
 
-def _check_scene(name: str):
+def _check_scene(name):
     from mbs import scenes
 
     sc = scenes.get(name) if isinstance(name, str) else name
@@ -189,18 +192,18 @@ def _check_scene(name: str):
     return sc
 
 
-def _bo105_data():
-    from mbs.models.bo105 import load_data
+def reference_radius(sc) -> float:
+    """The length that scales position residuals (m): the main-rotor radius of a helicopter
+    scene's aircraft, 1 otherwise."""
+    return sc.aircraft.data["main_rotor"]["radius"] if getattr(sc, "aircraft", None) is not None else 1.0
 
-    return load_data()
 
-
-def estimate(system, lay: TrimLayout, speed: float, climb_rate: float = 0.0) -> np.ndarray:
-    """Starting unknowns ``z``: the Bo105 closed-form estimate at ``speed`` when the model is a
-    free-flying Bo105, the model's initial state and parameters otherwise."""
+def estimate(system, lay: TrimLayout, speed: float, climb_rate: float = 0.0, aircraft=None) -> np.ndarray:
+    """Starting unknowns ``z``: the closed-form estimate at ``speed`` for a free-flying
+    helicopter of ``aircraft``, the model's initial state and parameters otherwise."""
     x, p = system.x0(), system.params()
-    if lay.free and system.info.name.startswith("bo105"):
-        x, p = _bo105_estimate(system, lay, speed)
+    if lay.free and aircraft is not None:
+        x, p = _aircraft_estimate(system, lay, speed, aircraft.data)
     if not lay.free:
         return x[lay.rotor]
     from mbs import _rotation as rot
@@ -211,12 +214,11 @@ def estimate(system, lay: TrimLayout, speed: float, climb_rate: float = 0.0) -> 
     return np.r_[p[lay.controls], roll, pitch, body, x[lay.rotor]]
 
 
-def _bo105_estimate(system, lay: TrimLayout, speed: float) -> tuple[np.ndarray, np.ndarray]:
-    """Initial state and parameters from :func:`mbs.models.bo105.estimate_trim` at ``speed``."""
+def _aircraft_estimate(system, lay: TrimLayout, speed: float, d) -> tuple[np.ndarray, np.ndarray]:
+    """Initial state and parameters from :func:`mbs.models.helicopter.estimate_trim` at ``speed``."""
     from mbs import _rotation as rot
-    from mbs.models.bo105 import estimate_trim
+    from mbs.models.helicopter import estimate_trim
 
-    d = _bo105_data()
     e, omega, names = estimate_trim(d, speed), d["main_rotor"]["omega"], system.info.state_names
     x = system.x0()
     x[lay.rotor] = 0.0
@@ -233,14 +235,14 @@ def _bo105_estimate(system, lay: TrimLayout, speed: float) -> tuple[np.ndarray, 
     return x, p
 
 
-def _beyond_range(system, speed: float) -> str:
+def _beyond_range(system, speed: float, aircraft) -> str:
     """A note naming the controls whose closed-form estimate at ``speed`` lies outside their
     range (the likely reason a trim fails there), or ""."""
-    if not system.info.name.startswith("bo105"):
+    if aircraft is None:
         return ""
-    from mbs.models.bo105 import estimate_trim
+    from mbs.models.helicopter import estimate_trim
 
-    e = estimate_trim(_bo105_data(), speed)
+    e = estimate_trim(aircraft.data, speed)
     out = [f"{q['name']} = {getattr(e, q['name']):.4f} rad outside its range [{q['low']}, {q['high']}]"
            for q in system.info.parameters if q.get("control") and hasattr(e, q["name"])
            and not q["low"] <= getattr(e, q["name"]) <= q["high"]]
@@ -281,13 +283,15 @@ def periodic_solution(sc, speed: float | None = None, climb_rate: float = 0.0, m
     steps_per_rev = steps_per_rev or sc.steps_per_rev
     prob = _problem(system, stepper, sc, speed, climb_rate, steps_per_rev)
     setup_s, nfev0 = time.perf_counter() - start, system.nfev
-    res = newton(prob.residual, prob.jacobian, estimate(system, prob.lay, prob.speed, climb_rate), tol,
+    res = newton(prob.residual, prob.jacobian, estimate(system, prob.lay, prob.speed, climb_rate, sc.aircraft), tol,
                  max_iterations, progress=progress)
     if not res.converged and prob.lay.free and prob.speed > CONTINUATION_STEP:
         res = _continuation(system, stepper, sc, prob, climb_rate, steps_per_rev, tol, max_iterations, res)
     if not res.converged and prob.lay.free:
-        res.reason += _beyond_range(system, prob.speed)
-    return _result(sc.name, prob, res, prob.speed, climb_rate, steps_per_rev, setup_s, system.nfev - nfev0)
+        res.reason += _beyond_range(system, prob.speed, sc.aircraft)
+    out = _result(sc.name, prob, res, prob.speed, climb_rate, steps_per_rev, setup_s, system.nfev - nfev0)
+    out.aircraft = sc.aircraft.name if sc.aircraft is not None else None
+    return out
 
 
 CONTINUATION_STEP = 10.0
@@ -301,7 +305,7 @@ def _continuation(system, stepper, sc, prob: ShootingProblem, climb_rate: float,
     previous solution. Returns the last solve with the work of all of them (the failed attempt
     included) counted, or ``failed`` when a step does not converge either."""
     speeds = np.linspace(0.0, prob.speed, int(np.ceil(prob.speed / CONTINUATION_STEP)) + 1)[1:]
-    z, work = estimate(system, prob.lay, speeds[0], climb_rate), [failed]
+    z, work = estimate(system, prob.lay, speeds[0], climb_rate, sc.aircraft), [failed]
     for v in speeds:
         step = _problem(system, stepper, sc, v, climb_rate, steps_per_rev)
         work.append(newton(step.residual, step.jacobian, z, tol, max_iterations))
@@ -318,10 +322,9 @@ def _continuation(system, stepper, sc, prob: ShootingProblem, climb_rate: float,
 def _problem(system, stepper, sc, speed, climb_rate, steps_per_rev) -> ShootingProblem:
     lay = TrimLayout.of(system.info)
     speed = _scene_speed(system, lay) if speed is None or not lay.free else float(speed)
-    period = rotor_period(system.info, 2 * np.pi / sc.revolution(system))
+    period = scene_period(sc, system)
     path = np.array([speed, 0.0, -climb_rate]) * period.duration
-    radius = _bo105_data()["main_rotor"]["radius"] if system.info.name.startswith("bo105") else 1.0
-    return ShootingProblem(system, stepper, period, steps_per_rev, path, radius, speed)
+    return ShootingProblem(system, stepper, period, steps_per_rev, path, reference_radius(sc), speed)
 
 
 def _result(scene: str, prob: ShootingProblem, res, speed, climb_rate, steps_per_rev, setup_s, nfev) -> Trim:
@@ -331,7 +334,7 @@ def _result(scene: str, prob: ShootingProblem, res, speed, climb_rate, steps_per
                dict(zip(prob.lay.control_names, map(float, controls))),
                *(map(float, attitude) if prob.lay.free else (0.0, 0.0)), x0, p, prob.system.info.state_names,
                res.converged, res.reason, res.r, prob.lay.residual_names, res.history, res.n_jacobian,
-               res.n_residual, nfev, prob.nfwd, res.wall_s, setup_s)
+               res.n_residual, nfev, prob.nfwd, res.wall_s, setup_s, radius=prob.radius)
     out.output_means = _mean_outputs(prob, res.z) if res.converged else {}
     out.thrust = out.output_means.get("main_rotor.thrust")
     return out

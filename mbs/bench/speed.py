@@ -166,10 +166,11 @@ def elastic_rotor_speed(steps_per_rev: int = 200) -> dict:
     would turn about the root torsion hinge's axis)."""
     from dataclasses import replace
 
-    from mbs.models import bo105
+    from mbs.models import helicopter
+    from mbs.models.helicopter.scenes import ELASTIC_ROTOR
 
-    bare = bo105.build(replace(bo105.ELASTIC_ROTOR, rotors="free", pitch_hinge=False, rotor_aero=False),
-                       name="elastic-rotor-bare")
+    bare = helicopter.build(replace(ELASTIC_ROTOR, rotors="free", pitch_hinge=False, rotor_aero=False),
+                            name="elastic-rotor-bare")
     bare.forces.clear()
     scene = scene_speed("elastic-rotor", steps_per_rev)
     tree = conservative_tree_speed(bare, h=scene["h_s"])

@@ -5,7 +5,8 @@ the Bo105's centre-spring equivalent) out to the tip, cut into ``n`` rigid segme
 length ``Δ = (tip - root) / n``. Segment ``j`` (root first) hangs on its inboard neighbour,
 the first on the hub (after the pitch bearing), by flap, lag and torsion hinges in series,
 with the rigid blade's axes and signs (flap about -y, tip up; lag about -z, lagging;
-torsion about x, nose up). The hinges sit a quarter of ``Δ`` outboard of ``root + j Δ``:
+torsion about x, nose up; lag and torsion about +z and -x on a rotor turning against its
+thrust axis, :mod:`mbs.models.helicopter.frames`). The hinges sit a quarter of ``Δ`` outboard of ``root + j Δ``:
 with hinges at the segment ends the chain is too soft, at their middles too stiff, by about
 the same amount (lag frequency -2.6 % and +2.6 % at n = 8), and the quarter points leave
 -0.8 %. Each hinge's spring is ``EI`` (``GJ`` in torsion) over the span it stands for,
@@ -18,9 +19,9 @@ carries structural damping proportional to its spring (``[elastic_blade]
 structural_damping``: that ratio at the direction's first frequency, more on higher modes)
 and the root lag hinge the rigid blade's lag damper (``main_rotor.lag_damping``).
 
-The data file gives the blade's first rotating frequencies (``[elastic_blade]`` in
-``bo105.toml``) and the stiffnesses ``EI`` and ``GJ`` of the continuous blade that has them
-(:func:`calibrate`, on :func:`beam_frequencies`: finite elements of the rotating uniform
+The aircraft file gives the blade's first rotating frequencies (``[elastic_blade]``; see
+:mod:`mbs.aircraft`), and the loader derives the stiffnesses ``EI`` and ``GJ`` of the
+continuous blade that has them (:func:`calibrate`, on :func:`beam_frequencies`: finite elements of the rotating uniform
 beam, independent of the multibody model). Segment bodies are ``<blade>`` (the root
 segment, whose coordinates are ``<blade>.pitch``, ``.flap``, ``.lag``, ``.torsion``) and
 ``<blade>_2`` … ``<blade>_<n>``.
@@ -39,6 +40,12 @@ from mbs.tree import Model
 
 DIRECTIONS = ("flap", "lag", "torsion")
 AXES = {"flap": (0.0, -1.0, 0.0), "lag": (0.0, 0.0, -1.0), "torsion": (1.0, 0.0, 0.0)}
+"""Hinge axes of a blade turning about its thrust axis; :func:`axes` for either sense."""
+
+
+def axes(sense: int = 1) -> dict[str, tuple[float, float, float]]:
+    """The hinge axes of a blade on a rotor of ``sense`` (+1 turning about its thrust axis)."""
+    return {"flap": AXES["flap"], "lag": (0.0, 0.0, -sense * 1.0), "torsion": (sense * 1.0, 0.0, 0.0)}
 BEAM_ELEMENTS = 48  # finite elements of the continuous reference blade
 
 
@@ -75,13 +82,13 @@ class Blade:
 
 
 def blade_from_data(d, **stiffness: float) -> Blade:
-    """The Bo105 blade of the data ``d`` (``mbs.models.bo105.load_data()``): the rigid blade's
+    """The blade of the aircraft data ``d`` (``mbs.aircraft.load(...).data``): the rigid blade's
     span, mass and section, the ``[elastic_blade]`` stiffnesses (or those given), lag damper
     and structural damping (the damping ratio ``structural_damping`` at each direction's first
     frequency at the nominal rotor speed: ``damping_time = 2 ζ / ω``)."""
     mr, eb = d["main_rotor"], d["elastic_blade"]
     root, tip = mr["flap_hinge_offset"], mr["radius"]
-    values = {f"{k}_stiffness": stiffness.get(k, eb[f"{k}_stiffness"]) for k in DIRECTIONS}
+    values = {f"{k}_stiffness": stiffness[k] if k in stiffness else eb[f"{k}_stiffness"] for k in DIRECTIONS}
     times = tuple(2 * eb["structural_damping"] / (eb[f"{k}_frequency"] * mr["omega"]) for k in DIRECTIONS)
     return Blade(root, tip, mr["blade_mass"] / (tip - root), mr["chord"], mr["blade_thickness"],
                  lag_damping=mr["lag_damping"], damping_time=times, **values)
@@ -114,14 +121,14 @@ def pieces(blade: Blade, names: list[str], n: int) -> dict[str, list[tuple[str, 
     return {name: list(zip(segment_names(name, n), hinges.tolist())) for name in names}
 
 
-def _hinges(blade: Blade, span: float, root: bool, dampers: bool) -> list[Joint]:
+def _hinges(blade: Blade, span: float, root: bool, dampers: bool, sense: int = 1) -> list[Joint]:
     """Flap, lag and torsion hinges with the springs of ``span`` (m) of blade; with
     ``dampers``, the structural damping and, at the root, the lag damper."""
     root_lag = blade.lag_damping if dampers and root else 0.0
     stiff = {k: blade.stiffness(k) / span for k in DIRECTIONS}
     damping = {k: (t * stiff[k] if dampers else 0.0) + (root_lag if k == "lag" else 0.0)
                for k, t in zip(DIRECTIONS, blade.damping_time)}
-    return [Hinge(AXES[k], name=k, stiffness=stiff[k], damping=damping[k]) for k in DIRECTIONS]
+    return [Hinge(axes(sense)[k], name=k, stiffness=stiff[k], damping=damping[k]) for k in DIRECTIONS]
 
 
 def _segment_inertia(blade: Blade, length: float, stub: float) -> tuple[float, np.ndarray, np.ndarray]:
@@ -142,11 +149,12 @@ def _check(n) -> int:
 
 
 def add_segmented_blade(m: Model, blade: Blade, n: int, name: str, parent: str, frame: np.ndarray,
-                        inboard: Sequence[Joint] = (), dampers: bool = True, color: str = "#d62728") -> list[str]:
+                        inboard: Sequence[Joint] = (), dampers: bool = True, color: str = "#d62728",
+                        sense: int = 1) -> list[str]:
     """Add ``blade`` cut into ``n`` segments to ``m``, hanging on ``parent`` with the hub-frame
     axes ``frame`` (x along the span), after the ``inboard`` joints (e.g. the pitch bearing;
-    without rates: a free one would turn about the root torsion hinge's axis). Returns the
-    segment names, root first."""
+    without rates: a free one would turn about the root torsion hinge's axis), on a rotor of
+    ``sense`` (:func:`axes`). Returns the segment names, root first."""
     n = _check(n)
     if any(j.nv for j in inboard):
         raise ValueError(f"blade {name!r}: an elastic blade needs a driven pitch bearing or none; a free one "
@@ -155,7 +163,7 @@ def add_segmented_blade(m: Model, blade: Blade, n: int, name: str, parent: str, 
     for j, body in enumerate(names):
         root = j == 0
         mass, com, inertia = _segment_inertia(blade, lengths[j], hinges[0] - blade.root if root else 0.0)
-        joint = Serial(*(inboard if root else ()), *_hinges(blade, spans[j], root, dampers))
+        joint = Serial(*(inboard if root else ()), *_hinges(blade, spans[j], root, dampers, sense))
         shape = {"kind": "box", "size": [lengths[j], blade.chord, blade.thickness],
                  "offset": [lengths[j] / 2, 0, 0], "color": color}
         m.add_body(body, parent if root else names[j - 1], joint, mass=mass, com=com, inertia=inertia,
@@ -167,18 +175,23 @@ def add_segmented_blade(m: Model, blade: Blade, n: int, name: str, parent: str, 
 COLORS = ("#d62728", "#1f77b4", "#2ca02c", "#ff7f0e")  # per blade, as the rigid blades'
 
 
-def add_elastic_blade(m: Model, d, cfg, k: int, frame: np.ndarray, inboard: Sequence[Joint] = ()) -> list[str]:
-    """Blade ``k`` (from 0) of the Bo105 main rotor of the data ``d`` as ``cfg.blade_segments``
-    segments on ``main_hub`` (``cfg``: :class:`mbs.models.bo105.Config`)."""
+def add_elastic_blade(m: Model, d, cfg, k: int, frame: np.ndarray, inboard: Sequence[Joint] = (),
+                      sense: int = 1) -> list[str]:
+    """Blade ``k`` (from 0) of the main rotor of the aircraft data ``d`` as ``cfg.blade_segments``
+    segments on ``main_hub`` (``cfg``: :class:`mbs.models.helicopter.Config`)."""
+    if "elastic_blade" not in d or not d["elastic_blade"]:
+        raise ValueError("elastic blades need the aircraft file's [elastic_blade] section (first torsion frequency "
+                         "and structural damping); this aircraft has none")
     return add_segmented_blade(m, blade_from_data(d), cfg.blade_segments, f"blade{k + 1}", "main_hub", frame,
-                               inboard, cfg.dampers, COLORS[k % len(COLORS)])
+                               inboard, cfg.dampers, COLORS[k % len(COLORS)], sense)
 
 
 def rotor_pieces(d, cfg) -> dict[str, list[tuple[str, float]]]:
     """The main rotor's :attr:`mbs.aero.Rotor.pieces`: none with rigid blades."""
     if not cfg.blade_segments:
         return {}
-    return pieces(blade_from_data(d), [f"blade{k + 1}" for k in range(cfg.blades)], cfg.blade_segments)
+    blades = range(cfg.blade_count(d["main_rotor"]["n_blades"]))
+    return pieces(blade_from_data(d), [f"blade{k + 1}" for k in blades], cfg.blade_segments)
 
 
 def mode_frequencies(jacobian: np.ndarray, q_names: list[str]) -> dict[str, float]:
@@ -196,17 +209,18 @@ def mode_frequencies(jacobian: np.ndarray, q_names: list[str]) -> dict[str, floa
 
 
 def segmented_frequencies(n: int, data=None) -> dict[str, float]:
-    """First flap, lag and torsion frequencies (rad/s, rotating frame) of one Bo105 blade of
+    """First flap, lag and torsion frequencies (rad/s, rotating frame) of one blade (of the
+    aircraft ``data``, default the Bo105) of
     ``n`` segments on a hub driven at the rotor speed, in vacuum, without gravity and
     dampers: the eigenvalues of the AD Jacobian of the multibody model at the undeformed
     blade (:func:`mode_frequencies`)."""
     from mbs.dynamics import symbolic
     from mbs.linearize import rhs_jacobian
-    from mbs.models import bo105
+    from mbs.models import helicopter
 
-    cfg = bo105.Config(fuselage="none", blades=1, tail_rotor=False, rotor_aero=False, airframe_aero=False,
-                       dampers=False, shaft_tilt=False, pitch_hinge=False, blade_segments=_check(n))
-    model = bo105.build(cfg, data, name=f"elastic-blade{n}")
+    cfg = helicopter.Config(fuselage="none", blades=1, tail_rotor=False, rotor_aero=False, airframe_aero=False,
+                            dampers=False, shaft_tilt=False, pitch_hinge=False, blade_segments=_check(n))
+    model = helicopter.build(cfg, data, name=f"elastic-blade{n}")
     model.gravity = np.zeros(3)
     sym = symbolic(model)
     p = [model.parameters[k].default for k in model.parameters]

@@ -20,23 +20,34 @@ counter-clockwise from above; positive lag is lagging (against the rotation). Nu
 """
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 import numpy as np
 
 from mbs.forces import UserForce
 from mbs.joints import DrivenHinge, Hinge, Serial, Slider
-from mbs.models.bo105 import Data, load_data as _load
+from mbs.aircraft import Data
 from mbs.scenes import Scene, register
 from mbs.tree import Model
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
 
 DATA_FILE = Path(__file__).with_name("ground_resonance.toml")
 HUB_FRAME = np.array([[-1.0, 0, 0], [0, 1.0, 0], [0, 0, -1.0]])  # columns: hub x aft, y starboard, z up
 
 
 def load_data(path: Path = DATA_FILE) -> Data:
-    """The scene's parameters (``data[section][key]``; units and sources in ``data.meta``)."""
-    return _load(path)
+    """The scene's parameters (``data[section][key]``, SI as written; unit, source and note in
+    ``data.meta``)."""
+    raw = tomllib.loads(Path(path).read_text())
+    data = Data({sec: {k: e["value"] for k, e in entries.items()} for sec, entries in raw.items()})
+    data.meta = {sec: {k: {f: e.get(f, "") for f in ("unit", "source", "note")} for k, e in entries.items()}
+                 for sec, entries in raw.items()}
+    return data
 
 
 def hub_height(d: Data) -> float:

@@ -18,20 +18,21 @@ from dataclasses import replace
 import numpy as np
 
 from mbs.joints import FreeJoint
-from mbs.models import bo105
+from mbs import aircraft
+from mbs.models import helicopter
 from mbs.tree import Model
 
-RIG = bo105.Config(fuselage="clamped", rotors="driven", rotor_aero=False, airframe_aero=False,
-                   dampers=False, speed=0.0)
-DAMPER = bo105.Config(fuselage="none", rotors="free", tail_rotor=False, rotor_aero=False,
-                      airframe_aero=False, dampers=True, shaft_tilt=False, pitch_hinge=False, speed=0.0)
+RIG = helicopter.Config(fuselage="clamped", rotors="driven", rotor_aero=False, airframe_aero=False,
+                        dampers=False, speed=0.0)
+DAMPER = helicopter.Config(fuselage="none", rotors="free", tail_rotor=False, rotor_aero=False,
+                           airframe_aero=False, dampers=True, shaft_tilt=False, pitch_hinge=False, speed=0.0)
 
 
 def tail_rotor_rig(tail_rotor: bool = True, teeter: float = 0.02) -> Model:
     """Clamped Bo105 with driven rotors and no aerodynamics; the seesaw starts at ``teeter``
     (rad) so that the tail rotor's teeter mode is excited (it is otherwise at rest)."""
     name = "bo105-rig" if tail_rotor else "bo105-rig-no-tail"
-    m = bo105.build(replace(RIG, tail_rotor=tail_rotor), name=name)
+    m = helicopter.build(replace(RIG, tail_rotor=tail_rotor), name=name)
     if tail_rotor:
         m.set_initial(**{"seesaw.teeter": teeter})
     return m
@@ -42,10 +43,10 @@ def stiff_damper_rotor(factor: float = 10.0) -> Model:
     file (700 N m s/rad); the hub spins at the nominal speed initially."""
     if not (np.isfinite(factor) and factor > 0):
         raise ValueError(f"damper factor {factor} must be positive and finite")
-    d = bo105.load_data()
+    d = aircraft.Data(aircraft.load().data)
     d["main_rotor"] = {**d["main_rotor"], "lag_damping": factor * d["main_rotor"]["lag_damping"]}
-    m = bo105.build(DAMPER, data=d, name=f"bo105-damper-x{factor:g}")
-    for k in range(DAMPER.blades):
+    m = helicopter.build(DAMPER, d, name=f"bo105-damper-x{factor:g}")
+    for k in range(d["main_rotor"]["n_blades"]):
         m.set_initial(**{f"blade{k + 1}.lag": 0.01})
     return m
 
@@ -55,7 +56,7 @@ def tumbling_body(rates=(0.01, 2.0, 0.0)) -> Model:
     data), free, starting level at 20 m/s with body rates ``rates`` = (p, q, r) in rad/s: with
     q dominant it pitches nose over tail, the nose passing close to the vertical (+-90 deg
     pitch) every half turn."""
-    d = bo105.load_data()["aircraft"]
+    d = aircraft.load().data["aircraft"]
     m = Model("tumbling-body", gravity=(0.0, 0.0, 9.80665))
     inertia = [[d["Ixx"], 0, -d["Ixz"]], [0, d["Iyy"], 0], [-d["Ixz"], 0, d["Izz"]]]
     m.add_body("fuselage", "world", FreeJoint(), mass=d["mass"], inertia=inertia,

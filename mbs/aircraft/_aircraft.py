@@ -1,0 +1,128 @@
+"""An aircraft: the file's values in SI with their defaults and derived values, and where each
+came from."""
+from __future__ import annotations
+
+import hashlib
+import re
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+from mbs.aircraft import checks, derived
+from mbs.aircraft.reader import read
+from mbs.aircraft.schema import DERIVED
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+DATA_DIR = Path(__file__).with_name("data")
+DEFAULT = "bo105"
+
+
+class Data(dict):
+    """``data["main_rotor"]["radius"]`` -> SI value; ``data.meta[section][key]`` -> unit as
+    written, source, note and origin ("file", "default", "derived" or "override")."""
+
+    meta: dict
+
+
+class AircraftError(ValueError):
+    """An aircraft file with problems: the first in one line, all in :attr:`problems`."""
+
+    def __init__(self, path: Path, problems: list[str]):
+        self.path, self.problems = path, problems
+        more = f" (and {len(problems) - 1} more: 'heli aircraft check {path}' lists them)" if len(problems) > 1 else ""
+        super().__init__(f"aircraft file {path}: {problems[0]}{more}")
+
+
+@dataclass(frozen=True, eq=False)
+class Aircraft:
+    """A loaded aircraft. ``key``: identifier of its models (the file's stem); ``data``: every
+    value in SI (:class:`Data`); ``digest``: SHA-256 of the file's text."""
+
+    key: str
+    name: str
+    path: Path
+    data: Data
+    digest: str
+
+    @property
+    def packaged(self) -> bool:
+        return self.path.parent.resolve() == DATA_DIR.resolve()
+
+    @property
+    def omega(self) -> float:
+        return self.data["main_rotor"]["omega"]
+
+    def stored_trims(self) -> dict:
+        """The periodic trims stored beside the file (``<stem>_trim.toml``), by key; {} if none."""
+        path = self.path.with_name(f"{self.path.stem}_trim.toml")
+        return tomllib.loads(path.read_text()) if path.exists() else {}
+
+    def __repr__(self) -> str:
+        return f"Aircraft({self.name!r}, {str(self.path)!r})"
+
+
+def packaged() -> dict[str, Path]:
+    """The aircraft shipped with the package: name -> file."""
+    return {p.stem: p for p in sorted(DATA_DIR.glob("*.toml")) if not p.stem.endswith("_trim")}
+
+
+def resolve(source: str | Path) -> Path:
+    """The file of ``source``: a packaged aircraft's name (``bo105``) or a path to a file."""
+    if isinstance(source, str) and source in packaged():
+        return packaged()[source]
+    path = Path(source).expanduser()
+    if not path.is_file():
+        known = ", ".join(packaged())
+        raise AircraftError(path, [f"no such file (a packaged aircraft is one of {known}; "
+                                   "'heli aircraft new NAME' writes a template)"])
+    return path
+
+
+_CACHE: dict[tuple[str, str], Aircraft] = {}
+
+
+def load(source: str | Path = DEFAULT) -> Aircraft:
+    """The aircraft of ``source`` (a packaged name or a file path), validated and completed;
+    :class:`AircraftError` naming the entry of the first problem otherwise."""
+    path = resolve(source)
+    text = _text(path)
+    key = (str(path.resolve()), hashlib.sha256(text.encode()).hexdigest())
+    if key not in _CACHE:
+        data, problems = evaluate(text)
+        if problems:
+            raise AircraftError(path, problems)
+        _CACHE[key] = Aircraft(_key(path), data["aircraft"]["name"], path, data, key[1])
+    return _CACHE[key]
+
+
+def _text(path: Path) -> str:
+    try:
+        return path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise AircraftError(path, [f"cannot be read ({getattr(exc, 'strerror', None) or exc})"]) from None
+
+
+def _key(path: Path) -> str:
+    return re.sub(r"\W", "_", path.stem.lower()) or "aircraft"
+
+
+def evaluate(text: str) -> tuple[Data, list[str]]:
+    """Read, complete and check the file ``text``: ``(data, problems)``."""
+    reading = read(text)
+    data = Data(reading.values)
+    data.meta = reading.meta
+    if reading.problems:
+        return data, reading.problems
+    derived.fill_defaults(data, data.meta)
+    before = {s: set(v) for s, v in data.items()}
+    problems = derived.complete(data)
+    for section, entries in data.items():
+        for k in set(entries) - before.get(section, set()):
+            spec = DERIVED[section][k]
+            data.meta.setdefault(section, {})[k] = {"unit": spec.unit, "source": "DER", "origin": "derived",
+                                                    "note": spec.text}
+    return data, problems or checks.problems(data)

@@ -1,0 +1,107 @@
+"""Values an aircraft file does not state: defaults of optional entries and derived values.
+
+Each derived value has one formula here (its text in :data:`mbs.aircraft.schema.DERIVED`);
+a file replaces one only with ``override = true``. Units SI, angles in rad.
+"""
+from __future__ import annotations
+
+import math
+
+from mbs.aircraft.schema import DERIVED, ENTRIES
+
+BO105_RADIUS = 4.91  # m: the display geometry of an aircraft that gives none is the Bo105's scaled by R
+BO105_GEOMETRY = {"cabin": [3.6, 1.5, 1.4], "cabin_x": 0.3, "boom_radius": 0.18, "hub_height": 0.25,
+                  "tail_hub": [0.06, 0.15], "plate_thickness": 0.05}
+
+
+def fill_defaults(values: dict, meta: dict) -> None:
+    """Put the default of every optional entry that is absent into ``values`` (origin "default")."""
+    for section, entries in ENTRIES.items():
+        given = values.setdefault(section, {})
+        for key, spec in entries.items():
+            if key in given or spec.default is None:
+                continue
+            given[key] = _default(section, key, spec.default, values)
+            meta.setdefault(section, {})[key] = {"unit": spec.unit, "source": "default", "origin": "default",
+                                                 "note": f"default ({spec.default})"}
+
+
+def _default(section: str, key: str, default, values: dict):
+    if default == "scaled":
+        scale = values["main_rotor"]["radius"] / BO105_RADIUS
+        base = BO105_GEOMETRY[key]
+        return [scale * b for b in base] if isinstance(base, list) else scale * base
+    if isinstance(default, str):  # "<factor> omega"
+        factor, _, name = default.partition(" ")
+        return float(factor) * values[section][name]
+    return default
+
+
+def blade_mass(mr: dict) -> float:
+    """kg: a uniform blade from the flap hinge with the file's flap inertia."""
+    return 3 * mr["I_flap"] / (mr["radius"] - mr["flap_hinge_offset"]) ** 2
+
+
+def lag_stiffness(mr: dict) -> float:
+    """N m/rad: the lag spring that gives ``lag_frequency`` with the hinge offset's own stiffening."""
+    e, span, inertia = mr["flap_hinge_offset"], mr["radius"] - mr["flap_hinge_offset"], mr["I_flap"]
+    first_moment = mr["blade_mass"] * span / 2
+    return (mr["lag_frequency"] ** 2 - e * first_moment / inertia) * inertia * mr["omega"] ** 2
+
+
+def flap_frequency(mr: dict) -> float:
+    """1/rev: first flap frequency of the rigid blade with its hinge offset and spring."""
+    e, span = mr["flap_hinge_offset"], mr["radius"] - mr["flap_hinge_offset"]
+    return math.sqrt(1 + 1.5 * e / span + mr["flap_stiffness"] / (mr["I_flap"] * mr["omega"] ** 2))
+
+
+def tip_loss(thrust_coefficient: float, n_blades: int) -> float:
+    """Prandtl's effective-radius factor ``B = 1 - sqrt(2 C_T) / N_b``."""
+    return 1 - math.sqrt(2 * max(thrust_coefficient, 0.0)) / n_blades
+
+
+def complete(values: dict) -> list[str]:
+    """Compute every derived value that the file does not override, in place; returns the
+    problems (a derived value outside what the model accepts)."""
+    from mbs.aircraft import performance
+
+    mr, tr = values["main_rotor"], values["tail_rotor"]
+    _set(mr, "blade_mass", lambda: blade_mass(mr))
+    _set(mr, "lag_stiffness", lambda: lag_stiffness(mr))
+    hover = performance.hover(values)
+    _set(mr, "tip_loss", lambda: tip_loss(hover.main.thrust_coefficient, mr["n_blades"]))
+    _set(tr, "tip_loss", lambda: tip_loss(hover.tail.thrust_coefficient, tr["n_blades"]))
+    _set(values.setdefault("wake", {}), "core", lambda: mr["root_cutout"])
+    if "elastic_blade" in values and values["elastic_blade"]:
+        _elastic(values)
+    return _problems(values)
+
+
+def _set(section: dict, key: str, compute) -> None:
+    if key not in section:
+        section[key] = compute()
+
+
+def _elastic(values: dict) -> None:
+    mr, eb = values["main_rotor"], values["elastic_blade"]
+    _set(eb, "flap_frequency", lambda: flap_frequency(mr))
+    _set(eb, "lag_frequency", lambda: mr["lag_frequency"])
+    todo = {k: eb[f"{k}_frequency"] for k in ("flap", "lag", "torsion") if f"{k}_stiffness" not in eb}
+    if todo:  # the continuous blade's finite elements (scipy) only when a stiffness is to be found
+        from mbs.models.elastic_blade import blade_from_data, calibrate
+
+        trial = blade_from_data(values, flap=1.0, lag=1.0, torsion=1.0)
+        eb.update({f"{k}_stiffness": v for k, v in calibrate(trial, mr["omega"], todo).items()})
+
+
+def _problems(values: dict) -> list[str]:
+    mr, out = values["main_rotor"], []
+    if mr["lag_stiffness"] < 0:
+        own = math.sqrt(max(mr["lag_frequency"] ** 2 - mr["lag_stiffness"] / (mr["I_flap"] * mr["omega"] ** 2), 0))
+        out.append(f"main_rotor.lag_frequency: {mr['lag_frequency']:g}/rev is below the {own:.3g}/rev the hinge "
+                   "offset alone gives; no lag spring can lower it")
+    for section in ("main_rotor", "tail_rotor"):
+        b = values[section]["tip_loss"]
+        if not 0.5 < b <= 1.0:
+            out.append(f"{section}.tip_loss: B = {b:.4g} outside (0.5, 1]: {DERIVED[section]['tip_loss'].text}")
+    return out

@@ -1,0 +1,75 @@
+"""Closed-form hover figures of an aircraft's rotors: momentum theory with the profile power of
+the blade element (Johnson, *Helicopter Theory*, 2.6 and 5.1; Padfield, *Helicopter Flight
+Dynamics*, 3.2.1). They give the derived tip-loss factors and the figures of ``heli aircraft
+check``; the model's own trim is the accurate answer. SI units.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class RotorHover:
+    """One rotor in hover: thrust (N), solidity, thrust coefficient, induced velocity (m/s),
+    induced and profile power (W), shaft torque (N m), tip speed (m/s), disc loading (N/m²)."""
+
+    thrust: float
+    solidity: float
+    thrust_coefficient: float
+    induced_velocity: float
+    induced_power: float
+    profile_power: float
+    torque: float
+    tip_speed: float
+    disc_loading: float
+
+    @property
+    def power(self) -> float:
+        return self.induced_power + self.profile_power
+
+    @property
+    def blade_loading(self) -> float:
+        """C_T / σ."""
+        return self.thrust_coefficient / self.solidity
+
+
+@dataclass(frozen=True)
+class Hover:
+    main: RotorHover
+    tail: RotorHover
+
+    @property
+    def power(self) -> float:
+        return self.main.power + self.tail.power
+
+
+def rotor_hover(sec: dict, thrust: float, omega: float, rho: float) -> RotorHover:
+    """Hover of the rotor of section ``sec`` at ``thrust`` (N) and rotor speed ``omega`` (rad/s):
+    ``v_i = sqrt(T / (2 ρ A))``, ``P_i = κ T v_i``, ``P_0 = ρ A (Ω R)³ σ δ / 8`` with the profile
+    drag ``δ = c_d0 + c_d2 (6 C_T / (σ a))²`` at the mean lift coefficient."""
+    radius = sec["radius"]
+    area, tip = math.pi * radius**2, omega * radius
+    sigma = sec["n_blades"] * sec["chord"] / (math.pi * radius)
+    ct = thrust / (rho * area * tip**2)
+    v_i = math.sqrt(abs(thrust) / (2 * rho * area))
+    delta = sec["cd0"] + sec["cd2"] * (6 * ct / (sigma * sec["lift_slope"])) ** 2
+    profile = rho * area * tip**3 * sigma * delta / 8
+    induced = sec["kappa"] * abs(thrust) * v_i
+    return RotorHover(thrust, sigma, ct, v_i, induced, profile, (induced + profile) / omega, tip, thrust / area)
+
+
+def hover(values: dict) -> Hover:
+    """Both rotors in hover: the main rotor carries the weight; the tail rotor's thrust balances
+    the main rotor's torque about the main-rotor shaft."""
+    mr, tr, env = values["main_rotor"], values["tail_rotor"], values["environment"]
+    weight = values["aircraft"]["mass"] * env["g"]
+    main = rotor_hover(mr, weight, mr["omega"], env["rho"])
+    arm = abs(mr["hub_x"] - tr["hub_x"])  # a thrust along y: only the x distance is a lever
+    tail = rotor_hover(tr, main.torque / arm, tr["gear_ratio"] * mr["omega"], env["rho"])
+    return Hover(main, tail)
+
+
+def lock_number(mr: dict, rho: float) -> float:
+    """γ = ρ a c R⁴ / I_flap."""
+    return rho * mr["lift_slope"] * mr["chord"] * mr["radius"] ** 4 / mr["I_flap"]

@@ -1,0 +1,212 @@
+"""Read an aircraft file into SI values, naming the entry of every problem.
+
+Rules, in the order they are checked (each problem is one line, ``section.key: what``):
+
+1. The file is TOML; a syntax error names its line.
+2. Every section and entry is known (:data:`mbs.aircraft.schema.ENTRIES`); a typo names the
+   closest known name.
+3. Every entry is a table ``{ value, unit, source[, note][, override] }``: no other fields;
+   ``source`` says where the value comes from (``EST`` for an estimate).
+4. ``unit`` is given for every number and is of the entry's kind (a length for a radius, an
+   angle for a twist): it is converted to SI (``ft``, ``lb``, ``slug ft^2``, ``deg``,
+   ``rpm`` ...).
+5. The value has the entry's kind (number, whole number, one of the choices, a vector of
+   its length, a table of its columns) and lies within its bounds.
+6. Required entries are present; an entry that applies only with another's value (the
+   seesaw of a teetering tail rotor) is absent otherwise.
+7. A derived entry (:data:`mbs.aircraft.schema.DERIVED`) appears only with
+   ``override = true``; ``override`` appears only on derived entries.
+"""
+from __future__ import annotations
+
+import difflib
+import math
+import sys
+from dataclasses import dataclass, field
+
+from mbs.aircraft import units
+from mbs.aircraft.schema import DERIVED, ENTRIES, OPTIONAL_SECTIONS, Entry
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+FIELDS = ("value", "unit", "source", "note", "override")
+
+
+@dataclass
+class Reading:
+    """What a file gives: ``values[section][key]`` in SI, ``meta[section][key]`` (unit as
+    written, source, note, origin "file" | "override"), and the problems found."""
+
+    values: dict = field(default_factory=dict)
+    meta: dict = field(default_factory=dict)
+    problems: list[str] = field(default_factory=list)
+
+    def put(self, section: str, key: str, value, meta: dict) -> None:
+        self.values.setdefault(section, {})[key] = value
+        self.meta.setdefault(section, {})[key] = meta
+
+
+def read(text: str) -> Reading:
+    """Parse the TOML ``text`` of an aircraft file (rules 1–7 of this module)."""
+    out = Reading()
+    try:
+        raw = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        out.problems.append(f"not a TOML file: {exc}")
+        return out
+    for section, entries in raw.items():
+        if section not in ENTRIES and section not in DERIVED:
+            out.problems.append(f"[{section}]: unknown section{_suggest(section, ENTRIES)}")
+        elif not isinstance(entries, dict):
+            out.problems.append(f"{section}: must be a section [{section}] of entries")
+        else:
+            for key, entry in entries.items():
+                _entry(out, section, key, entry)
+    _missing(out, raw)
+    return out
+
+
+def _suggest(name: str, known) -> str:
+    close = difflib.get_close_matches(name, list(known), n=1)
+    return f" (did you mean {close[0]!r}?)" if close else f"; known: {', '.join(known)}"
+
+
+def _entry(out: Reading, section: str, key: str, entry) -> None:
+    where = f"{section}.{key}"
+    spec, derived = ENTRIES.get(section, {}).get(key), DERIVED.get(section, {}).get(key)
+    if spec is None and derived is None:
+        known = [*ENTRIES.get(section, {}), *DERIVED.get(section, {})]
+        out.problems.append(f"{where}: unknown entry{_suggest(key, known)}")
+        return
+    if not isinstance(entry, dict) or "value" not in entry:
+        out.problems.append(f"{where}: write it as {{ value = ..., unit = \"...\", source = \"...\" }}")
+        return
+    problem = _fields(entry) or _override(entry, derived)
+    if problem:
+        out.problems.append(f"{where}: {problem}")
+        return
+    spec = spec or Entry(derived.unit, derived.text)
+    try:
+        value = convert(entry["value"], entry.get("unit"), spec)
+    except ValueError as exc:
+        out.problems.append(f"{where}: {exc}")
+        return
+    origin = "override" if entry.get("override") else "file"
+    out.put(section, key, value, {"unit": entry.get("unit", ""), "source": entry["source"],
+                                  "note": entry.get("note", ""), "origin": origin})
+
+
+def _fields(entry: dict) -> str | None:
+    extra = [k for k in entry if k not in FIELDS]
+    if extra:
+        return f"unknown field {extra[0]!r}{_suggest(extra[0], FIELDS)}"
+    if not str(entry.get("source", "")).strip():
+        return "no source: say where the value comes from (a reference, or EST for an estimate)"
+    return None
+
+
+def _override(entry: dict, derived) -> str | None:
+    if derived is not None and entry.get("override") is not True:
+        return (f"is derived ({derived.text}); leave it out, or add override = true to use this value "
+                f"instead of the derived one")
+    if derived is None and "override" in entry:
+        return "override applies to derived entries only; this one is plain data"
+    return None
+
+
+def convert(value, unit: str | None, spec: Entry):
+    """``value`` given in ``unit`` as the SI value of an entry ``spec``; ValueError naming the
+    problem (unit, kind or bounds)."""
+    kind = spec.kind
+    if kind in ("text", "choice"):
+        return _text(value, spec)
+    if unit is None:
+        raise ValueError(f"no unit: give unit = \"{spec.unit}\" (or another {units.parse(spec.unit).describe()} "
+                         "unit)" if kind != "table" else f"no unit: give unit = \"{spec.unit}\"")
+    if kind == "table":
+        return _table(value, unit, spec)
+    factor = units.factor_to(str(unit), spec.unit)
+    if kind == "vector":
+        if not (isinstance(value, list) and len(value) == spec.length):
+            raise ValueError(f"must be a list of {spec.length} numbers")
+        return [_bounded(_number(v) * factor, spec) for v in value]
+    number = _number(value) * factor
+    if kind == "integer":
+        if number != int(number):
+            raise ValueError(f"{value!r} must be a whole number")
+        number = int(number)
+    return _bounded(number, spec)
+
+
+def _text(value, spec: Entry) -> str:
+    if not isinstance(value, str):
+        raise ValueError(f"{value!r} must be text" + (f": one of {', '.join(spec.choices)}" if spec.choices else ""))
+    if spec.choices and value not in spec.choices:
+        raise ValueError(f"{value!r} is not one of {', '.join(repr(c) for c in spec.choices)}")
+    return value
+
+
+def _number(value) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ValueError(f"{value!r} is not a number")
+    if not math.isfinite(value):
+        raise ValueError(f"{value!r} is not a finite number")
+    return float(value)
+
+
+def _bounded(x: float, spec: Entry):
+    low_bad = x < spec.low or (spec.open_low and x == spec.low)
+    high_bad = x > spec.high or (spec.open_high and x == spec.high)
+    if low_bad or high_bad:
+        raise ValueError(f"{_show(x, spec.unit)} is outside {_range(spec)}")
+    return x
+
+
+def _show(x: float, unit: str) -> str:
+    degrees = f" ({math.degrees(x):.4g} deg)" if unit == "rad" else ""
+    return f"{x:.6g} {unit}{degrees}".replace(" -", "")
+
+
+def _range(spec: Entry) -> str:
+    if spec.low == spec.high:
+        return f"the only value allowed, {_show(spec.low, spec.unit)}"
+    if spec.high == math.inf:
+        return f"{'> ' if spec.open_low else '>= '}{_show(spec.low, spec.unit)}"
+    if spec.low == -math.inf:
+        return f"<= {_show(spec.high, spec.unit)}"
+    return f"[{_show(spec.low, spec.unit)}, {_show(spec.high, spec.unit)}]"
+
+
+def _table(value, unit: str, spec: Entry) -> list:
+    columns = [u.strip() for u in str(unit).split(",")]
+    if len(columns) != len(spec.columns):
+        raise ValueError(f"unit {unit!r}: give one unit per column ({spec.unit})")
+    factors = [units.factor_to(u, want) for u, want in zip(columns, spec.columns)]
+    if not isinstance(value, list) or not all(isinstance(r, list) and len(r) == len(factors) for r in value):
+        raise ValueError(f"must be a list of rows of {len(factors)} numbers ({spec.unit})")
+    return [[_number(v) * f for v, f in zip(row, factors)] for row in value]
+
+
+def _missing(out: Reading, raw: dict) -> None:
+    for section, entries in ENTRIES.items():
+        if section not in raw and section in OPTIONAL_SECTIONS:
+            continue
+        given = raw.get(section, {}) if isinstance(raw.get(section), dict) else {}
+        for key, spec in entries.items():
+            applies = _applies(spec, out.values.get(section, {}))
+            if key not in given and spec.default is None and applies:
+                out.problems.append(f"{section}.{key}: missing ({spec.text}, in {spec.unit})")
+            elif key in given and not applies:
+                other, wanted = spec.only_if
+                out.problems.append(f"{section}.{key}: applies only when {section}.{other} = {wanted!r}; "
+                                    f"leave it out")
+
+
+def _applies(spec: Entry, values: dict) -> bool:
+    if not spec.only_if:
+        return True
+    other, wanted = spec.only_if
+    return values.get(other, wanted) == wanted

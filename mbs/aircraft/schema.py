@@ -1,0 +1,217 @@
+"""What an aircraft file may and must hold: every entry with its SI unit, kind, bounds and meaning.
+
+An entry is ``key = { value = ..., unit = "...", source = "...", note = "..." }`` in a
+section. ``ENTRIES`` lists them; an entry with ``default`` may be left out (the default is
+reported by ``heli aircraft check``); a :data:`DERIVED` entry is computed from the others
+(:mod:`mbs.aircraft.derived`) and may appear in a file only with ``override = true``. Frames:
+body axes at the aircraft's centre of gravity, x forward, y starboard, z down.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+DEG = math.pi / 180
+
+
+@dataclass(frozen=True)
+class Entry:
+    """One entry: SI ``unit`` ("-" a pure number, "1/rev" per revolution), ``kind`` (number,
+    integer, choice, text, vector, table), ``low``/``high`` bounds (inclusive unless
+    ``open_low``/``open_high``), ``choices``, ``length`` of a vector, ``columns`` (units) of
+    a table, ``default`` (None: required) and the meaning ``text``."""
+
+    unit: str
+    text: str
+    kind: str = "number"
+    low: float = -math.inf
+    high: float = math.inf
+    open_low: bool = False
+    open_high: bool = False
+    default: object = None
+    choices: tuple = ()
+    length: int = 0
+    columns: tuple = ()
+    only_if: tuple = ()  # (key, value): the entry applies only when that entry of the section has that value
+
+
+def num(unit, text, low=-math.inf, high=math.inf, **kw) -> Entry:
+    return Entry(unit, text, "number", low, high, **kw)
+
+
+def positive(unit, text, **kw) -> Entry:
+    return Entry(unit, text, "number", 0.0, math.inf, open_low=True, **kw)
+
+
+def count(text, low=1, high=64, **kw) -> Entry:
+    return Entry("-", text, "integer", low, high, **kw)
+
+
+def choice(text, *choices, **kw) -> Entry:
+    return Entry("-", text, "choice", choices=choices, **kw)
+
+
+def ratio(text, low=0.0, high=1.0, **kw) -> Entry:
+    return Entry("-", text, "number", low, high, **kw)
+
+
+def angle(text, limit_deg, **kw) -> Entry:
+    return Entry("rad", text, "number", -limit_deg * DEG, limit_deg * DEG, **kw)
+
+
+def _airfoil(what: str, cd2_default=None) -> dict[str, Entry]:
+    return {
+        "lift_slope": positive("1/rad", f"{what} section lift-curve slope"),
+        "cd0": ratio(f"{what} profile drag coefficient at zero lift", 0.0, 0.5),
+        "cd2": num("1/rad^2", f"{what} profile drag rise: c_d = cd0 + cd2 alpha^2", 0.0, 100.0, default=cd2_default),
+        "alpha_stall": num("rad", f"{what} stall angle: a guard that bounds the lift, not a stall model", 0.0,
+                           math.pi / 2, open_low=True),
+        "cd_stalled": num("-", f"{what} flat-plate drag coefficient beyond stall", 0.0, 3.0, default=1.8),
+    }
+
+
+def _rotor(what: str) -> dict[str, Entry]:
+    return {
+        "radius": positive("m", f"{what} radius"),
+        "chord": positive("m", f"{what} blade chord (constant)"),
+        "twist": angle(f"{what} linear blade twist, tip minus axis: theta(r) = theta_root + twist r/R", 45),
+        "root_cutout": ratio(f"{what} inner end of the aerodynamic blade, fraction of R", 0.0, 0.9),
+        "blade_thickness": positive("m", f"{what} blade section thickness (inertia and display only)"),
+        "hub_mass": positive("kg", f"{what} hub mass"),
+        "kappa": num("-", f"{what} induced power factor on the uniform inflow", 1.0, 2.0),
+        "elements": count(f"{what} blade elements per blade", 1, 200),
+        "mach_dd": ratio(f"{what} drag-divergence Mach number of the section (with compressibility)", 0.3, 1.0),
+        "mach_limit": ratio(f"{what} bound of the Mach number in the Prandtl-Glauert factor", 0.3, 0.95, default=0.8),
+        **_airfoil(what),
+    }
+
+
+def _controls(prefix: str, what: str) -> dict[str, Entry]:
+    return {f"{prefix}_min": angle(f"least {what} the control reaches", 60),
+            f"{prefix}_max": angle(f"largest {what} the control reaches", 60)}
+
+
+def _surface(what: str) -> dict[str, Entry]:
+    return {"area": positive("m^2", f"{what} area"), "incidence": angle(f"{what} incidence", 30),
+            "x": num("m", f"{what} aerodynamic centre, x (forward) from the CG"),
+            "z": num("m", f"{what} aerodynamic centre, z (down) from the CG"),
+            "chord": positive("m", f"{what} chord (display only)"), **_airfoil(what, cd2_default=0.0)}
+
+
+ENTRIES: dict[str, dict[str, Entry]] = {
+    "aircraft": {
+        "name": Entry("-", "name of the aircraft", "text"),
+        "mass": positive("kg", "gross mass"),
+        "Ixx": positive("kg m^2", "roll inertia of the airframe without the rotors, about the CG"),
+        "Iyy": positive("kg m^2", "pitch inertia of the airframe without the rotors, about the CG"),
+        "Izz": positive("kg m^2", "yaw inertia of the airframe without the rotors, about the CG"),
+        "Ixz": num("kg m^2", "product of inertia: tensor [[Ixx, 0, -Ixz], [0, Iyy, 0], [-Ixz, 0, Izz]]", default=0.0),
+    },
+    "environment": {
+        "rho": positive("kg/m^3", "air density", default=1.225),
+        "g": positive("m/s^2", "gravitational acceleration", default=9.80665),
+        "speed_of_sound": positive("m/s", "speed of sound (section Mach number)", default=340.3),
+    },
+    "main_rotor": {
+        "n_blades": count("number of main-rotor blades", 2, 12),
+        "rotation": choice("sense of rotation seen from above", "counter-clockwise", "clockwise"),
+        "omega": positive("rad/s", "nominal main-rotor speed"),
+        "omega_min": positive("rad/s", "least rotor speed the omega parameter accepts", default="0.5 omega"),
+        "omega_max": positive("rad/s", "largest rotor speed the omega parameter accepts", default="1.2 omega"),
+        "hub_x": num("m", "hub position x (forward) from the CG"),
+        "hub_z": num("m", "hub position z (down) from the CG; negative above it"),
+        "shaft_tilt": angle("forward tilt of the shaft", 30),
+        "I_flap": positive("kg m^2", "blade moment of inertia about the flap hinge"),
+        "flap_hinge_offset": num("m", "flap hinge (or equivalent hinge) distance from the rotor axis", 0.0),
+        "flap_stiffness": num("N m/rad", "flap spring (centre-spring equivalent of a hingeless rotor)", 0.0),
+        "lag_frequency": positive("1/rev", "first rotating lag frequency"),
+        "lag_damping": num("N m s/rad", "lead-lag damper", 0.0),
+        "hub_radius": positive("m", "hub radius (inertia of a solid disc, display)"),
+        **_rotor("main-rotor"),
+        **_controls("collective", "main-rotor collective pitch at the blade root"),
+        **_controls("lateral_cyclic", "lateral cyclic pitch theta_1c"),
+        **_controls("longitudinal_cyclic", "longitudinal cyclic pitch theta_1s"),
+    },
+    "tail_rotor": {
+        "n_blades": count("number of tail-rotor blades", 2, 12),
+        "hub_type": choice("teetering (two blades on a seesaw) or rigid (blades on pitch bearings only)",
+                           "teetering", "rigid"),
+        "upper_blade": choice("which way the upper tail-rotor blade moves", "aft", "forward"),
+        "gear_ratio": positive("-", "tail-rotor speed per main-rotor speed"),
+        "hub_x": num("m", "tail-rotor hub x (forward) from the CG"),
+        "hub_y": num("m", "tail-rotor hub y (starboard) from the CG"),
+        "hub_z": num("m", "tail-rotor hub z (down) from the CG"),
+        "blade_mass": positive("kg", "tail-rotor blade mass"),
+        "hub_size": positive("m", "tail-rotor hub, a cube (inertia only)"),
+        "seesaw_mass": positive("kg", "seesaw mass", only_if=("hub_type", "teetering")),
+        "seesaw_size": Entry("m", "seesaw box along the blades (inertia, display)", "vector", 0.0, math.inf,
+                             open_low=True, length=3, only_if=("hub_type", "teetering")),
+        "teeter_stiffness": num("N m/rad", "teeter spring", 0.0, default=0.0, only_if=("hub_type", "teetering")),
+        "delta3": num("rad", "pitch-flap coupling: not modelled, 0 only", 0.0, 0.0, default=0.0),
+        **_rotor("tail-rotor"),
+        **_controls("collective", "tail-rotor collective pitch"),
+    },
+    "fuselage_aero": {
+        "v_ref": positive("m/s", "speed at which the polynomials give the loads; loads scale with (V/v_ref)^2"),
+        **{k: Entry(u, f"{k} {what}: coefficients of {arg}^0..3", "vector", length=4)
+           for k, u, what, arg in (("X", "N", "force", "alpha"), ("Y", "N", "force", "beta"),
+                                   ("Z", "N", "force", "alpha"), ("M", "N m", "moment", "alpha"),
+                                   ("N", "N m", "moment", "beta"))},
+        "angle_limit": num("rad", "angles of attack and sideslip are clipped here", 0.0, math.pi / 2, open_low=True),
+    },
+    "horizontal_tail": _surface("horizontal tail"),
+    "vertical_fin": _surface("fin"),
+    "wake": {"width": positive("m", "edge smoothing of the main rotor's wake tube (tail wake, download)")},
+    "download": {"panels": Entry("m, m, m, m^2, -", "fuselage panels in the wake: rows x, y, z (from the CG), plan "
+                                 "area, drag coefficient in vertical flow", "table", columns=("m", "m", "m", "m^2", "-"))},
+    "hub_drag": {"flat_plate_area": num("m^2", "drag area of the main-rotor hub and mast", 0.0)},
+    "geometry": {
+        "cabin": Entry("m", "display: cabin box length, width, height", "vector", 0.0, math.inf, open_low=True,
+                       length=3, default="scaled"),
+        "cabin_x": num("m", "display: cabin centre x", default="scaled"),
+        "boom_radius": positive("m", "display: tail boom radius", default="scaled"),
+        "hub_height": positive("m", "display: main hub height", default="scaled"),
+        "tail_hub": Entry("m", "display: tail hub cylinder radius, length", "vector", 0.0, math.inf, open_low=True,
+                          length=2, default="scaled"),
+        "plate_thickness": positive("m", "display: tail surface thickness", default="scaled"),
+    },
+    "elastic_blade": {
+        "torsion_frequency": positive("1/rev", "first rotating torsion frequency of the blade"),
+        "structural_damping": ratio("structural damping ratio of each direction's first mode", 0.0, 0.5),
+    },
+}
+
+OPTIONAL_SECTIONS = ("environment", "geometry", "elastic_blade")
+"""Sections a file may leave out: ISA, display sizes scaled from the rotor, no elastic blades."""
+
+
+@dataclass(frozen=True)
+class Derived:
+    """A value computed from the other entries: SI ``unit``, its formula ``text``."""
+
+    unit: str
+    text: str
+
+
+DERIVED: dict[str, dict[str, Derived]] = {
+    "main_rotor": {
+        "blade_mass": Derived("kg", "uniform blade from the flap hinge: 3 I_flap / (R - e)^2"),
+        "lag_stiffness": Derived("N m/rad", "lag spring giving lag_frequency: (nu^2 - e S / I) I Omega^2, "
+                                 "S = m (R - e) / 2 the blade's first moment about the hinge"),
+        "tip_loss": Derived("-", "Prandtl's effective-radius factor B = 1 - sqrt(2 C_T) / N_b at the hover C_T "
+                            "(Johnson, Helicopter Theory 3.5)"),
+    },
+    "tail_rotor": {
+        "tip_loss": Derived("-", "B = 1 - sqrt(2 C_T) / N_b at the tail rotor's hover C_T (thrust balancing the "
+                            "main rotor's hover torque)"),
+    },
+    "wake": {"core": Derived("-", "swirl core radius per R: the root cut-out (no torque inboard of it)")},
+    "elastic_blade": {
+        "flap_frequency": Derived("1/rev", "the rigid blade's first flap frequency, "
+                                  "sqrt(1 + 3 e / (2 (R - e)) + K_beta / (I_flap Omega^2))"),
+        "lag_frequency": Derived("1/rev", "main_rotor.lag_frequency"),
+        "flap_stiffness": Derived("N m^2", "uniform EI whose continuous rotating blade has flap_frequency"),
+        "lag_stiffness": Derived("N m^2", "uniform EI whose continuous rotating blade has lag_frequency"),
+        "torsion_stiffness": Derived("N m^2", "uniform GJ whose continuous rotating blade has torsion_frequency"),
+    },
+}

@@ -1,0 +1,111 @@
+"""Units of the aircraft file: parse a unit text, check its dimension, convert to SI.
+
+A unit text is a product of symbols with optional integer powers, one ``/`` dividing the
+product after it: ``kg m^2``, ``slug ft^2``, ``N m/rad``, ``N m s/rad``, ``kg/m^3``,
+``1/rad^2``, ``ft lbf``. Angles are a dimension of their own (``rad``, ``deg``, ``rev``), so
+``rpm`` converts to ``rad/s`` and ``1/deg`` to ``1/rad``, but an angle never passes for a
+number. ``-`` (or ``1``) is a pure number and ``1/rev`` a frequency ratio per revolution
+(which converts to nothing else).
+"""
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass
+
+# dimension exponents: length, mass, time, angle
+_LB = 0.45359237  # kg
+_FT = 0.3048  # m
+_G0 = 9.80665  # m/s^2
+SYMBOLS: dict[str, tuple[float, tuple[int, int, int, int]]] = {
+    "m": (1.0, (1, 0, 0, 0)), "cm": (0.01, (1, 0, 0, 0)), "mm": (1e-3, (1, 0, 0, 0)), "km": (1e3, (1, 0, 0, 0)),
+    "ft": (_FT, (1, 0, 0, 0)), "in": (0.0254, (1, 0, 0, 0)),
+    "kg": (1.0, (0, 1, 0, 0)), "g": (1e-3, (0, 1, 0, 0)), "lb": (_LB, (0, 1, 0, 0)), "lbm": (_LB, (0, 1, 0, 0)),
+    "slug": (_LB * _G0 / _FT, (0, 1, 0, 0)),
+    "s": (1.0, (0, 0, 1, 0)), "min": (60.0, (0, 0, 1, 0)), "h": (3600.0, (0, 0, 1, 0)),
+    "rad": (1.0, (0, 0, 0, 1)), "deg": (math.pi / 180, (0, 0, 0, 1)), "rev": (2 * math.pi, (0, 0, 0, 1)),
+    "N": (1.0, (1, 1, -2, 0)), "kN": (1e3, (1, 1, -2, 0)), "lbf": (_LB * _G0, (1, 1, -2, 0)),
+    "W": (1.0, (2, 1, -3, 0)), "kW": (1e3, (2, 1, -3, 0)), "hp": (745.69987158227022, (2, 1, -3, 0)),
+    "J": (1.0, (2, 1, -2, 0)), "Pa": (1.0, (-1, 1, -2, 0)),
+    "kt": (1852.0 / 3600, (1, 0, -1, 0)), "rpm": (2 * math.pi / 60, (0, 0, -1, 1)), "Hz": (1.0, (0, 0, -1, 0)),
+}
+DIMENSIONLESS = ("-", "1", "")
+PER_REV = "1/rev"
+NAMES = {(1, 0, 0, 0): "a length", (0, 1, 0, 0): "a mass", (0, 0, 0, 1): "an angle",
+         (2, 1, 0, 0): "a moment of inertia", (0, 0, -1, 1): "an angular velocity", (1, 0, -1, 0): "a speed",
+         (1, 1, -2, 0): "a force", (2, 1, -2, 0): "a moment", (2, 1, -2, -1): "a stiffness per angle",
+         (2, 1, -1, -1): "a damping per angular rate", (3, 1, -2, 0): "a bending stiffness",
+         (0, 0, 0, -1): "a per-angle slope", (0, 0, 0, -2): "a per-angle-squared coefficient",
+         (2, 1, -3, 0): "a power", (-3, 1, 0, 0): "a density", (1, 0, -2, 0): "an acceleration",
+         (2, 0, 0, 0): "an area", (0, 0, 0, 0): "a pure number"}
+_TOKEN = re.compile(r"^([A-Za-z]+)(?:\^(-?\d+))?$")
+
+
+class UnitError(ValueError):
+    """A unit text that cannot be read, or whose dimension is not the one expected."""
+
+
+@dataclass(frozen=True)
+class Unit:
+    """A parsed unit: ``value_in_si = factor * value``; ``dims`` the exponents of length,
+    mass, time and angle; ``per_rev`` for the frequency ratio ``1/rev``."""
+
+    factor: float
+    dims: tuple[int, int, int, int]
+    per_rev: bool = False
+
+    def describe(self) -> str:
+        return "a frequency per revolution" if self.per_rev else NAMES.get(self.dims, f"dimension {self.dims}")
+
+
+def parse(text: str) -> Unit:
+    """The :class:`Unit` of ``text``; :class:`UnitError` naming the symbol it cannot read."""
+    text = text.strip()
+    if text in DIMENSIONLESS:
+        return Unit(1.0, (0, 0, 0, 0))
+    if text.replace(" ", "") == PER_REV:
+        return Unit(1.0, (0, 0, 0, 0), per_rev=True)
+    upper, _, lower = text.partition("/")
+    if "/" in lower:
+        raise UnitError(f"unit {text!r}: write one '/' at most (e.g. 'N m s/rad')")
+    factor, dims = _product(upper, text, 1)
+    if lower:
+        f2, d2 = _product(lower, text, -1)
+        factor, dims = factor * f2, tuple(a + b for a, b in zip(dims, d2))
+    return Unit(factor, dims)
+
+
+def _product(part: str, text: str, sign: int) -> tuple[float, tuple[int, ...]]:
+    factor, dims = 1.0, [0, 0, 0, 0]
+    for token in part.replace("*", " ").replace("·", " ").split():
+        if token == "1":
+            continue
+        match = _TOKEN.match(token)
+        if not match or match.group(1) not in SYMBOLS:
+            raise UnitError(f"unit {text!r}: unknown symbol {token!r}; known: {', '.join(SYMBOLS)}")
+        power = sign * int(match.group(2) or 1)
+        f, d = SYMBOLS[match.group(1)]
+        factor *= f**power
+        dims = [a + power * b for a, b in zip(dims, d)]
+    return factor, tuple(dims)
+
+
+def factor_to(text: str, target: str) -> float:
+    """The factor taking a value in the unit ``text`` to the unit ``target``; :class:`UnitError`
+    when the two are not of the same kind."""
+    have, want = parse(text), parse(target)
+    if have.dims != want.dims or have.per_rev != want.per_rev:
+        raise UnitError(f"unit {text!r} is {have.describe()}, not {want.describe()} like {target!r}")
+    return have.factor / want.factor
+
+
+def convert(value, text: str, target: str):
+    """``value`` (a number or nested lists of numbers) in ``text`` expressed in ``target``."""
+    f = factor_to(text, target)
+    return _scale(value, f)
+
+
+def _scale(value, f: float):
+    if isinstance(value, list):
+        return [_scale(v, f) for v in value]
+    return value * f

@@ -1,0 +1,94 @@
+"""The helicopter's aerodynamic force elements: both rotors' blade elements with their inflow
+states, and the airframe (fuselage polynomials, tail surfaces, download, hub drag)."""
+from __future__ import annotations
+
+import numpy as np
+
+from mbs.aero import (Airfoil, Compressibility, Download, FuselageAero, HubDrag, LiftingSurface, Rotor, RotorAero,
+                      RotorModel, WakeGeometry)
+from mbs.models.elastic_blade import rotor_pieces
+from mbs.models.helicopter import frames as fr
+from mbs.tree import Model
+
+INFLOW_TEXT = {"": "uniform induced velocity", "_1s": "induced velocity, sine (lateral) component at the tip",
+               "_1c": "induced velocity, cosine (longitudinal) component at the tip"}
+
+
+def rotor_model(d, cfg, section: str) -> RotorModel:
+    """The switches of ``cfg`` with their data for the rotor ``section`` ("main_rotor" or
+    "tail_rotor"; Pitt-Peters inflow on the main rotor only)."""
+    sec = d[section]
+    comp = Compressibility(d["environment"]["speed_of_sound"], sec["mach_dd"], sec["mach_limit"])
+    wake = main_rotor_wake(d)
+    return RotorModel(inflow=cfg.inflow if section == "main_rotor" else "uniform",
+                      tip_loss=sec["tip_loss"] if cfg.tip_loss else 1.0,
+                      compressibility=comp if cfg.compressibility else None,
+                      wake=wake if section == "main_rotor" and (cfg.tail_wake or cfg.download) else None)
+
+
+def main_rotor_wake(d) -> WakeGeometry:
+    """The main rotor's wake geometry: Landgrebe's coefficients at the hover thrust coefficient."""
+    mr, w = d["main_rotor"], d["wake"]
+    tip = mr["omega"] * mr["radius"]
+    ct = d["aircraft"]["mass"] * d["environment"]["g"] / (d["environment"]["rho"] * np.pi * mr["radius"] ** 2 * tip**2)
+    sigma = mr["n_blades"] * mr["chord"] / (np.pi * mr["radius"])
+    return WakeGeometry.landgrebe(w["width"], w["core"] * mr["radius"], ct, sigma, np.degrees(mr["twist"]),
+                                  mr["n_blades"])
+
+
+def _add_inflow_states(m: Model, name: str, model: RotorModel, v0: float) -> None:
+    what = name.replace("_", "-")
+    for state in model.inflow_states(name):
+        suffix = state[len(name) + len(".inflow"):]
+        m.add_state(state, v0 if not suffix else 0.0, "m/s", f"{what} {INFLOW_TEXT[suffix]}")
+
+
+def main_rotor(d, cfg, parent: str) -> Rotor:
+    """The main rotor's blade-element geometry."""
+    mr = d["main_rotor"]
+    tilt = mr["shaft_tilt"] if cfg.shaft_tilt else 0.0
+    blades = [f"blade{k + 1}" for k in range(cfg.blade_count(mr["n_blades"]))]
+    return Rotor("main_rotor", "main_hub", blades, mr["radius"], mr["chord"], mr["twist"], mr["root_cutout"],
+                 int(cfg.elements or mr["elements"]), mr["flap_hinge_offset"], None if parent == "world" else parent,
+                 fr.azimuth_frame(fr.shaft_frame(tilt), fr.main_sense(d)), pieces=rotor_pieces(d, cfg))
+
+
+def tail_rotor(d, parent: str) -> Rotor:
+    """The tail rotor's blade-element geometry."""
+    tr = d["tail_rotor"]
+    return Rotor("tail_rotor", "tail_hub", [f"tail_blade{k + 1}" for k in range(int(tr["n_blades"]))], tr["radius"],
+                 tr["chord"], tr["twist"], tr["root_cutout"], int(tr["elements"]), 0.0,
+                 None if parent == "world" else parent, fr.azimuth_frame(fr.tail_frame(d), fr.tail_sense(d)),
+                 tr["gear_ratio"])
+
+
+def add_rotor_aero(m: Model, d, cfg, trim, parent: str) -> None:
+    """Blade elements and inflow states of the main rotor and, when built, the tail rotor."""
+    rho = d["environment"]["rho"]
+    main_model = rotor_model(d, cfg, "main_rotor")
+    _add_inflow_states(m, "main_rotor", main_model, trim.inflow_main)
+    m.add_force(RotorAero(main_rotor(d, cfg, parent), airfoil(d["main_rotor"]), rho, d["main_rotor"]["kappa"],
+                          main_model))
+    if cfg.tail_rotor:
+        tail_model = rotor_model(d, cfg, "tail_rotor")
+        _add_inflow_states(m, "tail_rotor", tail_model, trim.inflow_tail)
+        m.add_force(RotorAero(tail_rotor(d, parent), airfoil(d["tail_rotor"]), rho, d["tail_rotor"]["kappa"],
+                              tail_model))
+
+
+def airfoil(sec: dict) -> Airfoil:
+    return Airfoil(sec["lift_slope"], sec["cd0"], sec["cd2"], sec["alpha_stall"], sec["cd_stalled"])
+
+
+def add_airframe_aero(m: Model, d, cfg) -> None:
+    fa, ht, fin, rho = d["fuselage_aero"], d["horizontal_tail"], d["vertical_fin"], d["environment"]["rho"]
+    wake = "main_rotor" if cfg.tail_wake else None
+    m.add_force(FuselageAero("fuselage", {k: fa[k] for k in "XYZMN"}, fa["v_ref"], fa["angle_limit"]))
+    m.add_force(LiftingSurface("horizontal tail", "fuselage", (ht["x"], 0, ht["z"]), (1, 0, 0), (0, 0, -1),
+                               ht["incidence"], ht["area"], airfoil(ht), rho, wake))
+    m.add_force(LiftingSurface("fin", "fuselage", (fin["x"], 0, fin["z"]), (1, 0, 0), (0, 1, 0),
+                               fin["incidence"], fin["area"], airfoil(fin), rho, wake))
+    if cfg.download:
+        m.add_force(Download("fuselage", "main_rotor", d["download"]["panels"], rho))
+    if cfg.hub_drag:
+        m.add_force(HubDrag("fuselage", fr.main_hub_position(d), d["hub_drag"]["flat_plate_area"], rho))

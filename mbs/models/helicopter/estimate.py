@@ -1,0 +1,78 @@
+"""Controls and attitudes for steady level flight from momentum and blade-element theory."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from mbs.aero import momentum_inflow
+from mbs.aircraft.derived import flap_frequency
+from mbs.models.helicopter.frames import main_sense
+
+
+@dataclass
+class TrimEstimate:
+    """Controls and attitudes for steady level flight from momentum and blade-element theory.
+
+    Angles in rad: collective (at the root, r = 0), cyclics (Padfield: θ1s > 0 tilts the disc
+    back, θ1c > 0 towards ψ = 180° + 90°; both in the azimuth ψ counted in the rotor's sense of
+    rotation), tail collective, fuselage pitch and roll, coning, flapping relative to the
+    shaft; inflow velocities in m/s; tail-rotor thrust in N.
+    """
+
+    speed: float
+    collective: float
+    lateral_cyclic: float
+    longitudinal_cyclic: float
+    tail_collective: float
+    pitch: float
+    roll: float
+    coning: float
+    a1s: float
+    inflow_main: float
+    inflow_tail: float
+    tail_thrust: float
+
+
+def estimate_trim(d, speed: float) -> TrimEstimate:
+    """Classical closed-form estimates (uniform inflow, linear twist, small angles) for the
+    aircraft data ``d`` at ``speed`` (m/s)."""
+    mr, tr, env = d["main_rotor"], d["tail_rotor"], d["environment"]
+    weight = d["aircraft"]["mass"] * env["g"]
+    rho, big_r, omega = env["rho"], mr["radius"], mr["omega"]
+    tip, area = omega * big_r, np.pi * big_r**2
+    sigma = mr["n_blades"] * mr["chord"] / (np.pi * big_r)
+    drag = -d["fuselage_aero"]["X"][0] * (speed / d["fuselage_aero"]["v_ref"]) ** 2
+    drag += 0.5 * rho * d["hub_drag"]["flat_plate_area"] * speed**2
+    tilt = drag / weight
+    ct, mu = weight / (rho * area * tip**2), speed / tip
+    lam_i = momentum_inflow(weight, rho, big_r, speed, speed * tilt) / tip
+    lam = mu * tilt + mr["kappa"] * lam_i
+    theta0 = (2 * ct / (sigma * mr["lift_slope"]) - mr["twist"] / 4 * (1 + mu**2) + lam / 2) / (1 / 3 + mu**2 / 2)
+    lock = rho * mr["lift_slope"] * mr["chord"] * big_r**4 / mr["I_flap"]
+    nu2 = flap_frequency(mr) ** 2
+    coning = lock / (8 * nu2) * (theta0 * (1 + mu**2) + 0.8 * mr["twist"] * (1 + 5 / 6 * mu**2) - 4 / 3 * lam)
+    blowback = 2 * mu * (4 / 3 * theta0 + mr["twist"] - lam) / (1 - mu**2 / 2)
+    e = mr["flap_hinge_offset"]
+    hub_spring = mr["flap_stiffness"] + e * mr["blade_mass"] * (big_r - e) / 2 * omega**2  # per blade, N m/rad
+    hub_moment_tilt = weight * -mr["hub_x"] / (mr["n_blades"] / 2 * hub_spring - weight * mr["hub_z"])
+    cl_mean = 6 * ct / sigma
+    delta = mr["cd0"] + mr["cd2"] * (cl_mean / mr["lift_slope"]) ** 2
+    torque = rho * area * tip**2 * big_r * (ct * lam + sigma * delta / 8 * (1 + 3 * mu**2))
+    t_thrust = torque / (mr["hub_x"] - tr["hub_x"])
+    theta_t, v_tail = _tail_collective(d, t_thrust, speed)
+    roll = -main_sense(d) * t_thrust / weight  # the main rotor leans against the tail rotor's thrust
+    return TrimEstimate(speed, theta0, 0.0, hub_moment_tilt - blowback, theta_t,
+                        mr["shaft_tilt"] - (tilt + hub_moment_tilt), roll, coning,
+                        hub_moment_tilt, lam_i * tip, v_tail, t_thrust)
+
+
+def _tail_collective(d, thrust: float, speed: float) -> tuple[float, float]:
+    tr, rho = d["tail_rotor"], d["environment"]["rho"]
+    omega_t = tr["gear_ratio"] * d["main_rotor"]["omega"]
+    tip = omega_t * tr["radius"]
+    sigma = tr["n_blades"] * tr["chord"] / (np.pi * tr["radius"])
+    ct, mu = thrust / (rho * np.pi * tr["radius"] ** 2 * tip**2), speed / tip
+    v = momentum_inflow(thrust, rho, tr["radius"], speed)
+    theta = (2 * ct / (sigma * tr["lift_slope"]) + tr["kappa"] * v / tip / 2) / (1 / 3 + mu**2 / 2)
+    return theta, v

@@ -1,0 +1,54 @@
+"""The helicopter's outputs: rotor azimuths, thrust, torque, power, inflow ratios, wake values."""
+from __future__ import annotations
+
+from mbs.models.helicopter import frames as fr
+from mbs.models.helicopter.aero import INFLOW_TEXT, rotor_model
+from mbs.tree import Model
+
+ROTOR_OUTPUTS = (("thrust", "N", "thrust along the shaft"),
+                 ("torque", "N m", "aerodynamic shaft torque (the drive's torque on the rotor)"),
+                 ("power", "W", "aerodynamic shaft power, torque times rotor speed"))
+
+
+def add_outputs(m: Model, d, cfg) -> None:
+    gear = d["tail_rotor"]["gear_ratio"]
+    _add_azimuth(m, cfg, "main_rotor", "main_hub", 1.0, fr.main_sense(d), "azimuth of blade 1 from the tail")
+    if cfg.tail_rotor:
+        _add_azimuth(m, cfg, "tail_rotor", "tail_hub", gear, fr.tail_sense(d), "azimuth of tail blade 1")
+    if cfg.rotor_aero:
+        _add_rotor_outputs(m, d, cfg, "main_rotor", 1.0)
+        if cfg.tail_rotor:
+            _add_rotor_outputs(m, d, cfg, "tail_rotor", gear)
+    _add_airframe_outputs(m, cfg)
+
+
+def _add_azimuth(m: Model, cfg, rotor: str, hub: str, ratio: float, sense: int, text: str) -> None:
+    """The azimuth (rad) in the rotor's sense of rotation."""
+    if cfg.rotors == "driven":
+        m.add_output(f"{rotor}.azimuth", lambda s: ratio * s.p["omega"] * s.t, "rad", text)
+    else:
+        m.add_output(f"{rotor}.azimuth", lambda s: sense * s.q(f"{hub}.azimuth"), "rad", text)
+
+
+def _add_airframe_outputs(m: Model, cfg) -> None:
+    """The main rotor's wake at the tail surfaces and the fuselage download, when modelled."""
+    if cfg.tail_wake:
+        m.add_output("horizontal_tail.downwash", lambda s: s.signals["horizontal tail.wake"][2], "m/s",
+                     "main-rotor wake velocity at the horizontal tail along body z (positive down)")
+        m.add_output("fin.sidewash", lambda s: s.signals["fin.wake"][1], "m/s",
+                     "main-rotor wake velocity at the fin along body y (positive to starboard)")
+    if cfg.download:
+        m.add_output("fuselage.download", lambda s: s.signals["fuselage.download"], "N",
+                     "vertical drag of the fuselage in the main-rotor wake (positive down)")
+
+
+def _add_rotor_outputs(m: Model, d, cfg, name: str, speed_ratio: float) -> None:
+    """Thrust, torque, power (signals of the rotor's aerodynamics) and its inflow ratios
+    ``λ = v / (Ω R)`` (the inflow states made dimensionless)."""
+    what, tip = name.replace("_", "-"), speed_ratio * d[name]["radius"]
+    for key, unit, text in ROTOR_OUTPUTS:
+        m.add_output(f"{name}.{key}", lambda s, k=f"{name}.{key}": s.signals[k], unit, f"{what} {text}")
+    for state in rotor_model(d, cfg, name).inflow_states(name) if "omega" in m.parameters else ():
+        suffix = state[len(name) + len(".inflow"):]
+        m.add_output(f"{name}.inflow_ratio{suffix}", lambda s, z=state: s.z(z) / (tip * s.p["omega"]), "1",
+                     f"{what} inflow ratio: {INFLOW_TEXT[suffix]} per tip speed")

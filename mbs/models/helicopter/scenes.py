@@ -1,0 +1,86 @@
+"""The helicopter scenes: each a :class:`Config` of what to build, for any aircraft.
+
+They are registered with the packaged Bo105; ``scene.with_aircraft(aircraft)`` (``heli ...
+--aircraft FILE``) gives the same scene of another aircraft.
+"""
+from __future__ import annotations
+
+from dataclasses import replace
+
+from mbs import aircraft as ac
+from mbs.models.helicopter.build import build
+from mbs.models.helicopter.config import FULL, Config
+from mbs.scenes import Scene, register
+
+
+def _builder(cfg: Config, name: str):
+    def make(aircraft=None, **options):
+        aircraft = aircraft or ac.load()
+        return build(replace(cfg, **options), aircraft, name=f"{aircraft.key}-{name}")
+    make.config = cfg
+    return make
+
+
+def _plots(cfg: Config, n_blades: int) -> dict:
+    blades = range(cfg.blade_count(n_blades))
+    panels = {"main-rotor flap (rad)": [f"blade{k + 1}.flap" for k in blades],
+              "main-rotor lag (rad)": [f"blade{k + 1}.lag" for k in blades]}
+    if cfg.tail_rotor:
+        panels["tail-rotor seesaw (rad)"] = ["seesaw.teeter"]
+    return panels
+
+
+def plots(scene: Scene) -> dict:
+    """The hinge-angle panels of a helicopter scene for its aircraft (teeter only if it teeters)."""
+    from mbs.models.helicopter.config import config_of
+
+    data = scene.aircraft.data
+    panels = _plots(config_of(scene), data["main_rotor"]["n_blades"])
+    if data["tail_rotor"]["hub_type"] != "teetering":
+        panels.pop("tail-rotor seesaw (rad)", None)
+    return panels
+
+
+SCENE_CONFIGS = {
+    "structural": (Config(rotors="free", rotor_aero=False, airframe_aero=False, dampers=False),
+                   "the paper's conservative case: free fuselage, free hubs spinning from the initial "
+                   "condition, free pitch hinges, no aerodynamics, no dampers", True),
+    "forward-flight": (Config(speed=10.0, trim="forward-flight", **FULL),
+                       "the paper's aeromechanic case: free flight at 10 m/s with blade-element rotors (Pitt-Peters "
+                       "inflow, tip loss, compressibility), lag dampers, fuselage, hub and empennage loads in the rotor's "
+                       "wake, trimmed controls and attitude", False),
+    "hover": (Config(speed=0.0, trim="hover", **FULL), "as forward-flight, at zero speed", False),
+    "ground-run": (Config(fuselage="clamped", airframe_aero=False, speed=0.0, trim="hover",
+                          **{k: v for k, v in FULL.items() if k not in ("tail_wake", "download", "hub_drag")}),
+                   "fuselage clamped to the ground, both rotors with aerodynamics (Pitt-Peters inflow, tip loss, "
+                   "compressibility) and dampers, hover controls", False),
+    "single-blade": (Config(fuselage="none", blades=1, tail_rotor=False, rotor_aero=False, airframe_aero=False,
+                            dampers=False, shaft_tilt=False, pitch_hinge=False),
+                     "hub clamped and driven (vertical shaft), one blade on flap and lag hinges with springs, "
+                     "no aerodynamics: for frequency checks", False),
+    "single-blade-aero": (Config(fuselage="none", blades=1, tail_rotor=False, airframe_aero=False, dampers=False,
+                                 shaft_tilt=False, speed=0.0),
+                          "hub clamped and driven (vertical shaft), one blade on flap, lag and driven pitch "
+                          "hinges with blade-element aerodynamics and uniform dynamic inflow, in hover: for the "
+                          "Lock-number check of the flap mode", False),
+}
+
+ELASTIC_ROTOR = Config(fuselage="none", tail_rotor=False, airframe_aero=False, shaft_tilt=False, speed=0.0,
+                       trim="hover", blade_segments=8)
+ELASTIC_TEXT = ("hub clamped and driven (vertical shaft), the main rotor's blades elastic, 8 segments each on flap, "
+                "lag and torsion hinges with springs (the aircraft's first blade frequencies: 1.117, 0.68 and 3.7/rev "
+                "for the Bo105), blade-element aerodynamics with uniform dynamic inflow, hover controls; RK4 at 200 "
+                "steps per revolution")
+
+
+def _register() -> None:
+    bo105 = ac.load()
+    n = bo105.data["main_rotor"]["n_blades"]
+    for name, (cfg, text, conservative) in SCENE_CONFIGS.items():
+        register(Scene(name, text, _builder(cfg, name), omega=bo105.omega, conservative=conservative,
+                       plots=_plots(cfg, n), aircraft=bo105))
+    register(Scene("elastic-rotor", ELASTIC_TEXT, _builder(ELASTIC_ROTOR, "elastic-rotor"), omega=bo105.omega,
+                   steps_per_rev=200, plots=_plots(ELASTIC_ROTOR, n), aircraft=bo105))
+
+
+_register()
