@@ -72,8 +72,9 @@ def residual(entry: dict, system, scene) -> float:
     scene's model): ``S x(τ) - x(0)`` over every state but the position, after the trim's
     shooting interval ``τ`` with its controls held; ``inf`` when the model's states or
     controls are not those of the entry."""
-    from mbs.analysis.period import rotor_period
+    from mbs.analysis.period import scene_period
     from mbs.analysis.shooting import residual_scales
+    from mbs.analysis.trim import reference_radius
 
     info = system.info
     try:
@@ -81,23 +82,15 @@ def residual(entry: dict, system, scene) -> float:
         p = system.params(entry["controls"])
     except (KeyError, ValueError):
         return float("inf")
-    period = rotor_period(info, 2 * np.pi / scene.revolution(system, p))
+    period = scene_period(scene, system, p)
     n = period.revs * entry["steps_per_rev"]
     traj = system.run(x0, 0.0, period.duration / n, n, every=n, p=p, method=entry["method"])
     if not traj.ok:
         return float("inf")
     keep = [i for i, name in enumerate(info.state_names) if name not in ("fuselage.x", "fuselage.y", "fuselage.z")]
     r = period.symmetry(info.nx)[keep] * traj.x[-1][keep] - x0[keep]
-    radius = _radius(info)
+    radius = reference_radius(scene)
     return float(np.max(np.abs(r) / residual_scales([info.state_names[i] for i in keep], period.omega, radius)))
-
-
-def _radius(info) -> float:
-    if not info.name.startswith("bo105"):
-        return 1.0
-    from mbs.models.bo105 import load_data
-
-    return float(load_data()["main_rotor"]["radius"])
 
 
 def stored() -> dict:
