@@ -53,14 +53,25 @@ def mbs_dir() -> Path:
     return Path(mbs.__file__).resolve().parent
 
 
-def identifier(scenes) -> str:
-    """Model identifier (also the FMU's file name) of a family: ``HeliRotor_<primary>``."""
-    return "HeliRotor_" + re.sub(r"\W", "_", scenes[0])
+def identifier(scenes, aircraft=None) -> str:
+    """Model identifier (also the FMU's file name) of a family: ``HeliRotor_<primary>`` for the
+    Bo105, ``HeliRotor_<aircraft>_<primary>`` for another aircraft (its file's stem)."""
+    craft = load_aircraft(aircraft)
+    prefix = "" if craft.packaged and craft.key == "bo105" else f"{craft.key}_"
+    return "HeliRotor_" + re.sub(r"\W", "_", prefix + scenes[0])
+
+
+def load_aircraft(aircraft=None):
+    """The aircraft of an FMU family: a loaded :class:`mbs.aircraft.Aircraft`, a packaged name,
+    a file path, or None for the Bo105."""
+    from mbs import aircraft as ac
+
+    return aircraft if isinstance(aircraft, ac.Aircraft) else ac.load(aircraft or ac.DEFAULT)
 
 
 # -- planning (needs the core and CasADi) ---------------------------------------------------
 
-def plan(scene_names) -> tuple[dict, dict]:
+def plan(scene_names, aircraft=None) -> tuple[dict, dict]:
     """The FMU's spec (variables, scenes) and, per model group, ``(vm, functions)``: the
     functions to generate, the core's plus ``fmu_outputs(x, t, p)``, which computes every
     output and local variable of the FMU in generated code.
@@ -76,8 +87,9 @@ def plan(scene_names) -> tuple[dict, dict]:
     from fmu import periodic
 
     groups, per_scene, starts = {}, {}, {}
+    craft = load_aircraft(aircraft)
     for name in scene_names:
-        scene = registry.get(name)
+        scene = registry.get(name, aircraft=craft)
         model = scene.model()
         vm = build(model, "vm")
         key = hashlib.sha256(generate(vm.functions, vm.info, "float64").encode()).hexdigest()
@@ -88,7 +100,8 @@ def plan(scene_names) -> tuple[dict, dict]:
     variables = _variables(primary, scene_names, periodic_start=any(starts.values()))
     _note_missing_outputs(variables, per_scene)
     computed = [v for v in variables if v["causality"] in ("output", "local")]
-    spec = {"model_identifier": identifier(scene_names), "primary": scene_names[0], "family": list(scene_names),
+    spec = {"model_identifier": identifier(scene_names, craft), "primary": scene_names[0], "family": list(scene_names),
+            "aircraft": {"name": craft.name, "file": craft.path.name, "sha256": craft.digest},
             "description": f"{primary[0].description} (scenes: {', '.join(scene_names)})",
             "version": _version(), "variables": variables, "n_computed": len(computed),
             "default_experiment": _default_experiment(primary), "limits": dict(LIMITS),
@@ -393,13 +406,13 @@ def stage_models(stage: Path, spec: dict, groups: dict) -> Path:
     return root
 
 
-def build_here(scene_names, dest: Path) -> Path:
+def build_here(scene_names, dest: Path, aircraft=None) -> Path:
     """Plan, stage and build in this process (call it in a fresh interpreter: the builder
     imports the staged code). Writes ``dest`` (a ``.fmu`` path)."""
     from pythonfmu import FmuBuilder
 
     shim_library = compiled_shim()  # first: without a C compiler this fails at once, clearly
-    spec, groups = plan(list(scene_names))
+    spec, groups = plan(list(scene_names), aircraft)
     with tempfile.TemporaryDirectory(prefix="heli-fmu-stage-") as tmp:
         stage = Path(tmp)
         entry, package = stage_code(stage)
@@ -442,8 +455,8 @@ SOURCE_SUFFIXES = (".py", ".toml", ".json", ".c", ".h")
 periodic starts)."""
 
 
-def cache_key(scene_names) -> str:
-    """Hash of everything the FMU is built from: the sources, the scenes, CasADi and
+def cache_key(scene_names, aircraft=None) -> str:
+    """Hash of everything the FMU is built from: the sources, the scenes and aircraft, CasADi and
     pythonfmu, the compiler flags, the compiler named by ``$CC`` (if set) and the platform.
     It needs no compiler, so a cached FMU is found on a machine without one."""
     from mbs.backends.compiled import CFLAGS  # numpy only
@@ -453,17 +466,17 @@ def cache_key(scene_names) -> str:
         for path in sorted(p for p in root.rglob("*") if p.suffix in SOURCE_SUFFIXES and "__pycache__" not in p.parts):
             h.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes())
     versions = [importlib.metadata.version(d) for d in ("casadi", "pythonfmu")]
-    h.update(json.dumps([list(scene_names), versions, os.environ.get("CC") or "", CFLAGS, sys.platform,
-                         platform.machine()]).encode())
+    h.update(json.dumps([list(scene_names), load_aircraft(aircraft).digest, versions, os.environ.get("CC") or "",
+                         CFLAGS, sys.platform, platform.machine()]).encode())
     return h.hexdigest()[:20]
 
 
-def cached_path(scene_names) -> Path:
+def cached_path(scene_names, aircraft=None) -> Path:
     """Where the FMU of ``scene_names`` is cached: ``<cache>/fmu/<key>/<identifier>.fmu``
     (its digest file next to it)."""
     from mbs.backends.compiled import cache_dir
 
-    return cache_dir() / "fmu" / cache_key(scene_names) / f"{identifier(scene_names)}.fmu"
+    return cache_dir() / "fmu" / cache_key(scene_names, aircraft) / f"{identifier(scene_names, aircraft)}.fmu"
 
 
 def fmu_problem(path: Path) -> str | None:
@@ -482,13 +495,13 @@ def fmu_problem(path: Path) -> str | None:
     return f"{path} has a corrupt member {bad}" if bad else None
 
 
-def family_problem(scene_names) -> str | None:
+def family_problem(scene_names, aircraft=None) -> str | None:
     """Why the scenes ``scene_names`` cannot share one FMU (a scene with a run-time parameter
     the first, primary scene lacks), found on their models before anything is compiled; None
     when they can."""
     from mbs import scenes as registry
 
-    models = [registry.get(n).model() for n in scene_names]
+    models = [registry.get(n, aircraft=load_aircraft(aircraft)).model() for n in scene_names]
     for name, model in zip(scene_names[1:], models[1:]):
         missing = [p for p in model.parameters if p not in models[0].parameters]
         if missing:
@@ -496,8 +509,9 @@ def family_problem(scene_names) -> str | None:
     return None
 
 
-def ensure_fmu(scene_names=DEFAULT_SCENES, force: bool = False, log=None) -> tuple[Path, float]:
-    """The cached FMU of ``scene_names`` (built in a subprocess if absent or not intact);
+def ensure_fmu(scene_names=DEFAULT_SCENES, force: bool = False, log=None, aircraft=None) -> tuple[Path, float]:
+    """The cached FMU of ``scene_names`` of ``aircraft`` (default the Bo105; built in a
+    subprocess if absent or not intact);
     returns (path, build seconds, 0 if it came from the cache). The FMU's digest is recorded
     when it is built and checked (with the zip's CRCs) before a cached one is returned.
     Raises :class:`~mbs.backends.cache.CacheNotWritable` when a build is needed and the
@@ -506,7 +520,8 @@ def ensure_fmu(scene_names=DEFAULT_SCENES, force: bool = False, log=None) -> tup
     from mbs.backends.cache import record, writable_dir
     from mbs.backends.compiled import find_compiler
 
-    path = cached_path(scene_names)
+    craft = load_aircraft(aircraft)
+    path = cached_path(scene_names, craft)
     if not force:
         reason = fmu_problem(path)
         if reason is None:
@@ -515,7 +530,7 @@ def ensure_fmu(scene_names=DEFAULT_SCENES, force: bool = False, log=None) -> tup
             log(f"rebuilding the cached FMU: {reason}")
     writable_dir(path.parent, "FMU cache")
     find_compiler()
-    problem = family_problem(scene_names)
+    problem = family_problem(scene_names, craft)
     if problem:
         raise ValueError(f"cannot build the FMU of {', '.join(scene_names)}: {problem}")
     if log:
@@ -525,7 +540,8 @@ def ensure_fmu(scene_names=DEFAULT_SCENES, force: bool = False, log=None) -> tup
     with tempfile.TemporaryDirectory(prefix="heli-fmu-build-") as cwd:
         env = {**os.environ, "PYTHONDONTWRITEBYTECODE": "1"}
         proc = subprocess.run([sys.executable, "-m", "fmu.build", "--scenes", ",".join(scene_names),
-                               "--dest", str(tmp)], cwd=cwd, env=env, capture_output=True, text=True)
+                               "--aircraft", str(craft.path.resolve()), "--dest", str(tmp)], cwd=cwd, env=env,
+                              capture_output=True, text=True)
     if proc.returncode:
         tmp.unlink(missing_ok=True)
         if proc.returncode == 2:  # a bad family or setting: the builder's one-line message
@@ -542,10 +558,11 @@ def ensure_fmu(scene_names=DEFAULT_SCENES, force: bool = False, log=None) -> tup
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description="build the heli rotor FMU in this process (use ensure_fmu)")
     ap.add_argument("--scenes", default=",".join(DEFAULT_SCENES))
+    ap.add_argument("--aircraft", default=None, help="aircraft file (default: the Bo105)")
     ap.add_argument("--dest", required=True)
     args = ap.parse_args(argv)
     try:
-        build_here(args.scenes.split(","), Path(args.dest))
+        build_here(args.scenes.split(","), Path(args.dest), args.aircraft)
     except ValueError as exc:  # a bad family or setting (CompilerNotFound included): one line for ensure_fmu
         print(" ".join(str(exc).split()), file=sys.stderr)
         return 2

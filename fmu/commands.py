@@ -20,9 +20,9 @@ def cmd_fmu_build(args) -> int:
     if args.native:
         from fmu.native.build import ensure_native_fmu
 
-        path, seconds = ensure_native_fmu(scenes, force=args.force, log=_log)
+        path, seconds = ensure_native_fmu(scenes, force=args.force, log=_log, aircraft=args.aircraft)
     else:
-        path, seconds = build.ensure_fmu(scenes, force=args.force, log=_log)
+        path, seconds = build.ensure_fmu(scenes, force=args.force, log=_log, aircraft=args.aircraft)
     dest = args.out / path.name if args.out.suffix != ".fmu" else args.out
     try:
         dest.parent.mkdir(parents=True, exist_ok=True)
@@ -30,7 +30,8 @@ def cmd_fmu_build(args) -> int:
     except OSError as exc:
         raise ValueError(f"cannot write the FMU to {dest}: {dest.parent} is not a writable folder "
                          f"({exc.strerror or exc}); choose another --out") from None
-    res = {"fmu": str(dest), "cached": str(path), "scenes": list(scenes), "build_s": seconds,
+    res = {"fmu": str(dest), "cached": str(path), "scenes": list(scenes),
+           "aircraft": args.aircraft.name if args.aircraft else "MBB Bo105", "build_s": seconds,
            "size_bytes": dest.stat().st_size}
     how = f"built in {seconds:.1f} s" if seconds else "from the cache"
     emit(res, args.json, [f"{dest} ({dest.stat().st_size / 1e6:.2f} MB, scenes {', '.join(scenes)}; {how})"])
@@ -40,7 +41,7 @@ def cmd_fmu_build(args) -> int:
 def cmd_demo(args) -> int:
     from fmu import demo
 
-    res = demo.run(Path(args.out), args.revs, log=_log)
+    res = demo.run(Path(args.out), args.revs, log=_log, aircraft=args.aircraft)
     lines = [f"{res['scene']}: {res['revs']:g} revolutions through the FMU under fmpy from its periodic trim "
              f"(communication step {res['communication_step_s'] * 1e3:.3f} ms, collective step and cyclic doublet)",
              f"FMU: {res['fmu_cached']} ({'built in %.1f s' % res['build_s'] if res['build_s'] else 'from the cache'})",
@@ -111,6 +112,7 @@ def register(sub, bench) -> None:
     b.add_argument("--force", action="store_true", help="rebuild even if a cached FMU exists")
     b.add_argument("--native", action="store_true",
                    help="the native FMU (HeliRotorNative_<scene>.fmu): C only, no Python at run time")
+    A.add_aircraft(b)
     add_json(b)
     b.set_defaults(fn=cmd_fmu_build)
 
@@ -119,6 +121,7 @@ def register(sub, bench) -> None:
     p.add_argument("--out", type=A.output_folder, default="out/demo", help="output folder (default out/demo)")
     p.add_argument("--revs", type=demo_revs, default=10.0,
                    help="main-rotor revolutions, at least one communication step of 1/100 (default 10)")
+    A.add_aircraft(p)
     add_json(p)
     p.set_defaults(fn=cmd_demo)
 

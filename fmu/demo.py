@@ -1,6 +1,7 @@
 """``heli demo``: the main job.
 
-Builds the Bo105 FMU (or takes it from the cache), starts the ``forward-flight`` scene from
+Builds the FMU of the Bo105 or another aircraft (or takes it from the cache), starts the
+``forward-flight`` scene from
 its periodic trim (``initial_state = "periodic"``: controls, attitude and rotor states of
 :mod:`fmu.periodic`, so that no start-up transient hides the response), runs it through fmpy
 for a few revolutions with a pitch-input schedule on the trim's inputs (a collective step and
@@ -40,10 +41,15 @@ def fmu_facts(path: Path) -> dict:
     return {"inputs": inputs, "recorded": recorded, "step": float(md.defaultExperiment.stepSize)}
 
 
-def run(out: Path, revs: float = 10.0, log=print) -> dict:
-    """Build (cached), run through fmpy and write the files; returns a summary."""
+def run(out: Path, revs: float = 10.0, log=print, aircraft=None) -> dict:
+    """Build (cached), run through fmpy and write the files; returns a summary. ``aircraft``:
+    an :class:`mbs.aircraft.Aircraft`, a packaged name or a file (default the Bo105)."""
+    from mbs import scenes
+    from mbs.simulate import run_record
+
     start = time.perf_counter()
-    path, build_s = build.ensure_fmu(build.DEFAULT_SCENES, log=log)
+    craft = build.load_aircraft(aircraft)
+    path, build_s = build.ensure_fmu(build.DEFAULT_SCENES, log=log, aircraft=craft)
     facts, spec = fmu_facts(path), fmu_spec(path)
     trim = spec["scenes"][SCENE]["periodic"]
     dt, steps_per_rev = facts["step"], 100
@@ -55,7 +61,8 @@ def run(out: Path, revs: float = 10.0, log=print) -> dict:
     run_s = time.perf_counter() - t0
     out.mkdir(parents=True, exist_ok=True)
     copy = Path(shutil.copy2(path, out / path.name))
-    summary = {"scene": SCENE, "initial_state": START, "trim": trim["trim"], "fmu": str(copy),
+    summary = {**run_record(scenes.get(SCENE, aircraft=craft)), "initial_state": START, "trim": trim["trim"],
+               "fmu": str(copy),
                "fmu_cached": str(path), "revs": revs, "communication_step_s": dt,
                "simulated_s": stop, "build_s": build_s, "fmpy_wall_s": run_s,
                "realtime_factor": stop / run_s, "importer": "fmpy.simulate_fmu",

@@ -127,3 +127,24 @@ def add_scene(p: argparse.ArgumentParser, *flags: str, what: str = "scene", **kw
     names = scene_names()
     p.add_argument(*(flags or ("scene",)), choices=names, metavar="SCENE",
                    help=f"{what}: {', '.join(names)} ('heli scenes' describes them)", **kwargs)
+
+
+def aircraft_file(text: str):
+    """Type: an aircraft (a packaged aircraft's name or an aircraft file), loaded and checked;
+    the first problem of a broken file, naming its entry, refuses it."""
+    from mbs import aircraft
+
+    try:
+        return aircraft.load(text)
+    except aircraft.AircraftError as exc:
+        raise Bad(str(exc)) from None
+
+
+def add_aircraft(p: argparse.ArgumentParser) -> None:
+    """Add ``--aircraft FILE``: the helicopter scenes built from another aircraft."""
+    from mbs import aircraft
+
+    p.add_argument("--aircraft", metavar="FILE", type=aircraft_file, default=None,
+                   help="aircraft file (or the name of a packaged aircraft: "
+                        f"{', '.join(aircraft.packaged())}; default bo105) of which the helicopter scenes are "
+                        "built; 'heli aircraft new NAME' writes a template, 'heli aircraft check FILE' checks it")

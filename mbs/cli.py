@@ -18,7 +18,7 @@ import json
 import logging
 import sys
 
-COMMAND_MODULES = ("mbs.commands", "mbs.bench.commands", "mbs.bench.stability", "mbs.bench.work_precision",
+COMMAND_MODULES = ("mbs.commands", "mbs.aircraft.commands", "mbs.bench.commands", "mbs.bench.stability", "mbs.bench.work_precision",
                    "mbs.bench.scaling", "mbs.sweep.commands", "fmu.commands", "viewer.commands")
 
 
@@ -105,7 +105,7 @@ def main(argv: list[str] | None = None) -> int:
     ap = parser()
     args = ap.parse_args(argv)
     _show_messages(bool(getattr(args, "quiet", False)))
-    prog = " ".join(["heli", *(getattr(args, k) for k in ("command", "bench", "fmu_command", "kind")
+    prog = " ".join(["heli", *(getattr(args, k) for k in ("command", "bench", "fmu_command", "aircraft_command", "kind")
                                if isinstance(getattr(args, k, None), str))])
     try:
         return int(args.fn(args) or 0)

@@ -58,14 +58,19 @@ def scene_table(rows: list[dict]) -> str:
 
 
 def _scene(args):
-    """The scene named on the command line with exactly the ``--aero`` switches on (when given)."""
-    if not getattr(args, "aero", None):
-        return args.scene
+    """The scene named on the command line, of the ``--aircraft`` (when given), with exactly the
+    ``--aero`` switches on (when given)."""
     from mbs import scenes
     from mbs.models.helicopter import with_aero
 
     try:
-        return with_aero(scenes.get(args.scene), args.aero)
+        scene = scenes.get(args.scene, aircraft=getattr(args, "aircraft", None))
+    except ValueError as exc:
+        raise ValueError(f"--aircraft {args.aircraft.path}: {exc}") from None
+    if getattr(args, "aero", None) is None:
+        return scene
+    try:
+        return with_aero(scene, args.aero)
     except ValueError as exc:
         raise ValueError(f"--aero {args.aero!r}: {exc}") from None
 
@@ -121,9 +126,13 @@ def _trim_lines(res) -> list[str]:
              f"  final:       max |scaled residual| {np.abs(res.residual).max():.3e}",
              *[f"  {k:20s} {v:+.6f} rad ({np.degrees(v):+.4f} deg)" for k, v in
                [*res.controls.items(), ("roll", res.roll), ("pitch", res.pitch)]]]
-    units = {"thrust": "N", "torque": "N m", "power": "W"}
-    lines += [f"  {k:28s} {v:.6g} {units[k.split('.')[-1]] + ' ' if k.split('.')[-1] in units else ''}(period mean)"
+    lines += [f"  {k:28s} {v:.6g} {res.output_units.get(k, '')} (period mean)".replace(" 1 (", " (")
               for k, v in res.output_means.items()]
+    if res.flapping:
+        lines.append("  flapping (rad, relative to the shaft, beta = beta0 + beta1c cos psi + beta1s sin psi): "
+                     + ", ".join(f"{k} {v:+.5f} ({np.degrees(v):+.3f} deg)" for k, v in res.flapping.items()))
+    if res.rotor:
+        lines.append("  main rotor: " + ", ".join(f"{k} {v:.5g}" for k, v in res.rotor.items()))
     verdict = "converged" if res.converged else "NOT CONVERGED"
     return lines + [f"  {res.summary()['note']}",
                     f"{verdict}: {res.reason}; {res.iterations} Newton iterations, {res.n_jacobian} Jacobians, "
@@ -139,8 +148,7 @@ def cmd_floquet(args) -> int:
     if args.sweep:
         return _floquet_sweep(args)
     settings = parse_settings(args.set)
-    sc = _scene(args)
-    scene = scenes.get(sc) if isinstance(sc, str) else sc
+    sc = scene = _scene(args)
     check_scene(scene)
     system, stepper = evaluators(scene, args.method, args.backend)
     if settings:
@@ -186,7 +194,7 @@ def _floquet_sweep(args) -> int:
 
     start = time.perf_counter()
     name, values = fp.parse_sweep(args.sweep)
-    ana = fp.FanPlotAnalysis(args.scene, fp.parse_settings(args.set), args.method, args.steps_per_rev,
+    ana = fp.FanPlotAnalysis(_scene(args), fp.parse_settings(args.set), args.method, args.steps_per_rev,
                              args.backend, fixed_frame=args.frame != "rotating")
     setup_s = time.perf_counter() - start
     points = fp.sweep(ana, name, values, Progress(f"floquet sweep {args.scene}", not args.quiet))
@@ -271,7 +279,7 @@ def cmd_figures(args) -> int:
     from mbs._progress import Progress
     from mbs.figures import make_all
 
-    res = make_all(Path(args.out), progress=Progress("figures", not args.quiet))
+    res = make_all(Path(args.out), progress=Progress("figures", not args.quiet), aircraft=args.aircraft)
     f3 = res["fig3"]
     lines = [f"Fig. 3 max relative energy error: float64 {f3['float64']['max_rel_energy_error']:.2e}, "
              f"float32 {f3['float32']['max_rel_energy_error']:.2e} "
@@ -311,6 +319,7 @@ def _sweep(text: str):
 def _add_periodic_arguments(p) -> None:
     """The arguments of the analyses at a periodic solution (trim, Floquet, derivatives)."""
     A.add_scene(p, nargs="?", default="forward-flight", what="scene (default forward-flight)")
+    A.add_aircraft(p)
     p.add_argument("--speed", type=A.finite, default=None, help="flight speed in m/s (default: the scene's)")
     p.add_argument("--method", choices=("rk4", "rk8"), default="rk4", help="fixed-step method (default rk4)")
     _steps_per_rev(p)
@@ -345,6 +354,7 @@ def register(sub, bench) -> None:
     p = sub.add_parser("figures", help="regenerate the paper's Fig. 2 and Fig. 3")
     p.add_argument("--out", type=A.output_folder, default="out/figures",
                    help="output folder (default out/figures)")
+    A.add_aircraft(p)
     _quiet(p)
     add_json(p)
     p.set_defaults(fn=cmd_figures)
@@ -397,6 +407,7 @@ def register(sub, bench) -> None:
 
     p = sub.add_parser("simulate", help="run a scene and write results.csv, run.json and plots")
     A.add_scene(p)
+    A.add_aircraft(p)
     p.add_argument("--revs", type=A.positive, default=1.0, help="main-rotor revolutions (default 1)")
     _steps_per_rev(p)
     p.add_argument("--method", choices=FIXED_METHODS, default="rk4",

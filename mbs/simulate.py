@@ -3,8 +3,9 @@
 ``results.csv`` columns: ``time`` (s), every state by name (rad, rad/s, m, m/s, quaternion),
 every model output by name, and the energies ``kinetic_translational``,
 ``kinetic_rotational``, ``potential_gravity``, ``potential_spring``, ``total_energy`` (J).
-``run.json`` records the scene, parameters, integrator and figures, so that a results
-folder can be re-opened (e.g. by the viewer) without guessing.
+``run.json`` records the scene (with its aircraft file and aerodynamics switches: see
+:func:`run_record`), parameters, integrator and figures, so that a results folder can be
+re-opened (e.g. by the viewer, :func:`scene_of_run`) without guessing.
 """
 from __future__ import annotations
 
@@ -50,7 +51,7 @@ class Simulation:
         return cols
 
     def summary(self) -> dict:
-        out = {"scene": self.scene.name, "revs": self.revs, "steps_per_rev": self.steps_per_rev,
+        out = {**run_record(self.scene), "revs": self.revs, "steps_per_rev": self.steps_per_rev,
                "steps": int(round(self.revs * self.steps_per_rev)), "dtype": str(self.system.dtype),
                "backend": self.system.backend, "method": self.method, "compensated_summation": self.compensated,
                "wall_s": self.traj.wall_s,
@@ -60,6 +61,41 @@ class Simulation:
         if self.scene.conservative:
             out["max_rel_energy_error"] = self.max_rel_energy_error
         return out
+
+
+def run_record(scene: _scenes.Scene) -> dict:
+    """What rebuilds ``scene`` (:func:`scene_of_run`): its name and, for a helicopter scene, its
+    aircraft (name, file, SHA-256 of the file) and aerodynamics switches."""
+    if scene.aircraft is None:
+        return {"scene": scene.name}
+    from mbs.models.helicopter import aero_switches
+
+    craft = scene.aircraft
+    return {"scene": scene.name, "aircraft": {"name": craft.name, "file": str(craft.path.resolve()),
+                                              "sha256": craft.digest}, "aero": aero_switches(scene)}
+
+
+def scene_of_run(meta: dict, where: str = "run.json") -> _scenes.Scene:
+    """The scene a ``run.json`` (``meta``, read from ``where``) records: ValueError naming what is
+    missing, or an aircraft file that is gone or has changed since the run."""
+    from mbs import aircraft
+    from mbs.models.helicopter import with_aero
+
+    if "scene" not in meta:
+        raise ValueError(f"no run.json with a scene name next to {where}: cannot tell which model to show")
+    recorded = meta.get("aircraft")
+    craft = None
+    if recorded:
+        try:
+            craft = aircraft.load(recorded["file"])
+        except aircraft.AircraftError as exc:
+            raise ValueError(f"{where}: the run's aircraft {recorded['name']!r} cannot be loaded: {exc}") from None
+        if craft.digest != recorded["sha256"]:
+            raise ValueError(f"{where}: the aircraft file {recorded['file']} has changed since the run; the model "
+                             "would not be the one that ran (restore the file, or run again)")
+    scene = _scenes.get(meta["scene"], aircraft=craft)
+    aero = meta.get("aero")
+    return with_aero(scene, ",".join(aero) or "none") if aero is not None else scene
 
 
 def simulate(scene: str | _scenes.Scene, revs: float = 1.0, steps_per_rev: int | None = None,

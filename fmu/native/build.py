@@ -48,9 +48,10 @@ PLATFORM = "linux64"
 DEFAULT_LIMITS = {"max_substeps": 1_000_000, "hinge_angle": math.pi / 2}  # when the spec has no "limits"
 
 
-def identifier(scenes) -> str:
-    """Model identifier (and file name) of the native FMU: ``HeliRotorNative_<primary>``."""
-    return "HeliRotorNative_" + re.sub(r"\W", "_", scenes[0])
+def identifier(scenes, aircraft=None) -> str:
+    """Model identifier (and file name) of the native FMU: ``HeliRotorNative_<primary>``
+    (``HeliRotorNative_<aircraft>_<primary>`` for another aircraft than the Bo105)."""
+    return pybuild.identifier(scenes, aircraft).replace("HeliRotor_", "HeliRotorNative_", 1)
 
 
 def fmi_headers_dir() -> Path:
@@ -349,10 +350,10 @@ def model_description(spec: dict, guid: str, sources: list[str]) -> bytes:
 
 # -- sources, library, archive -----------------------------------------------------------------
 
-def native_spec(scene_names) -> tuple[dict, dict]:
+def native_spec(scene_names, aircraft=None) -> tuple[dict, dict]:
     """``fmu.build.plan`` with this FMU's identifier."""
-    spec, groups = pybuild.plan(list(scene_names))
-    spec = {**spec, "model_identifier": identifier(scene_names)}
+    spec, groups = pybuild.plan(list(scene_names), aircraft)
+    spec = {**spec, "model_identifier": identifier(scene_names, aircraft)}
     for name, sc in spec["scenes"].items():
         if sc["group"] not in groups:
             raise ValueError(f"scene {name!r}: model group {sc['group']!r} was not planned")
@@ -398,10 +399,10 @@ def guid_of(key: str) -> str:
     return "{" + str(uuid.uuid5(uuid.NAMESPACE_URL, "rotor-mbs/native-fmu/" + key)) + "}"
 
 
-def build_native(scene_names, dest: Path, key: str | None = None) -> Path:
-    """Generate, compile and zip the native FMU of ``scene_names`` into ``dest`` (.fmu)."""
-    spec, groups = native_spec(scene_names)
-    guid = guid_of(key or cache_key(scene_names))
+def build_native(scene_names, dest: Path, key: str | None = None, aircraft=None) -> Path:
+    """Generate, compile and zip the native FMU of ``scene_names`` of ``aircraft`` into ``dest`` (.fmu)."""
+    spec, groups = native_spec(scene_names, aircraft)
+    guid = guid_of(key or cache_key(scene_names, aircraft))
     ident = spec["model_identifier"]
     with tempfile.TemporaryDirectory(prefix="heli-native-fmu-") as tmp:
         root = Path(tmp)
@@ -422,7 +423,7 @@ def _zip(root: Path, dest: Path) -> None:
 
 # -- cache -------------------------------------------------------------------------------------
 
-def cache_key(scene_names) -> str:
+def cache_key(scene_names, aircraft=None) -> str:
     """Hash of everything the native FMU is built from; like :func:`fmu.build.cache_key` it
     needs no compiler (``$CC`` counts when set), so a cached FMU is found without one."""
     h = hashlib.sha256()
@@ -437,24 +438,25 @@ def cache_key(scene_names) -> str:
         h.update(rel.encode() + b"\0" + path.read_bytes())
     for name in FMI_HEADERS:
         h.update((fmi_headers_dir() / name).read_bytes())
-    h.update(json.dumps([list(scene_names), importlib.metadata.version("casadi"), os.environ.get("CC") or "", CFLAGS,
-                         sys.platform]).encode())
+    h.update(json.dumps([list(scene_names), pybuild.load_aircraft(aircraft).digest, importlib.metadata.version("casadi"),
+                         os.environ.get("CC") or "", CFLAGS, sys.platform]).encode())
     return h.hexdigest()[:20]
 
 
-def cached_path(scene_names) -> Path:
+def cached_path(scene_names, aircraft=None) -> Path:
     from mbs.backends.compiled import cache_dir
 
-    return cache_dir() / "fmu-native" / cache_key(scene_names) / f"{identifier(scene_names)}.fmu"
+    return cache_dir() / "fmu-native" / cache_key(scene_names, aircraft) / f"{identifier(scene_names, aircraft)}.fmu"
 
 
-def ensure_native_fmu(scene_names=pybuild.DEFAULT_SCENES, force: bool = False, log=None) -> tuple[Path, float]:
+def ensure_native_fmu(scene_names=pybuild.DEFAULT_SCENES, force: bool = False, log=None,
+                      aircraft=None) -> tuple[Path, float]:
     """The cached native FMU of ``scene_names`` (built here if absent or not intact); returns
     (path, build seconds, 0 if it came from the cache). Verified like the pythonfmu FMU
     (:func:`fmu.build.fmu_problem`): a truncated or changed cached FMU is rebuilt."""
     from mbs.backends.cache import record, writable_dir
 
-    key, path = cache_key(scene_names), cached_path(scene_names)
+    key, path = cache_key(scene_names, aircraft), cached_path(scene_names, aircraft)
     if not force:
         reason = pybuild.fmu_problem(path)
         if reason is None:
@@ -467,7 +469,7 @@ def ensure_native_fmu(scene_names=pybuild.DEFAULT_SCENES, force: bool = False, l
     start = time.perf_counter()
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     try:
-        build_native(scene_names, tmp, key)
+        build_native(scene_names, tmp, key, aircraft)
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise
@@ -479,9 +481,10 @@ def ensure_native_fmu(scene_names=pybuild.DEFAULT_SCENES, force: bool = False, l
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description="build the native heli rotor FMU")
     ap.add_argument("--scenes", default=",".join(pybuild.DEFAULT_SCENES))
+    ap.add_argument("--aircraft", default=None, help="aircraft file (default: the Bo105)")
     ap.add_argument("--dest", required=True)
     args = ap.parse_args(argv)
-    build_native(args.scenes.split(","), Path(args.dest))
+    build_native(args.scenes.split(","), Path(args.dest), aircraft=args.aircraft)
     return 0
 
 

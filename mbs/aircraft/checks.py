@@ -104,8 +104,8 @@ def _tip_mach(v: dict) -> list[str]:
     for name, speed in (("main_rotor", 1.0), ("tail_rotor", v["tail_rotor"]["gear_ratio"])):
         mach = speed * v["main_rotor"]["omega"] * v[name]["radius"] / v["environment"]["speed_of_sound"]
         if mach >= 0.95:
-            out.append(f"{name}.radius: tip Mach number {mach:.3f} in hover: the blade-element model needs "
-                       "subsonic tips (< 0.95)")
+            out.append(f"{name}.radius: tip Mach number {mach:.3f} in hover (tip speed over "
+                       "environment.speed_of_sound): the blade-element model needs subsonic tips (< 0.95)")
     return out
 
 

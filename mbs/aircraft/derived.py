@@ -42,9 +42,15 @@ def blade_mass(mr: dict) -> float:
     return 3 * mr["I_flap"] / (mr["radius"] - mr["flap_hinge_offset"]) ** 2
 
 
+def lag_inertia(mr: dict) -> float:
+    """kg m²: the model's blade (a uniform box of the blade's chord) about its lag hinge."""
+    return mr["I_flap"] + mr["blade_mass"] * mr["chord"] ** 2 / 12
+
+
 def lag_stiffness(mr: dict) -> float:
-    """N m/rad: the lag spring that gives ``lag_frequency`` with the hinge offset's own stiffening."""
-    e, span, inertia = mr["flap_hinge_offset"], mr["radius"] - mr["flap_hinge_offset"], mr["I_flap"]
+    """N m/rad: the lag spring that gives ``lag_frequency`` with the hinge offset's own
+    stiffening, ``ν² = K / (I Ω²) + e S / I`` (S the blade's first moment about the hinge)."""
+    e, span, inertia = mr["flap_hinge_offset"], mr["radius"] - mr["flap_hinge_offset"], lag_inertia(mr)
     first_moment = mr["blade_mass"] * span / 2
     return (mr["lag_frequency"] ** 2 - e * first_moment / inertia) * inertia * mr["omega"] ** 2
 
@@ -97,7 +103,7 @@ def _elastic(values: dict) -> None:
 def _problems(values: dict) -> list[str]:
     mr, out = values["main_rotor"], []
     if mr["lag_stiffness"] < 0:
-        own = math.sqrt(max(mr["lag_frequency"] ** 2 - mr["lag_stiffness"] / (mr["I_flap"] * mr["omega"] ** 2), 0))
+        own = math.sqrt(max(mr["lag_frequency"] ** 2 - mr["lag_stiffness"] / (lag_inertia(mr) * mr["omega"] ** 2), 0))
         out.append(f"main_rotor.lag_frequency: {mr['lag_frequency']:g}/rev is below the {own:.3g}/rev the hinge "
                    "offset alone gives; no lag spring can lower it")
     for section in ("main_rotor", "tail_rotor"):

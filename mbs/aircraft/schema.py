@@ -197,7 +197,8 @@ DERIVED: dict[str, dict[str, Derived]] = {
     "main_rotor": {
         "blade_mass": Derived("kg", "uniform blade from the flap hinge: 3 I_flap / (R - e)^2"),
         "lag_stiffness": Derived("N m/rad", "lag spring giving lag_frequency: (nu^2 - e S / I) I Omega^2, "
-                                 "S = m (R - e) / 2 the blade's first moment about the hinge"),
+                                 "S = m (R - e) / 2 the blade's first moment about the hinge, I = I_flap + m c^2 / 12 "
+                                 "its lag inertia (a box of the chord c)"),
         "tip_loss": Derived("-", "Prandtl's effective-radius factor B = 1 - sqrt(2 C_T) / N_b at the hover C_T "
                             "(Johnson, Helicopter Theory 3.5)"),
     },

@@ -80,3 +80,13 @@ def fit_damped_mode(t: np.ndarray, y: np.ndarray, forcing: float, guess: float,
 
     w, s = least_squares(residual, [2 * np.pi * guess, 0.1 * 2 * np.pi * guess]).x
     return float(w / (2 * np.pi)), float(s / np.hypot(w, s))
+
+
+def azimuth_harmonics(psi: np.ndarray, y: np.ndarray, order: int = 1) -> np.ndarray:
+    """Fourier coefficients of ``y`` (n,) sampled uniformly over whole revolutions of the azimuth
+    ``psi`` (n,) rad (the end of the last revolution not repeated): ``(a0, a1, b1, ..., a_order,
+    b_order)`` with ``y ≈ a0 + Σ a_k cos kψ + b_k sin kψ``."""
+    out = [np.mean(y)]
+    for k in range(1, order + 1):
+        out += [2 * np.mean(y * np.cos(k * psi)), 2 * np.mean(y * np.sin(k * psi))]
+    return np.array(out)

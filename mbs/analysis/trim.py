@@ -19,6 +19,7 @@ minimal-coordinate equations do not compute).
 """
 from __future__ import annotations
 
+import re
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -67,6 +68,9 @@ class Trim:
     output_means: dict[str, float] = field(default_factory=dict)
     radius: float = 1.0  # m: the length scaling position residuals (the main-rotor radius)
     aircraft: str | None = None  # the aircraft's name, for a helicopter scene
+    flapping: dict[str, float] = field(default_factory=dict)  # rad: beta0, beta1c, beta1s
+    rotor: dict[str, float] = field(default_factory=dict)  # mu, C_T, C_T/sigma of the main rotor
+    output_units: dict[str, str] = field(default_factory=dict)
 
     @property
     def iterations(self) -> int:
@@ -94,7 +98,8 @@ class Trim:
                 "steps": [it.step for it in self.history], "iterations": self.iterations,
                 "n_jacobian": self.n_jacobian, "n_residual": self.n_residual, "nfev": self.nfev, "nfwd": self.nfwd,
                 "wall_s": self.wall_s, "setup_s": self.setup_s, "main_rotor_thrust": self.thrust,
-                "outputs": self.output_means, "torque": self.output_means.get("main_rotor.torque"),
+                "outputs": self.output_means, "flapping": self.flapping, "rotor": self.rotor,
+                "torque": self.output_means.get("main_rotor.torque"),
                 "power": self.output_means.get("main_rotor.power"), "note": TORQUE_NOTE}
 
 
@@ -290,7 +295,22 @@ def periodic_solution(sc, speed: float | None = None, climb_rate: float = 0.0, m
     if not res.converged and prob.lay.free:
         res.reason += _beyond_range(system, prob.speed, sc.aircraft)
     out = _result(sc.name, prob, res, prob.speed, climb_rate, steps_per_rev, setup_s, system.nfev - nfev0)
-    out.aircraft = sc.aircraft.name if sc.aircraft is not None else None
+    if sc.aircraft is not None:
+        out.aircraft = sc.aircraft.name
+        out.rotor = rotor_coefficients(sc.aircraft.data, out.thrust, out.speed, system.params(out.params))
+    return out
+
+
+def rotor_coefficients(d, thrust: float | None, speed: float, p: np.ndarray | None = None) -> dict[str, float]:
+    """Advance ratio ``μ = V / (Ω R)``, thrust coefficient ``C_T = T / (ρ π R² (Ω R)²)`` and blade
+    loading ``C_T/σ`` of the main rotor of the aircraft data ``d`` at its nominal speed."""
+    mr, rho = d["main_rotor"], d["environment"]["rho"]
+    tip = mr["omega"] * mr["radius"]
+    sigma = mr["n_blades"] * mr["chord"] / (np.pi * mr["radius"])
+    out = {"mu": speed / tip}
+    if thrust is not None:
+        ct = thrust / (rho * np.pi * mr["radius"] ** 2 * tip**2)
+        out.update({"C_T": ct, "C_T/sigma": ct / sigma})
     return out
 
 
@@ -335,20 +355,33 @@ def _result(scene: str, prob: ShootingProblem, res, speed, climb_rate, steps_per
                *(map(float, attitude) if prob.lay.free else (0.0, 0.0)), x0, p, prob.system.info.state_names,
                res.converged, res.reason, res.r, prob.lay.residual_names, res.history, res.n_jacobian,
                res.n_residual, nfev, prob.nfwd, res.wall_s, setup_s, radius=prob.radius)
-    out.output_means = _mean_outputs(prob, res.z) if res.converged else {}
+    out.output_units = {o["name"]: o["unit"] for o in prob.system.info.outputs}
+    if res.converged:
+        out.output_means, out.flapping = _period_figures(prob, res.z)
     out.thrust = out.output_means.get("main_rotor.thrust")
     return out
 
 
-def _mean_outputs(prob: ShootingProblem, z) -> dict[str, float]:
-    """The model's outputs averaged over the shooting interval (azimuths left out)."""
+def _period_figures(prob: ShootingProblem, z) -> tuple[dict[str, float], dict[str, float]]:
+    """The model's outputs averaged over the shooting interval (azimuths left out) and the
+    main-rotor blades' flapping ``β = β0 + β1c cos ψ + β1s sin ψ`` (rad, relative to the shaft;
+    ψ of each blade from the tail in the sense of rotation), averaged over the blades."""
+    from mbs.analysis.signals import azimuth_harmonics
+
     info = prob.system.info
     names = [n for n in info.output_names if not n.endswith(".azimuth")]
-    if not names:
-        return {}
+    if not info.output_names:
+        return {}, {}
     traj = prob.run(z, every=1)
     y = prob.system.history("outputs", traj, prob.start(z)[1])[1:]
-    return {n: float(y[:, info.output_names.index(n)].mean()) for n in names}
+    means = {n: float(y[:, info.output_names.index(n)].mean()) for n in names}
+    flaps = [i for i, n in enumerate(info.state_names) if re.fullmatch(r"blade\d+\.flap", n)]
+    if "main_rotor.azimuth" not in info.output_names or not flaps:
+        return means, {}
+    psi = y[:, info.output_names.index("main_rotor.azimuth")]
+    rows = [azimuth_harmonics(psi + 2 * np.pi * k / len(flaps), traj.x[1:, i]) for k, i in enumerate(flaps)]
+    beta0, beta1c, beta1s = np.mean(rows, axis=0)
+    return means, {"beta0": float(beta0), "beta1c": float(beta1c), "beta1s": float(beta1s)}
 
 
 def write_trim(result: Trim, path: Path, key: str | None = None) -> Path:

@@ -44,7 +44,11 @@ def _axes(args) -> dict:
 
 def _options(args) -> dict:
     """The settings shared by every point (recorded with the table)."""
+    from mbs.sweep.models import aircraft_option
+
     out = {"backend": args.backend, "method": args.method, "steps_per_rev": args.steps_per_rev}
+    if args.aircraft is not None:
+        out["aircraft"] = aircraft_option(args.aircraft)
     if args.kind == "trim":
         out.update(climb_rate=args.climb_rate, tol=args.tol, iterations=args.iterations)
     if args.kind == "simulate":
@@ -104,8 +108,9 @@ def _setting(text: str):
 
 
 def _common(p: argparse.ArgumentParser) -> None:
-    """Arguments of every sweep: scene, where to run, where to write."""
+    """Arguments of every sweep: scene, aircraft, where to run, where to write."""
     A.add_scene(p)
+    A.add_aircraft(p)
     p.add_argument("--param", action="append", metavar="NAME=LO:HI:N", type=A.checked_by(_axis),
                    help="sweep a run-time parameter too (repeatable; the grid is every combination)")
     where = p.add_mutually_exclusive_group()

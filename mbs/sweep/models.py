@@ -35,16 +35,31 @@ def _model_options(kind: str, options: dict) -> dict:
     """The options that change the built evaluators (not those of a single point)."""
     names = {"trim": ("backend", "method"), "simulate": ("backend", "dtype"),
              "floquet": ("backend", "method", "steps_per_rev", "settings", "frame")}[kind]
-    return {n: options.get(n) for n in names}
+    return {n: options.get(n) for n in (*names, "aircraft")}
+
+
+def scene_of(scene: str, options: dict):
+    """The scene ``scene`` of the sweep's aircraft (``options["aircraft"]``: file and SHA-256, or
+    absent for the Bo105); ValueError when the file has changed since the sweep began."""
+    from mbs import aircraft, scenes
+
+    recorded = options.get("aircraft")
+    craft = aircraft.load(recorded["file"]) if recorded else None
+    if craft is not None and craft.digest != recorded["sha256"]:
+        raise ValueError(f"the aircraft file {recorded['file']} has changed since the sweep began")
+    return scenes.get(scene, aircraft=craft)
+
+
+def aircraft_option(craft) -> dict:
+    """``options["aircraft"]`` of a sweep of ``craft`` (an :class:`mbs.aircraft.Aircraft`)."""
+    return {"file": str(craft.path.resolve()), "sha256": craft.digest}
 
 
 def build(kind: str, scene: str, options: dict):
     """Build (compile, or load from the cache) what a point of ``kind`` needs."""
-    from mbs import scenes
-
     if kind not in KINDS:
         raise ValueError(f"sweep kind {kind!r} unknown; choose one of {', '.join(KINDS)}")
-    sc, backend = scenes.get(scene), options.get("backend", "compiled")
+    sc, backend = scene_of(scene, options), options.get("backend", "compiled")
     if kind == "simulate":
         return sc.system(backend, options.get("dtype", "float64"))
     if kind == "trim":
@@ -61,7 +76,7 @@ def _trim_evaluators(sc, backend: str, method: str):
     """The system and tangent stepper of a trimmable scene (ValueError naming the scene otherwise)."""
     from mbs.analysis.trim import _check_scene
 
-    _check_scene(sc.name)
+    _check_scene(sc)
     return sc.system(backend), _stepper(sc, method, backend)
 
 

@@ -59,7 +59,7 @@ def trim_point(built, scene: str, inputs: dict, options: dict) -> tuple[dict, st
 
     system, stepper = built
     system = WithParameters(system, **_parameters(inputs, ("speed", "climb_rate")))
-    res = trim(scene, speed=inputs.get("speed", options.get("speed")),
+    res = trim(models.scene_of(scene, options), speed=inputs.get("speed", options.get("speed")),
                climb_rate=inputs.get("climb_rate", options.get("climb_rate", 0.0)),
                method=options.get("method", "rk4"), steps_per_rev=options.get("steps_per_rev"),
                tol=options.get("tol", 1e-10), max_iterations=options.get("iterations", 20),
@@ -76,7 +76,8 @@ def simulate_point(built, scene: str, inputs: dict, options: dict) -> tuple[dict
     is the envelope (min, max, mean) of every plotted coordinate and model output."""
     from mbs.simulate import simulate
 
-    sim = simulate(scene, options.get("revs", 1.0), options.get("steps_per_rev"), params=dict(inputs),
+    sim = simulate(models.scene_of(scene, options), options.get("revs", 1.0), options.get("steps_per_rev"),
+                   params=dict(inputs),
                    system=built, method=options.get("method", "rk4"))
     if not sim.traj.ok:
         return {}, "failed", sim.traj.message
