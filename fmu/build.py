@@ -102,7 +102,7 @@ def plan(scene_names, aircraft=None) -> tuple[dict, dict]:
     computed = [v for v in variables if v["causality"] in ("output", "local")]
     spec = {"model_identifier": identifier(scene_names, craft), "primary": scene_names[0], "family": list(scene_names),
             "aircraft": {"name": craft.name, "file": craft.path.name, "sha256": craft.digest},
-            "description": f"{primary[0].description} (scenes: {', '.join(scene_names)})",
+            "description": f"{craft.name}: {primary[0].description} (scenes: {', '.join(scene_names)})",
             "version": _version(), "variables": variables, "n_computed": len(computed),
             "default_experiment": _default_experiment(primary), "limits": dict(LIMITS),
             "scenes": {n: _scene_spec(per_scene[n], variables, starts[n]) for n in scene_names}}

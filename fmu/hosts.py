@@ -234,16 +234,16 @@ def run_libcosim(fmu: str | Path, stop: float, dt: float, table: np.ndarray, nam
 
 def run_core(scene: str, times: list[float], table: np.ndarray, max_step: float | None = None,
              params: dict | None = None, names: list[str] | None = None, method: str = "rk4",
-             x0: list[float] | None = None) -> dict:
+             x0: list[float] | None = None, aircraft=None) -> dict:
     """The FMU's computation done directly with the core's public API: per communication
     step ``[t_k, t_k+1]``, ``system.run`` of ``n = ceil(dt / max_step)`` steps of ``method`` of
     ``dt / n`` with the inputs held, from ``x0`` (default the scene's initial state); outputs
     as the FMU defines them (hinge coordinates and rates, model outputs, fuselage position,
-    Euler angles and velocities, total energy)."""
+    Euler angles and velocities, total energy). ``aircraft``: as :func:`mbs.scenes.get`."""
     from mbs import scenes
     from mbs._rotation import quat_to_euler
 
-    sc = scenes.get(scene)
+    sc = scenes.get(scene, aircraft)
     system = sc.system("compiled")
     info = system.info
     base = system.params(params or {})

@@ -7,8 +7,9 @@ velocities and every rotor state from :func:`mbs.analysis.trim.trim` (RK4 at the
 steps per revolution, the FMU's default step), so that a run with the trim inputs held is
 periodic from its first step.
 
-The trims are computed once and stored with their provenance in ``periodic_starts.json``
-(``python -m fmu.periodic`` rewrites it). The FMU build checks each stored start against
+The trims of the packaged Bo105 are computed once and stored with their provenance in
+``periodic_starts.json`` (``python -m fmu.periodic`` rewrites it); another aircraft's are
+trimmed when its FMU is built. The FMU build checks each stored start against
 the model it compiles by running it over the shooting interval of the trim (two
 revolutions, teeter reversed) and uses it when the scaled periodicity residual is below
 :data:`TOLERANCE`; otherwise it trims that scene again at build time (slower: the tangent
@@ -33,14 +34,15 @@ TOLERANCE = 1e-8
 revolution; the trims converge to 1e-10 or below)."""
 
 
-def compute(scene: str) -> dict:
-    """The periodic trim of ``scene`` at its own speed as a stored entry: controls (rad),
-    every state by name (SI units, rad), the trim's figures and its provenance."""
+def compute(scene) -> dict:
+    """The periodic trim of ``scene`` (a name or a :class:`mbs.scenes.Scene`) at its own speed as
+    a stored entry: controls (rad), every state by name (SI units, rad), the trim's figures and
+    its provenance."""
     from mbs.analysis.trim import trim
 
     res = trim(scene, method="rk4")
     if not res.converged:
-        raise RuntimeError(f"the periodic trim of {scene!r} did not converge: {res.reason}")
+        raise RuntimeError(f"the periodic trim of {getattr(scene, 'name', scene)!r} did not converge: {res.reason}")
     return {"speed": res.speed, "climb_rate": res.climb_rate, "method": res.method,
             "steps_per_rev": res.steps_per_rev, "shooting_revs": res.period.revs, "controls": res.controls,
             "roll": res.roll, "pitch": res.pitch, "state": res.state,
@@ -106,14 +108,18 @@ def start(scene, system, log=None) -> dict | None:
 
     if not trimmable(scene):
         return None
-    entry = stored().get(scene.name)
+    bo105 = scene.aircraft is None or (scene.aircraft.packaged and scene.aircraft.key == "bo105")
+    entry = stored().get(scene.name) if bo105 else None
     r = residual(entry, system, scene) if entry else float("inf")
     if r <= TOLERANCE:
         return {**entry, "check_residual": r}
-    if log:
+    if log and bo105:
         log(f"the stored periodic start of {scene.name!r} does not hold for this model (residual {r:.3g} > "
             f"{TOLERANCE:g}); trimming it now (python -m fmu.periodic stores it)")
-    entry = compute(scene.name)
+    elif log:
+        log(f"trimming the periodic start of {scene.name!r} of the {scene.aircraft.name} (the stored starts are "
+            "the Bo105's)")
+    entry = compute(scene)
     return {**entry, "check_residual": residual(entry, system, scene)}
 
 
