@@ -368,7 +368,7 @@ def register(sub, bench) -> None:
                    help="most Newton iterations before giving up (default 20)")
     p.add_argument("--write", metavar="PATH", nargs="?", const=str(user_trims()), default=None,
                    type=trim_file, help="store the converged trim in the TOML file PATH (other entries kept; the "
-                   f"format of mbs/models/bo105_trim.toml); without PATH in {user_trims()}")
+                   f"format of mbs/aircraft/data/bo105_trim.toml); without PATH in {user_trims()}")
     _aero(p)
     _quiet(p)
     add_json(p)

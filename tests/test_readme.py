@@ -1,15 +1,19 @@
 """The README's code blocks run as written, in README order, in one fresh working folder.
 
-``sh`` blocks run in bash (``set -e``: every line must succeed) with the installed ``heli``
-on the ``PATH``; ``python`` blocks run as scripts (``python block.py``, so that a block
+The folder is a user's after command 1 alone: a fresh ``.venv`` with the project installed
+without the test extras. ``sh`` blocks run in bash (``set -e``: every line must succeed) with
+the ``PATH`` of the test process minus any virtual environment, so a block reaches ``heli``
+only as a user would, by activating ``.venv`` or naming ``.venv/bin/heli``; ``python`` blocks
+run as scripts with that environment's Python (``.venv/bin/python block.py``, so that a block
 guarded by ``if __name__ == "__main__"`` starts its worker processes as a user's script
 would). The two set-up blocks begin with the installation itself: the test command is what
 CI runs (``.ci/run`` runs exactly that line), and of the first block the test runs what
-follows the installation, ``.venv/bin/heli demo``, with ``.venv`` the installed
-environment, so that the FMU snippet further down finds ``out/demo``.
+follows the installation, ``.venv/bin/heli demo``, so that the FMU snippet further down finds
+``out/demo``.
 
-All blocks run once per session (about three minutes with warm caches: the demo, the
-simulations, trims and Floquet analyses of the usage block and three small Dask sweeps);
+All blocks run once per session (about a minute to install ``.venv`` from pip's cache, then
+about three minutes with warm model caches: the demo, the simulations, trims and Floquet
+analyses of the usage blocks and three small Dask sweeps);
 each block is then one test with its own output. The scene table is checked against
 ``heli scenes --markdown``.
 """
@@ -63,20 +67,36 @@ def runnable(block: Block) -> str | None:
     return text + "\n"
 
 
+def user_path() -> str:
+    """The ``PATH`` of this process without the folders of virtual environments (this one's)."""
+    keep = [p for p in os.environ.get("PATH", "").split(os.pathsep)
+            if p and not (Path(p) / "activate").exists() and Path(p) != VENV / "bin"]
+    return os.pathsep.join(keep)
+
+
 def run_block(block: Block, folder: Path) -> subprocess.CompletedProcess:
-    env = {**os.environ, "PATH": f"{VENV / 'bin'}{os.pathsep}{os.environ.get('PATH', '')}",
-           "MPLBACKEND": "Agg", "PYTHONUNBUFFERED": "1"}
+    env = {k: v for k, v in os.environ.items() if k not in ("VIRTUAL_ENV", "PYTHONHOME", "PYTHONPATH")}
+    env.update(PATH=user_path(), MPLBACKEND="Agg", PYTHONUNBUFFERED="1")
     script = folder / f"block_{block.line}.{'py' if block.language == 'python' else 'sh'}"
     script.write_text(runnable(block))
-    command = [sys.executable, script.name] if block.language == "python" else ["bash", "-e", script.name]
+    python = str(folder / ".venv" / "bin" / "python")
+    command = [python, script.name] if block.language == "python" else ["bash", "-e", script.name]
     return subprocess.run(command, cwd=folder, env=env, capture_output=True, text=True, timeout=TIMEOUT)
+
+
+def install_command_1(folder: Path) -> None:
+    """What command 1 installs, into ``folder/.venv``: the project without the test extras."""
+    subprocess.run([sys.executable, "-m", "venv", ".venv"], cwd=folder, check=True)
+    proc = subprocess.run([str(folder / ".venv" / "bin" / "pip"), "install", "-q", "-e", str(ROOT)], cwd=folder,
+                          capture_output=True, text=True, timeout=TIMEOUT)
+    assert proc.returncode == 0, proc.stderr[-3000:]
 
 
 @pytest.fixture(scope="session")
 def readme_runs(tmp_path_factory) -> dict[int, subprocess.CompletedProcess]:
-    """Each runnable block's process, run in README order in one folder."""
+    """Each runnable block's process, run in README order in one folder after command 1."""
     folder = tmp_path_factory.mktemp("readme")
-    (folder / ".venv").symlink_to(VENV, target_is_directory=True)
+    install_command_1(folder)
     return {b.line: run_block(b, folder) for b in blocks() if runnable(b) is not None}
 
 

@@ -37,6 +37,7 @@ class Recording:
     name: str = ""
     revolution: float | None = None
     P: np.ndarray | None = None
+    plots: dict | None = None  # the scene's hinge-angle panels (title -> names)
 
     @property
     def info(self):
@@ -66,7 +67,7 @@ def from_simulation(sim) -> Recording:
     if system.dtype != np.float64:
         system = sim.scene.system("vm")
     return _checked(Recording(system, sim.traj.t, sim.traj.x, sim.params, sim.scene.name,
-                              sim.scene.revolution(system, sim.params)))
+                              sim.scene.revolution(system, sim.params), plots=sim.scene.plots))
 
 
 def from_results(path: str | Path, backend: str = "vm") -> Recording:
@@ -76,13 +77,10 @@ def from_results(path: str | Path, backend: str = "vm") -> Recording:
     parameters are taken from ``run.json``, or row by row from columns of the same name
     (inputs that change during the run).
     """
-    from mbs import scenes
-    from mbs.simulate import read_results
+    from mbs.simulate import read_results, scene_of_run
 
     cols, meta = read_results(Path(path))
-    if "scene" not in meta:
-        raise ValueError(f"no run.json with a scene name next to {path}: cannot tell which model to show")
-    scene = scenes.get(meta["scene"])
+    scene = scene_of_run(meta, str(path))
     system = scene.system(backend)
     names = system.info.state_names
     missing = [n for n in ["time", *names] if n not in cols]
@@ -95,7 +93,7 @@ def from_results(path: str | Path, backend: str = "vm") -> Recording:
     if varying:
         P = np.array([system.params(p, **{n: cols[n][i] for n in varying}) for i in range(len(cols["time"]))])
     x = np.column_stack([cols[n] for n in names])
-    return _checked(Recording(system, cols["time"], x, p, scene.name, scene.revolution(system, p), P))
+    return _checked(Recording(system, cols["time"], x, p, scene.name, scene.revolution(system, p), P, scene.plots))
 
 
 def as_recording(source, backend: str = "vm") -> Recording:

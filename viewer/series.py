@@ -65,11 +65,8 @@ def input_panels(rec) -> dict[str, list[str]]:
 
 def hinge_panels(rec) -> dict[str, list[str]]:
     """Panel title -> names: the scene's plot panels, else the flap, lag and teeter coordinates."""
-    from mbs import scenes
-
-    known = scenes.all_scenes()
-    if rec.name in known and known[rec.name].plots:
-        return dict(known[rec.name].plots)
+    if rec.plots:
+        return dict(rec.plots)
     out: dict[str, list[str]] = {}
     for name in rec.info.q_names:
         match = HINGE.match(name)

@@ -386,7 +386,7 @@ def _period_figures(prob: ShootingProblem, z) -> tuple[dict[str, float], dict[st
 
 def write_trim(result: Trim, path: Path, key: str | None = None) -> Path:
     """Store ``result`` under ``key`` (default the scene) in the TOML file ``path`` (other
-    entries kept; the format of ``mbs/models/bo105_trim.toml``, which a copy can replace)."""
+    entries kept; the format of ``mbs/aircraft/data/bo105_trim.toml``; an aircraft file reads its stored trims from ``<stem>_trim.toml`` beside it)."""
     import sys
 
     tomllib = __import__("tomllib" if sys.version_info >= (3, 11) else "tomli")
