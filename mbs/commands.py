@@ -140,7 +140,6 @@ def _trim_lines(res) -> list[str]:
 
 
 def cmd_floquet(args) -> int:
-    from mbs import scenes
     from mbs.analysis.fanplot import WithParameters, parse_settings
     from mbs.analysis.floquet import check_scene, floquet
     from mbs.analysis.trim import evaluators

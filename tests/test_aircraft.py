@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from aircraft_files import edited, entries, mirrored, write
+from test_cli_errors import run_main
 from mbs import aircraft, cli, scenes
 from mbs.aircraft import derived, performance, units
 from mbs.aircraft.schema import ENTRIES
@@ -111,15 +112,6 @@ BROKEN = {  # what is wrong -> (the change, the words of the one line)
     "supersonic tip": (_set("environment", "speed_of_sound", value=200.0), "main_rotor.radius: tip Mach number 1.090"),
     "delta3 not modelled": (_set("tail_rotor", "delta3", value=0.3), "tail_rotor.delta3: 0.3 rad"),
 }
-
-
-def run_main(argv: list[str], capsys) -> tuple[int, str]:
-    """``mbs.cli.main(argv)``: (exit status, stderr)."""
-    try:
-        code = cli.main(argv)
-    except SystemExit as exc:
-        code = exc.code
-    return code, capsys.readouterr().err
 
 
 @pytest.mark.parametrize("what", list(BROKEN))

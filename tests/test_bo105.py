@@ -7,7 +7,6 @@ import pytest
 from mbs import analysis, scenes
 from mbs.cli import main
 from mbs import aircraft
-from mbs.models import helicopter
 from mbs.simulate import simulate
 
 ALLOWED_SOURCES = {"S1", "S1a", "S1b", "S2", "S3", "DER", "EST", "STD"}

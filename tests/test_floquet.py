@@ -15,7 +15,6 @@ from mbs.analysis.monodromy import TangentStepper
 from mbs.analysis.trim import periodic_solution
 from mbs.cli import main
 from mbs import aircraft
-from mbs.models import helicopter
 
 
 def _closed_form(system):

@@ -12,7 +12,6 @@ from mbs.analysis.floquet import analyse
 from mbs.analysis.monodromy import TangentStepper
 from mbs.analysis.trim import periodic_solution
 from mbs import aircraft
-from mbs.models import helicopter
 from mbs.models.mathieu import PERIOD, mathieu
 
 

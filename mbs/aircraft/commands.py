@@ -1,6 +1,8 @@
 """``heli aircraft check|new|list``: the aircraft files."""
 from __future__ import annotations
 
+import re
+import sys
 from pathlib import Path
 
 from mbs import arguments as A
@@ -15,7 +17,7 @@ def cmd_check(args) -> int:
     out = report.summary()
     if not report.ok:
         for line in lines(report):  # every problem, one line each, then the usual error exit
-            print(f"heli aircraft check: error: {line}", file=__import__("sys").stderr)
+            print(f"heli aircraft check: error: {line}", file=sys.stderr)
         if args.json:
             emit(out, True, [])
         return 2
@@ -38,8 +40,6 @@ def cmd_new(args) -> int:
 
 
 def _stem(name: str) -> str:
-    import re
-
     return re.sub(r"\W+", "_", name.strip().lower()).strip("_") or "aircraft"
 
 

@@ -396,7 +396,7 @@ def write_trim(result: Trim, path: Path, key: str | None = None) -> Path:
                                     "pitch": result.pitch,
                                     **{k: v for k, v in result.state.items() if ".inflow" in k},
                                     "max_abs_residual": float(np.abs(result.residual).max())}
-    lines = ["# Periodic trims of the Bo105 model (DER): written by `heli trim SCENE --write PATH`",
+    lines = [f"# Periodic trims of the {result.aircraft or result.scene} model (DER): written by `heli trim SCENE --write PATH`",
              "# (mbs/analysis/trim.py). Angles in rad, speed and inflow in m/s, residual scaled (per R, rev).", ""]
     for name, e in sorted(entries.items()):
         lines += [f'["{name}"]'] + [f'"{k}" = {float(v)!r}' for k, v in e.items()] + [""]
