@@ -180,13 +180,13 @@ def derivatives(scene: str = "forward-flight", speed: float | None = None, metho
     sc = _check_scene(scene)
     system = system or sc.system(backend)
     if not TrimLayout.of(system.info).free:
-        raise ValueError(f"scene {scene!r} has no free fuselage: derivatives need a free-flying scene; "
+        raise ValueError(f"scene {sc.name!r} has no free fuselage: derivatives need a free-flying scene; "
                          f"free-flying trimmable scenes: {', '.join(_free_scenes(scenes))}")
     stepper = stepper or TangentStepper(sc.model(), method, backend)
     start = time.perf_counter()
     sol = periodic_solution(sc, speed, method=method, steps_per_rev=steps_per_rev, system=system, stepper=stepper)
     if not sol.converged:
-        raise RuntimeError(f"no trim of {scene!r} at {sol.speed:g} m/s: {sol.reason}")
+        raise RuntimeError(f"no trim of {sc.name!r} at {sol.speed:g} m/s: {sol.reason}")
     held_stepper = held_stepper or HeldStepper(sc.model(), method, backend)
     return linearise(sol, system, held_stepper, sol.radius, start)
 

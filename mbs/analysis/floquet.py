@@ -170,7 +170,7 @@ def floquet(scene: str = "forward-flight", speed: float | None = None, method: s
     stepper = stepper or TangentStepper(sc.model(), method, backend)
     sol = periodic_solution(sc, speed, method=method, steps_per_rev=steps_per_rev, system=system, stepper=stepper)
     if not sol.converged:
-        raise RuntimeError(f"no periodic solution of {scene!r} to analyse: {sol.reason}")
+        raise RuntimeError(f"no periodic solution of {sc.name!r} to analyse: {sol.reason}")
     if frame == "rotating":
         return analyse(sol, system, stepper, record_every)
     return in_fixed_frame(sol, system, stepper, record_every)
