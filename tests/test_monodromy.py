@@ -74,7 +74,7 @@ def test_forward_flight_sensitivity_to_state_and_controls_equals_central_differe
 
 def test_bo105_period_is_four_revolutions_shot_over_two_with_the_teeter_reversed():
     system = scenes.get("forward-flight").system("compiled")
-    period = rotor_period(system.info, 44.4)
+    period = rotor_period(system.info, 44.4, 5.25)
     names = system.info.state_names
     assert (period.revs, period.full_revs) == (2, 4)
     assert [names[i] for i in period.flip] == ["seesaw.teeter", "seesaw.teeter_rate"]
@@ -85,10 +85,21 @@ def test_the_model_is_equivariant_under_the_half_period_symmetry():
     """``f(x, t + 2T) = S f(S x, t)`` at a generic state: the tail rotor, turned by half a
     revolution, is the same rotor with the teeter reversed."""
     system = scenes.get("forward-flight").system("compiled")
-    period = rotor_period(system.info, 44.4)
+    period = rotor_period(system.info, 44.4, 5.25)
     s = period.symmetry(system.info.nx)
     x = system.run(system.x0(**{"seesaw.teeter": 0.01}), 0.0, 1e-3, 37).x[-1]
     t = 0.0123
     lhs, rhs = system.rhs(x, t + period.duration), s * system.rhs(s * x, t)
     assert np.abs(lhs - rhs).max() <= 1e-9 * np.abs(lhs).max()
     assert np.abs(lhs - system.rhs(x, t)).max() > 1e-3 * np.abs(lhs).max()  # time does matter
+
+
+def test_a_gear_ratio_without_a_short_period_is_refused():
+    """Lynx-like 5.209 (185.6/35.63 rad/s) repeats only after hundreds of revolutions: a periodic
+    trim over it is refused with a ratio that would do; a rigid tail rotor of four identical
+    blades repeats after a quarter of its turn (5.25: one main-rotor revolution)."""
+    system = scenes.get("forward-flight").system("compiled")
+    with pytest.raises(ValueError, match=r"tail_rotor.gear_ratio: 5.209 repeats .* every 1000 main-rotor revolutions.*e.g. 5.2 \(26/5\)"):
+        rotor_period(system.info, 44.4, 5.209)
+    rigid = scenes.get("forward-flight", "lynx").system("compiled")
+    assert rotor_period(rigid.info, 35.63, 5.25).revs == 1 and rotor_period(rigid.info, 35.63, 5.8).revs == 5
