@@ -29,6 +29,7 @@ from mbs import _rotation as rot
 from mbs.aero import (Airfoil, Compressibility, Download, FuselageAero, HubDrag, LiftingSurface, Rotor,
                       RotorAero, RotorModel, WakeGeometry, momentum_inflow)
 from mbs.joints import DrivenHinge, Fixed, FreeJoint, Hinge, Serial
+from mbs.loads.rotorcraft import add_load_outputs
 from mbs.models.elastic_blade import add_elastic_blade, rotor_pieces
 from mbs.scenes import Scene, register
 from mbs.tree import Model
@@ -487,6 +488,7 @@ def build(cfg: Config = Config(), data: Data | None = None, name: str = "bo105")
     if cfg.rotors == "driven":
         _add_parameters(m, d, cfg, trim, stored)
     _add_outputs(m, d, cfg)
+    add_load_outputs(m, d, cfg)
     _set_initial(m, d, cfg, trim, stored)
     return m
 
