@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 
 from mbs import arguments as A
@@ -121,13 +122,26 @@ def _trim_lines(res) -> list[str]:
              f"  final:       max |scaled residual| {np.abs(res.residual).max():.3e}",
              *[f"  {k:20s} {v:+.6f} rad ({np.degrees(v):+.4f} deg)" for k, v in
                [*res.controls.items(), ("roll", res.roll), ("pitch", res.pitch)]]]
-    units = {"thrust": "N", "torque": "N m", "power": "W"}
-    lines += [f"  {k:28s} {v:.6g} {units[k.split('.')[-1]] + ' ' if k.split('.')[-1] in units else ''}(period mean)"
-              for k, v in res.output_means.items()]
+    lines += [f"  {k:28s} {v:.6g} {_unit(k)}(period mean)" for k, v in res.output_means.items()
+              if not OTHER_BLADES.match(k)]
     verdict = "converged" if res.converged else "NOT CONVERGED"
     return lines + [f"  {res.summary()['note']}",
                     f"{verdict}: {res.reason}; {res.iterations} Newton iterations, {res.n_jacobian} Jacobians, "
                     f"{res.n_residual} residual runs, {res.wall_s:.2f} s (+ {res.setup_s:.2f} s set-up)"]
+
+
+OTHER_BLADES = re.compile(r"blade([2-9]|\d{2,})\.")
+"""Outputs of main-rotor blades other than blade 1 (left out of the trim's report: in a trim
+they repeat blade 1's; ``--json`` has them all)."""
+
+
+def _unit(name: str) -> str:
+    """The unit of a rotor output (with a trailing space), from its name."""
+    last = name.rsplit(".", 1)[-1]
+    for unit, words in (("N m ", ("moment", "torque")), ("N ", ("force", "thrust")), ("W ", ("power",))):
+        if any(last.startswith(w) or last.endswith(w) for w in words):
+            return unit
+    return ""
 
 
 def cmd_floquet(args) -> int:
