@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import mbs
-from mbs import BodyTorque, DrivenHinge, Fixed, Hinge, Model, PointForce, Serial
+from mbs import BodyTorque, DrivenHinge, Fixed, Hinge, Model, PointForce, Serial, scenes
 from mbs.loads.outputs import COMPONENTS, add_hinge_torque, add_joint_loads
 from trees import random_chain, random_state, random_tree
 
@@ -93,7 +93,7 @@ def test_the_free_joint_carries_nothing():
 def test_the_bo105s_free_fuselage_joint_carries_nothing():
     """forward-flight at its start: aerodynamics on every blade, both rotors driven, the
     fuselage free: the whole chain of hub and blade loads leaves nothing for the free joint."""
-    model = mbs.scenes.get("forward-flight").model()
+    model = scenes.get("forward-flight").model()
     add_joint_loads(model, "fuselage")
     system = mbs.build(model, "vm")
     force, moment = joint_loads(system, system.x0(), 0.013)["fuselage"]
