@@ -17,8 +17,8 @@ blade's segments ``blade<k>_<j>``), ``tail_hub`` with ``seesaw`` and tail blades
 * ``main_rotor.hub.*``, ``tail_rotor.hub.*``: what the rotor exerts on the airframe at its
   hub, in the airframe's body axes (world axes for a hub on the world);
 * with driven rotors, ``<rotor>.shaft_torque`` (the drive's torque on the rotor) and
-  ``<rotor>.shaft_power`` (times the rotor speed), and ``engine.power``
-  (:class:`mbs.loads.engine.Engine`).
+  ``<rotor>.shaft_power`` (times the rotor speed), and, when the rotors sit on an airframe
+  (free or clamped), ``engine.power`` (:class:`mbs.loads.engine.Engine`).
 """
 from __future__ import annotations
 
@@ -37,8 +37,8 @@ def add_load_outputs(m: Model, d, cfg) -> list[str]:
     for rotor, (hub, _) in ROTORS.items():
         if hub in m.bodies:
             parent = m.bodies[hub].parent
-            names += add_joint_loads(m, hub, f"{rotor}.hub", frame=parent if parent != WORLD else WORLD,
-                                     on="parent", what=f"{rotor.replace('_', '-')} hub load on the "
+            names += add_joint_loads(m, hub, f"{rotor}.hub", frame=parent, on="parent",
+                                     what=f"{rotor.replace('_', '-')} hub load on the "
                                      f"{'airframe' if parent != WORLD else 'ground'}")
     if cfg.rotors == "driven" and "omega" in m.parameters:
         names += _power(m, d)
@@ -73,6 +73,8 @@ def _power(m: Model, d) -> list[str]:
         m.add_output(f"{rotor}.shaft_power", power, "W", f"{what} shaft power: shaft torque times rotor speed")
         names += [torque, f"{rotor}.shaft_power"]
         powers.append(power)
+    if m.bodies["main_hub"].parent == WORLD:  # a rotor on a test stand: no engine
+        return names
     engine = Engine.of(d)
     m.add_output("engine.power", lambda s: engine.power(*[p(s) for p in powers]), "W",
                  f"engine power: the rotors' shaft power over the transmission efficiency {engine.efficiency:g}, "
