@@ -41,7 +41,8 @@ def test_both_fmus_output_the_loads_equal_to_the_core(python_fmu, python_spec, n
     spec = python_spec
     outputs = {v["name"]: v for v in spec["variables"] if v["causality"] == "output"}
     assert set(NAMES) <= set(outputs) and outputs["main_rotor.hub.force_z"]["unit"] == "N"
-    assert outputs["engine.power"]["unit"] == "W" and "transmission efficiency" in outputs["engine.power"]["description"]
+    assert outputs["engine.power"]["unit"] == "W"
+    assert "transmission efficiency" in outputs["engine.power"]["description"]
     dt = spec["default_experiment"]["step"]
     inputs = {v["name"]: spec["scenes"]["forward-flight"]["defaults"][v["name"]]
               for v in spec["variables"] if v["causality"] == "input"}

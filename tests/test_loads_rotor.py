@@ -91,7 +91,8 @@ def test_a_blade_5_percent_heavier_brings_its_centrifugal_force_as_a_1_per_rev(i
     print(f"1/rev hub force with blade 1 5 % heavier: clamped x {clamped.harmonic('main_rotor.hub.force_x', 1):.0f}, "
           f"y {clamped.harmonic('main_rotor.hub.force_y', 1):.0f} N; free flight x {inplane[0]:.0f} N, "
           f"y {inplane[1]:.0f} N ({inplane[0] / heavier.thrust:.3f}, {inplane[1] / heavier.thrust:.3f} of the "
-          f"thrust; 0.05 m Ω² r_cg = {imbalance():.0f} N), moments x {heavier.harmonic('main_rotor.hub.moment_x', 1):.0f}, "
+          f"thrust; 0.05 m Ω² r_cg = {imbalance():.0f} N), "
+          f"moments x {heavier.harmonic('main_rotor.hub.moment_x', 1):.0f}, "
           f"y {heavier.harmonic('main_rotor.hub.moment_y', 1):.0f} N m")
 
 
@@ -100,7 +101,8 @@ def test_with_the_tail_rotor_its_vibration_reaches_the_main_hub_only_through_the
     airframe at its 2/rev (10.5/rev of the main rotor) and 4/rev (21/rev); the main rotor's
     hub loads carry that and its combinations with 4/rev, nothing else."""
     res = rotor_loads("forward-flight")
-    tail = {10.5 + 4 * k for k in range(-3, 4)} | {21.0 + 4 * k for k in range(-5, 4)} | {42.0 + 4 * k for k in range(-10, 2)}
+    tail = ({10.5 + 4 * k for k in range(-3, 4)} | {21.0 + 4 * k for k in range(-5, 4)}
+            | {42.0 + 4 * k for k in range(-10, 2)})
     for c in COMPONENTS:
         name = f"main_rotor.hub.{c}"
         other = max(res.harmonic(name, o) for o in res.orders

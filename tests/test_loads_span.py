@@ -64,5 +64,6 @@ def test_the_trim_sweep_power_chart_shows_the_engine_power(tmp_path, monkeypatch
     rows = [{"speed": v, "status": "ok", "collective": 0.2, "roll": 0.0, "pitch": 0.0, "main_rotor.power": 3e5,
              "tail_rotor.power": 2e4, "engine.power": 3.5e5} for v in (0.0, 20.0)]
     sweep_charts.write("trim", pa.Table.from_pylist(rows), ["speed"], tmp_path)
-    assert drawn["trim_power.png"] == {"rotor and engine power": ["main_rotor.power", "tail_rotor.power", "engine.power"]}
+    power = ["main_rotor.power", "tail_rotor.power", "engine.power"]
+    assert drawn["trim_power.png"] == {"rotor and engine power": power}
     assert drawn["trim_summary.png"] == ["main_rotor.power", "tail_rotor.power", "engine.power"]

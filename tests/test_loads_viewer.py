@@ -1,12 +1,11 @@
 """The viewer's hub-load arrows and loads panel: the page's arrow tracks and plot panels
-reproduce the core's hub loads; in a real browser (headless Chromium, see browser_fixtures)
-the arrows stand where the tracks say and are drawn."""
+reproduce the core's hub loads (in a browser: ``tests/test_viewer_browser.py``, which holds
+every browser test, since they share one Playwright session)."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from browser_fixtures import browser, count_color, open_viewer, page, pixels  # noqa: F401  (fixtures)
 from mbs.simulate import simulate
 from viewer import export_html, pack
 from viewer import kinematics as kin
@@ -71,26 +70,3 @@ def test_models_without_hub_loads_and_pages_asked_without_get_no_arrows(flight, 
     demo = simulate("demo-driven", 0.5, backend="vm")
     assert data_in(export_html(demo, tmp_path / "demo.html").path)["arrows"] == []
     assert data_in(export_html(flight, tmp_path / "plain.html", loads=False).path)["arrows"] == []
-
-
-# -- in a browser ---------------------------------------------------------------------------------
-
-def test_browser_arrows_stand_where_the_tracks_say_and_are_drawn(page, flight_page):
-    exp = flight_page
-    open_viewer(page, exp.path.as_uri())
-    tracks = arrow_tracks(exp.path)
-    paths = list(tracks)
-    keys = [0, len(exp.motion.t) // 3, len(exp.motion.t) - 1]
-    got = page.evaluate("""([times, paths]) => times.map(t => { mcSeek(t); return paths.map(p => mcLocal(p)); })""",
-                        [[float(exp.motion.t[k]) for k in keys], paths])
-    got = np.array(got).reshape(len(keys), len(paths), 4, 4).transpose(0, 1, 3, 2)  # column-major
-    for j, p in enumerate(paths):
-        tr = tracks[p]
-        for n, k in enumerate(keys):
-            row = lambda a: a[min(k, len(a) - 1)]  # noqa: E731 (a constant track has one row)
-            want = kin.homogeneous(row(tr["position"]), kin.rotations_xyzw(row(tr["quaternion"]))) @ np.diag(
-                [*row(tr["scale"]), 1.0])
-            np.testing.assert_allclose(got[n, j], want, atol=1e-5, err_msg=p)
-    page.evaluate(f"mcSeek({float(exp.motion.t[-1])})")
-    assert count_color(pixels(page), int(KINDS["force"][0][1:], 16), tol=30) > 30  # the red force arrow
-    assert page.errors == []

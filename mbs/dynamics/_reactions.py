@@ -105,7 +105,8 @@ class Reactions:
                 return frame, leaf
             frame = compose(frame, leaf.relative(ql, vl, self._t, self._p))
         names = [j.name for j, _, _ in _leaves(b.joint, q, v) if isinstance(j, (Hinge, DrivenHinge))]
-        raise KeyError(f"body {body!r}: its joint has no hinge called {hinge!r}; its hinges: {', '.join(names) or 'none'}")
+        raise KeyError(f"body {body!r}: its joint has no hinge called {hinge!r}; "
+                       f"its hinges: {', '.join(names) or 'none'}")
 
     def about_axis(self, body: str, hinge: str) -> ca.SX:
         """Moment (N m) that the parent passes to ``body`` about the axis of its joint's

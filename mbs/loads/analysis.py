@@ -100,7 +100,8 @@ class RotorLoads:
 
     def blade_rows(self, harmonics: int = 4) -> list[dict]:
         """Blade 1's root loads (rotating frame): mean and the first ``harmonics`` harmonics."""
-        return [{"output": n, "mean": self.mean(n), **{f"{k}/rev": self.harmonic(n, k) for k in range(1, harmonics + 1)}}
+        return [{"output": n, "mean": self.mean(n),
+                 **{f"{k}/rev": self.harmonic(n, k) for k in range(1, harmonics + 1)}}
                 for n in (f"blade1.root.{c}" for c in (*COMPONENTS, "pitch_torque")) if n in self.names]
 
     def power_rows(self) -> list[dict]:

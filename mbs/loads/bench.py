@@ -79,7 +79,8 @@ def lines(res: dict) -> list[str]:
             f"without; {c['outputs_share_of_rk4_step']:.2f} of an RK4 step ({c['rk4_step_us']:.2f} µs; rhs "
             f"{c['rhs_us']:.2f} µs); a recorded row from Python {c['recorded_row_us']:.2f} µs",
             f"  RK4 step inside a 200-step run: {c['rk4_step_in_run_us']:.2f} µs with the loads outputs, "
-            f"{c['rk4_step_in_run_without_loads_us']:.2f} µs without (ratio {c['step_ratio_with_to_without_loads']:.3f})",
+            f"{c['rk4_step_in_run_without_loads_us']:.2f} µs without "
+            f"(ratio {c['step_ratio_with_to_without_loads']:.3f})",
             f"  loads sweep over {len(s['speeds'])} speeds: {s['wall_s']:.1f} s ({s['setup_s']:.1f} s set-up, median "
             f"{np.median(s['per_speed_s']) if s['per_speed_s'] else float('nan'):.2f} s per speed); "
             f"no trim at {s['failed'] or 'none'}"]

@@ -64,7 +64,8 @@ def loads_lines(res) -> list[str]:
             for r in rows:
                 lines.append(f"    {r['output'].rsplit('.', 1)[1]:10s} {_cell(r['mean'])} "
                              + " ".join(_cell(r[k]) for k in own)
-                             + f" {r['other']:10.3g} @{r['other_order']:<6g} {r['fractional']:10.3g} @{r['fractional_order']:<6g}")
+                             + f" {r['other']:10.3g} @{r['other_order']:<6g}"
+                             + f" {r['fractional']:10.3g} @{r['fractional_order']:<6g}")
     lines += _blade_lines(res) + _power_lines(res) + _span_lines(res)
     lines.append(f"  (other: the largest other harmonic of that rotor's speed; fractional: the largest content at "
                  f"orders that are none, from the other rotor through the airframe; {nb} identical blades pass "
@@ -116,8 +117,10 @@ def _sweep(args) -> int:
 
 def sweep_lines(res, paths) -> list[str]:
     """The human-readable report of :func:`mbs.loads.sweep.speed_sweep`."""
+    from mbs.loads.outputs import COMPONENTS
+
     nb = res.points[0].n_blades if res.points else 4
-    cols = [f"main_rotor.hub.{c}.{nb}/rev" for c in ("force_x", "force_y", "force_z", "moment_x", "moment_y", "moment_z")]
+    cols = [f"main_rotor.hub.{c}.{nb}/rev" for c in COMPONENTS]
     lines = [f"{res.scene}: loads at {len(res.points) + len(res.failed)} speeds in {res.wall_s:.1f} s "
              f"({res.setup_s:.1f} s set-up); main-rotor hub loads' {nb}/rev amplitude (N, N m), engine power (kW)",
              f"  {'speed':>6s} " + " ".join(f"{c.split('.')[2]:>9s}" for c in cols) + f" {'engine':>9s}"]

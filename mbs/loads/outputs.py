@@ -61,6 +61,7 @@ def add_hinge_torque(model: Model, body: str, hinge: str, name: str, description
     _check(model, body, None, "child")
     hinges = [j.name for j in leaf_joints(model.bodies[body].joint) if isinstance(j, (Hinge, DrivenHinge))]
     if hinge not in hinges:
-        raise ValueError(f"body {body!r}: its joint has no hinge called {hinge!r}; its hinges: {', '.join(hinges) or 'none'}")
+        raise ValueError(f"body {body!r}: its joint has no hinge called {hinge!r}; "
+                         f"its hinges: {', '.join(hinges) or 'none'}")
     model.add_output(name, lambda s: s.reactions.about_axis(body, hinge), "N m", description)
     return name
