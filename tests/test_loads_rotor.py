@@ -206,7 +206,8 @@ def test_heli_loads_sweep_writes_the_vibratory_chart(tmp_path, capsys):
 @pytest.mark.parametrize("argv, message", [
     (["loads", "--speed", "10", "--sweep", "0:10:2"], "give --speed or --sweep, not both"),
     (["loads", "--sweep", "0:10"], "expected LO:HI:N"),
-    (["loads", "structural"], "has no periodic solution to analyse"),
+    (["loads", "structural"], "scene 'structural' has no periodic solution for its loads"),
+    (["loads", "ground-resonance"], "scene 'ground-resonance' declares no rotor loads outputs"),
 ])
 def test_heli_loads_refuses_bad_input_in_one_line(argv, message, capsys):
     try:

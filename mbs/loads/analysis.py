@@ -168,18 +168,33 @@ def stations(info) -> dict[str, float]:
     return out
 
 
+def check_scene(scene):
+    """The scene (a name or :class:`mbs.scenes.Scene`) if it has loads outputs and a periodic
+    solution; ValueError saying which it lacks otherwise (symbolic only: before any compiling)."""
+    from mbs import scenes
+    from mbs.analysis.trim import trimmable
+
+    sc = scenes.get(scene) if isinstance(scene, str) else scene
+    model = sc.model()
+    if not any(STATION.match(n) or ".hub." in n for n in model.outputs):
+        raise ValueError(f"scene {sc.name!r} declares no rotor loads outputs (hub or blade root loads; "
+                         "mbs.loads.add_joint_loads declares them)")
+    free = any(type(b.joint).__name__ == "FreeJoint" for b in model.bodies.values())
+    if not trimmable(sc) and (free or "omega" not in model.parameters):
+        raise ValueError(f"scene {sc.name!r} has no periodic solution for its loads: they need driven rotors "
+                         "and either a trimmable scene or a fuselage that is not free")
+    return sc
+
+
 def rotor_loads(scene="forward-flight", speed: float | None = None, steps_per_rev: int | None = None,
                 backend: str = "compiled", system=None, stepper=None, progress=None) -> RotorLoads:
     """The loads of ``scene`` (a name or :class:`mbs.scenes.Scene`) at its periodic solution
     at ``speed`` (m/s; default the scene's). ``system``/``stepper`` reuse built evaluators.
     Raises ValueError when the scene has no periodic solution or it does not converge."""
-    from mbs import scenes
-    from mbs.analysis.floquet import check_scene
     from mbs.analysis.trim import evaluators, periodic_solution
 
     start = time.perf_counter()
-    sc = scenes.get(scene) if isinstance(scene, str) else scene
-    check_scene(sc)
+    sc = check_scene(scene)
     if system is None or stepper is None:
         system, stepper = evaluators(sc, "rk4", backend)
     sol = periodic_solution(sc, speed, steps_per_rev=steps_per_rev, system=system, stepper=stepper,

@@ -37,13 +37,11 @@ def _row(p: RotorLoads) -> dict:
 def speed_sweep(scene, speeds, steps_per_rev: int | None = None, backend: str = "compiled",
                 progress=None) -> LoadsSweep:
     """:func:`mbs.loads.analysis.rotor_loads` of ``scene`` at each of ``speeds`` (m/s)."""
-    from mbs import scenes
-    from mbs.analysis.floquet import check_scene
     from mbs.analysis.trim import evaluators
+    from mbs.loads.analysis import check_scene
 
     start = time.perf_counter()
-    sc = scenes.get(scene) if isinstance(scene, str) else scene
-    check_scene(sc)
+    sc = check_scene(scene)
     system, stepper = evaluators(sc, "rk4", backend)
     res = LoadsSweep(sc.name, [], setup_s=time.perf_counter() - start)
     for k, v in enumerate(np.asarray(speeds, dtype=float)):
