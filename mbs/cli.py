@@ -19,7 +19,7 @@ import logging
 import sys
 
 COMMAND_MODULES = ("mbs.commands", "mbs.aircraft.commands", "mbs.bench.commands", "mbs.bench.stability", "mbs.bench.work_precision",
-                   "mbs.bench.scaling", "mbs.sweep.commands", "fmu.commands", "viewer.commands")
+                   "mbs.bench.scaling", "mbs.sweep.commands", "fmu.commands", "viewer.commands", "mbs.loads.commands")
 
 
 def emit(result: dict, as_json: bool, lines: list[str]) -> None:

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 
 from mbs import arguments as A
@@ -127,7 +128,7 @@ def _trim_lines(res) -> list[str]:
              *[f"  {k:20s} {v:+.6f} rad ({np.degrees(v):+.4f} deg)" for k, v in
                [*res.controls.items(), ("roll", res.roll), ("pitch", res.pitch)]]]
     lines += [f"  {k:28s} {v:.6g} {res.output_units.get(k, '')} (period mean)".replace(" 1 (", " (")
-              for k, v in res.output_means.items()]
+              for k, v in res.output_means.items() if not OTHER_BLADES.match(k)]
     if res.flapping:
         lines.append("  flapping (rad, relative to the shaft, beta = beta0 + beta1c cos psi + beta1s sin psi): "
                      + ", ".join(f"{k} {v:+.5f} ({np.degrees(v):+.3f} deg)" for k, v in res.flapping.items()))
@@ -137,6 +138,11 @@ def _trim_lines(res) -> list[str]:
     return lines + [f"  {res.summary()['note']}",
                     f"{verdict}: {res.reason}; {res.iterations} Newton iterations, {res.n_jacobian} Jacobians, "
                     f"{res.n_residual} residual runs, {res.wall_s:.2f} s (+ {res.setup_s:.2f} s set-up)"]
+
+
+OTHER_BLADES = re.compile(r"blade([2-9]|\d{2,})\.")
+"""Outputs of main-rotor blades other than blade 1 (left out of the trim's report: in a trim
+they repeat blade 1's; ``--json`` has them all)."""
 
 
 def cmd_floquet(args) -> int:

@@ -23,10 +23,12 @@ class State:
     ``t`` time (s); ``p`` parameters; ``body(name)`` the body-frame motion (origin position
     and velocity in world components, rotation body->world, angular velocity in body
     components); ``q(name)``/``v(name)`` joint coordinates and rates by full name;
-    ``energy`` (5,): translational and rotational kinetic, gravity, spring, total (J).
+    ``energy`` (5,): translational and rotational kinetic, gravity, spring, total (J);
+    ``reactions``: the joint reaction loads (:class:`mbs.dynamics.Reactions`), for outputs.
     """
 
     energy = None
+    reactions = None  # set after the forces are applied: outputs only
 
     def __init__(self, t, p: Params, motions: dict[str, Relative], coords: dict, rates: dict,
                  v_index: dict[str, int], extra: dict | None = None):

@@ -262,3 +262,28 @@ def test_live_update_reaches_the_page_and_the_server_stops(page, sim):
         live.close()
     with pytest.raises(ProcessLookupError):
         os.killpg(pid, 0)
+
+
+def test_hub_load_arrows_stand_where_their_tracks_say_and_are_drawn(page, pages):
+    """The hub force and moment arrows (viewer/loads.py): at keys the arrow nodes' transforms
+    (position, turn and scale) are their tracks', and the red force arrow is on the picture."""
+    from viewer.loads import KINDS
+
+    exp = pages["flat"]
+    arrows = data_in(exp.path)["arrows"]
+    if not arrows:
+        pytest.skip(f"{SCENE} has no hub loads")
+    open_viewer(page, exp.path.as_uri())
+    tracks = {a["path"]: {k: pack.decode(a[k]) for k in ("position", "quaternion", "scale")} for a in arrows}
+    keys = [0, len(exp.motion.t) // 3, len(exp.motion.t) - 1]
+    got = page.evaluate("""([times, paths]) => times.map(t => { mcSeek(t); return paths.map(p => mcLocal(p)); })""",
+                        [[float(exp.motion.t[k]) for k in keys], list(tracks)])
+    got = np.array(got).reshape(len(keys), len(tracks), 4, 4).transpose(0, 1, 3, 2)  # column-major
+    for j, (path, tr) in enumerate(tracks.items()):
+        for n, k in enumerate(keys):
+            position, quaternion, scale = (v[min(k, len(v) - 1)] for v in tr.values())  # constant: one row
+            want = kin.homogeneous(position, kin.rotations_xyzw(quaternion)) @ np.diag([*scale, 1.0])
+            np.testing.assert_allclose(got[n, j], want, atol=1e-5, err_msg=path)
+    page.evaluate(f"mcSeek({float(exp.motion.t[-1])})")
+    assert count_color(pixels(page), int(KINDS["force"][0][1:], 16), tol=30) > 30
+    assert page.errors == []

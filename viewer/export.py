@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from viewer import animation as anim
+from viewer import loads as hub_loads
 from viewer import pack
 from viewer import scene as sc
 from viewer import series
@@ -90,23 +91,28 @@ class Export:
                 "scene": self.motion.recording.name, "bodies": self.scene.body_names}
 
 
-def record(scene: sc.Scene, mo: Motion) -> RecordingWindow:
-    """The commands drawing ``scene`` at the first key of ``mo`` (with the tip-path lines)."""
+def record(scene: sc.Scene, mo: Motion, arrows: hub_loads.HubArrows | None = None) -> RecordingWindow:
+    """The commands drawing ``scene`` at the first key of ``mo`` (with the tip-path lines and
+    the hub-load ``arrows``)."""
     window = RecordingWindow()
     traces = anim.tip_paths(scene, mo) if scene.traced else {}
     world0 = anim.world_at(anim.keyframes(scene, mo), float(mo.t[0]))
     for command in sc.commands(scene, mo.local[0], world0, traces):
         window.send(command)
+    for command in hub_loads.commands(scene.frame_path(arrows.frame), arrows) if arrows else []:
+        window.send(command)
     return window
 
 
-def document(scene: sc.Scene, mo: Motion, slow: float, follow: bool) -> tuple[dict, int]:
-    """The page's data document for ``mo`` and the number of plot rows."""
+def document(scene: sc.Scene, mo: Motion, slow: float, follow: bool,
+             arrows: hub_loads.HubArrows | None = None) -> tuple[dict, int]:
+    """The page's data document for ``mo`` (with the hub-load ``arrows``) and the number of plot rows."""
     rec = mo.recording
     rows = series.plot_rows(rec, float(mo.t[0]), float(mo.t[-1]))
     plot = pack.plot_data(scene, rec.t[rows], series.panels(rec, rows))
+    tracks = hub_loads.tracks(scene.frame_path(arrows.frame), arrows) if arrows else None
     doc = pack.document(scene, anim.keyframes(scene, mo), plot, series.azimuth(rec, mo.t), rec.revolution,
-                        1.0 / slow, follow)
+                        1.0 / slow, follow, tracks)
     return doc, len(rows)
 
 
@@ -140,7 +146,7 @@ def fitted(rec, scene: sc.Scene, revs, start, every: int, max_bytes: float, rend
 
 def export_html(source, path: str | Path, revs: float | None = None, start: float | None = None, every: int = 1,
                 slow: float = 10.0, flat: bool = False, trace=True, follow=True, backend: str = "vm",
-                title: str | None = None, max_bytes: float = DEFAULT_MAX_BYTES) -> Export:
+                title: str | None = None, max_bytes: float = DEFAULT_MAX_BYTES, loads: bool = True) -> Export:
     """Write the scene of ``source`` (a Simulation, a results folder or csv, or a
     :class:`viewer.motion.Recording`) to the HTML file ``path``: 3D view, plot and controls.
 
@@ -150,7 +156,8 @@ def export_html(source, path: str | Path, revs: float | None = None, start: floa
     time; flat: unlit test colours without background, grid and axes; trace: tip paths (see
     :func:`viewer.scene.build_scene`), drawn over the last revolution; follow: the camera
     starts following the free root body (False: fixed; the page has a toggle); max_bytes:
-    the page's size limit (rows are thinned to fit).
+    the page's size limit (rows are thinned to fit); loads: the main rotor's hub force and
+    moment as arrows at the hub, when the model has them (:mod:`viewer.loads`).
     """
     if not (np.isfinite(slow) and slow > 0):
         raise ValueError(f"slow = {slow} must be positive and finite")
@@ -160,12 +167,15 @@ def export_html(source, path: str | Path, revs: float | None = None, start: floa
     plot_rows = []
 
     def render(mo: Motion, stride: int) -> str:
-        doc, rows = document(scene, mo, slow, bool(follow))
+        arrows = hub_loads.hub_arrows(rec, mo.t) if loads else None
+        doc, rows = document(scene, mo, slow, bool(follow), arrows)
         plot_rows[:] = [rows]
         info = {"model": rec.info.name, "scene": name, "slow": slow, "t0": float(mo.t[0]), "t1": float(mo.t[-1]),
-                "keys": len(mo.t), "every": stride, "bodies": scene.paths, "world": sc.WORLD}
+                "keys": len(mo.t), "every": stride, "bodies": scene.paths, "world": sc.WORLD,
+                "arrows": arrows.per_metre if arrows else None}
         label = f"{name}: t = {mo.t[0]:.4g} to {mo.t[-1]:.4g} s" + (f", every {stride} rows" if stride > 1 else "")
-        return html_page(record(scene, mo).packed(), info, doc, title or f"{name} (rotor-mbs viewer)", label)
+        label += f"; {arrows.legend()}" if arrows else ""
+        return html_page(record(scene, mo, arrows).packed(), info, doc, title or f"{name} (rotor-mbs viewer)", label)
 
     mo, text, every = fitted(rec, scene, revs, start, every, max_bytes, render)
     out = Path(path)

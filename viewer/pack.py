@@ -58,8 +58,9 @@ def plot_data(scene: Scene, times: np.ndarray, panels: list[Panel]) -> dict:
 
 
 def document(scene: Scene, kf: Keyframes, plot: dict, azimuth: np.ndarray | None, revolution: float | None,
-             speed: float, follow: bool) -> dict:
-    """Everything the player needs; ``speed`` is the initial playback rate (1 = real time)."""
+             speed: float, follow: bool, arrows: list[dict] | None = None) -> dict:
+    """Everything the player needs; ``speed`` is the initial playback rate (1 = real time);
+    ``arrows``: node tracks with a scale (:func:`viewer.loads.tracks`)."""
     traces = [f"{scene.frame_path(scene.trace_frames[b])}/tip_path/{b}/<object>" for b in scene.traced]
     return {"t": encode(kf.t, "f8"),
             "nodes": [{"path": p, "position": track(pos), "quaternion": track(q)} for p, (pos, q) in kf.nodes.items()],
@@ -67,7 +68,9 @@ def document(scene: Scene, kf: Keyframes, plot: dict, azimuth: np.ndarray | None
             "follow": None if kf.follow is None else encode(kf.follow, "f8"),
             "camera": "follow" if follow and kf.follow is not None else "fixed",
             "azimuth": None if azimuth is None else encode(azimuth, "f8"),
-            "revolution": revolution, "speed": speed, "traces": traces, "plot": plot}
+            "revolution": revolution, "speed": speed, "traces": traces, "plot": plot,
+            "arrows": [{"path": a["path"], **{k: track(a[k]) for k in ("position", "quaternion", "scale")}}
+                       for a in arrows or []]}
 
 
 def keyframes_of(doc: dict) -> Keyframes:

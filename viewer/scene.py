@@ -26,7 +26,7 @@ from viewer import kinematics as kin
 
 ROOT = "/meshcat/model"
 WORLD = ROOT + "/world"
-RESERVED = ("shape", "tip_path")
+RESERVED = ("shape", "tip_path", "hub_loads")
 LEAF_COLORS = ["#d62728", "#1f77b4", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#17becf"]
 ROOT_COLOR, INNER_COLOR = "#c8ccd2", "#50565e"
 

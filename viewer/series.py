@@ -4,8 +4,9 @@ the main-rotor azimuth (readout), taken from a :class:`viewer.motion.Recording`.
 Hinge angles are the scene's plot panels (``Scene.plots``: coordinates or outputs), else the
 coordinates called ``*.flap``, ``*.lag`` and ``*.teeter``. Pitch inputs are the parameters
 whose names contain "collective" or "cyclic", and any other parameter that changes during
-the run. Rotor power: the outputs called ``*.power``, when the model has them. Angles are shown
-in degrees, power in kW.
+the run. Rotor power: the outputs called ``*.power``, when the model has them; hub loads: the
+main rotor's force and moment on the airframe (``main_rotor.hub.*``). Angles are shown in
+degrees, power in kW, loads in kN and kN m.
 """
 from __future__ import annotations
 
@@ -47,9 +48,17 @@ def signal(rec, name: str, rows: np.ndarray) -> np.ndarray:
     if name in info.param_names:
         return np.array([rec.params_at(rec.t[r])[info.param_names.index(name)] for r in rows])
     if name in info.output_names:
-        k = info.output_names.index(name)
-        return np.array([rec.system.outputs(rec.x[r], rec.t[r], rec.params_at(rec.t[r]))[k] for r in rows])
+        return outputs(rec, rows)[:, info.output_names.index(name)]
     raise ValueError(f"{name!r} is neither a state, a parameter nor an output of {info.name}")
+
+
+def outputs(rec, rows: np.ndarray) -> np.ndarray:
+    """Every output (n, ny) at the recorded ``rows``, evaluated once per row and kept on ``rec``."""
+    cache = rec.__dict__.setdefault("_outputs", {})
+    missing = [int(r) for r in rows if int(r) not in cache]
+    for r in missing:
+        cache[r] = rec.system.outputs(rec.x[r], rec.t[r], rec.params_at(rec.t[r]))
+    return np.array([cache[int(r)] for r in rows])
 
 
 def input_panels(rec) -> dict[str, list[str]]:
@@ -76,17 +85,28 @@ def hinge_panels(rec) -> dict[str, list[str]]:
 
 
 def power_panels(rec) -> dict[str, list[str]]:
-    """Panel title -> names: the rotors' shaft power outputs (W), if any."""
-    return {"rotor shaft power (W)": [n for n in rec.info.output_names if n.endswith(".power")]}
+    """Panel title -> names: the rotors' aerodynamic shaft power and the engine power (W), if any."""
+    return {"rotor and engine power (W)": [n for n in rec.info.output_names if n.endswith(".power")]}
 
 
-UNITS = {"(rad)": ("(deg)", np.degrees), "(W)": ("(kW)", lambda w: w * 1e-3)}
+def load_panels(rec) -> dict[str, list[str]]:
+    """Panel title -> names: the main rotor's hub force and moment on the airframe (body axes),
+    when the model has them."""
+    names = rec.info.output_names
+    return {title: [f"main_rotor.hub.{kind}_{c}" for c in "xyz"] for kind, title in
+            (("force", "main-rotor hub force on the airframe, body axes (N)"),
+             ("moment", "main-rotor hub moment on the airframe, body axes (N m)"))
+            if f"main_rotor.hub.{kind}_x" in names}
+
+
+UNITS = {"(rad)": ("(deg)", np.degrees), "(W)": ("(kW)", lambda w: w * 1e-3), "(N)": ("(kN)", lambda f: f * 1e-3),
+         "(N m)": ("(kN m)", lambda m: m * 1e-3)}
 
 
 def panels(rec, rows: np.ndarray) -> list[Panel]:
-    """The plot: pitch inputs first (if any), then the hinge-angle panels, then rotor power;
-    angles in degrees, power in kW."""
-    groups = {**input_panels(rec), **hinge_panels(rec), **power_panels(rec)}
+    """The plot: pitch inputs first (if any), then the hinge-angle panels, rotor power and the
+    main-rotor hub loads; angles in degrees, power in kW, loads in kN and kN m."""
+    groups = {**input_panels(rec), **hinge_panels(rec), **power_panels(rec), **load_panels(rec)}
     out = []
     for title, names in groups.items():
         if names:

@@ -175,6 +175,11 @@ ENTRIES: dict[str, dict[str, Entry]] = {
                           length=2, default="scaled"),
         "plate_thickness": positive("m", "display: tail surface thickness", default="scaled"),
     },
+    "engine": {
+        "transmission_efficiency": num("-", "main gearbox and tail-rotor drive together: engine power = rotors' "
+                                       "shaft power / efficiency + accessory power", 0.5, 1.0, open_low=True),
+        "accessory_power": num("W", "hydraulic pumps, generators, cooling fans driven by the gearbox", 0.0),
+    },
     "elastic_blade": {
         "torsion_frequency": positive("1/rev", "first rotating torsion frequency of the blade"),
         "structural_damping": ratio("structural damping ratio of each direction's first mode", 0.0, 0.5),

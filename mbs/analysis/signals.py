@@ -15,6 +15,27 @@ def spectrum(t: np.ndarray, y: np.ndarray, pad: int = 16) -> tuple[np.ndarray, n
     return np.fft.rfftfreq(pad * len(y), dt), amp
 
 
+def periodic_spectrum(t: np.ndarray, y: np.ndarray, period: float) -> tuple[np.ndarray, np.ndarray]:
+    """Exact Fourier amplitudes of ``y`` sampled at equally spaced ``t`` (n,) s over a whole
+    number ``R`` of periods ``period`` (s): no window, no leakage for content periodic over the
+    record. Returns the orders ``k / R`` (per period, (n//2 + 1,)) and complex amplitudes
+    ``A`` (same rows, then ``y``'s other axes) with ``y(t) = Re Σ A_k exp(i 2π (k/R) t / period)``:
+    ``A_0`` the mean, ``|A_k|`` the amplitude of order ``k / R`` (its phase referred to ``t = 0``)."""
+    t, y = np.asarray(t, dtype=float), np.asarray(y, dtype=float)
+    n, dt = len(t), float(np.mean(np.diff(t)))
+    revs = n * dt / period
+    if abs(revs - round(revs)) > 1e-6 * revs or np.abs(np.diff(t) - dt).max() > 1e-9 * dt:
+        raise ValueError(f"the record ({n} equally spaced samples, {n * dt:.6g} s) does not cover a whole "
+                         f"number of periods of {period:.6g} s")
+    k = np.arange(n // 2 + 1)
+    phase = np.exp(-2j * np.pi * np.outer(k, t) / (n * dt))
+    amp = np.tensordot(phase, y, axes=(1, 0)) * (2.0 / n)
+    amp[0] /= 2
+    if n % 2 == 0:
+        amp[-1] /= 2
+    return k / round(revs), amp
+
+
 def dominant_frequency(t: np.ndarray, y: np.ndarray, fmin: float = 0.0, fmax: float = np.inf) -> float:
     """Frequency (Hz) of the largest spectral peak of ``y`` within ``[fmin, fmax]``."""
     f, a = spectrum(t, y)

@@ -13,9 +13,10 @@ it robust far from the solution; near it the steps are full and convergence is q
 Start: the closed-form estimate of :func:`mbs.models.helicopter.estimate_trim` at the requested
 speed (momentum and blade-element theory), for helicopter scenes; the scene's defaults otherwise.
 The trim reports the period means of the model's outputs (rotor thrust, aerodynamic shaft
-torque and power, inflow ratios): the torque is that of the blade-element forces about the
-shaft, the drive's torque in a trim (the hubs are driven joints, whose constraint torque the
-minimal-coordinate equations do not compute).
+torque and power, inflow ratios, and the loads of :mod:`mbs.loads`): the aerodynamic torque is
+that of the blade-element forces about the shaft; the drive's torque (``<rotor>.shaft_torque``)
+is the driven hub joint's reaction about its axis, which in a trim balances the aerodynamic
+torque and the moment of the blades' weight about the shaft.
 """
 from __future__ import annotations
 
@@ -31,7 +32,8 @@ from mbs.analysis.period import RotorPeriod, scene_period
 from mbs.analysis.shooting import TrimLayout, residual_function, residual_scales, start_function
 
 TORQUE_NOTE = ("rotor torque and power: aerodynamic shaft torque of the blade-element forces (N m) and "
-               "torque times rotor speed (W), period means")
+               "torque times rotor speed (W); shaft torque and power: the drive's (a joint reaction); engine power: "
+               "shaft powers over the transmission efficiency plus accessories; period means")
 
 
 @dataclass

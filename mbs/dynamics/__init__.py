@@ -15,12 +15,18 @@ velocity (body components, rad/s), so that ``M = blockdiag(m I, J_c)``.
   over the same quantities, O(n) for any tree (:mod:`._articulated`). The builder takes the
   one with fewer operations: shallow rotor trees the first, deep chains the second.
 
+The joint reaction loads (:class:`Reactions`, what the parent passes to each body through its
+joint) come from one backward Newton–Euler pass over the same quantities, with the body
+accelerations ``J_u u' + H``; model outputs read them as ``state.reactions``.
+
 No Jacobian is written by hand: each joint states only its relative kinematics.
 """
 from __future__ import annotations
 
 from mbs.dynamics._kinematics import Kinematics, body_states, kinematics, traverse
 from mbs.dynamics._layout import Layout
+from mbs.dynamics._reactions import Reactions
 from mbs.dynamics._symbolic import PATHS, Symbolic, symbolic
 
-__all__ = ["Kinematics", "Layout", "PATHS", "Symbolic", "body_states", "kinematics", "symbolic", "traverse"]
+__all__ = ["Kinematics", "Layout", "PATHS", "Reactions", "Symbolic", "body_states", "kinematics", "symbolic",
+           "traverse"]

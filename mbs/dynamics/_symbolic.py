@@ -12,6 +12,7 @@ from mbs.dynamics._composite import composite, ldl_operations, solve
 from mbs.dynamics._kinematics import Kinematics, kinematics, poses
 from mbs.dynamics._layout import Layout
 from mbs.dynamics._loads import applied, energy, mass_times, state_view
+from mbs.dynamics._reactions import Reactions
 from mbs.dynamics._spatial import body_spatial
 from mbs.joints import Params
 
@@ -101,12 +102,13 @@ def symbolic(model: _tree.Model, path: str | None = None) -> Symbolic:
     args, names = [x, t, p], ["x", "t", "p"]
     mt, jtg = composite(lay, spatial)
     parts = ca.Function("parts", args, [kin.sdot, mt, jtg + q, zdot], names, ["sdot", "Mt", "ht", "zdot"])
-    recursion = ca.Function("rhs", args, [ca.vertcat(kin.sdot, articulated(lay, spatial, q), zdot)],
-                            names, ["xdot"])
+    udot = articulated(lay, spatial, q)
+    recursion = ca.Function("rhs", args, [ca.vertcat(kin.sdot, udot, zdot)], names, ["xdot"])
     operations = {"composite": int(parts.n_instructions()) + ldl_operations(mt.sparsity()),
                   "articulated": int(recursion.n_instructions())}
     path = choose(operations, path)
     project = ca.vertcat(*[b.joint.project(s[lay.q_slices[b.name]]) for b in lay.bodies], ca.SX(0, 1), u, z)
+    state.reactions = Reactions(lay, spatial, udot, kin.motions, r0, s, u, t, params)
     outputs = ca.vertcat(*[o.fn(state) for o in model.outputs.values()], ca.SX(0, 1))
     fns = {
         "parts": parts,

@@ -13,7 +13,7 @@ parameters, ``lag_damping`` (N m s/rad, every blade), ``lateral_damping`` (N s/m
 ``roll_damping`` (N m s/rad) of the gear, so a fan plot with a damper reduced or removed needs no
 rebuild. Gravity is left out: on the gear it only softens the roll spring by ``m g h`` (3 %).
 
-Frames as in :mod:`mbs.models.bo105`: fuselage x forward, y starboard, z down; hub x aft,
+Frames as in :mod:`mbs.models.helicopter`: fuselage x forward, y starboard, z down; hub x aft,
 z up, blade ``k`` at azimuth ``ψ_k = Ω t + 2π (k - 1) / N`` from the tail, rotor
 counter-clockwise from above; positive lag is lagging (against the rotation). Numbers from
 ``ground_resonance.toml`` (sources there; the gear and lag-hinge values are estimates).

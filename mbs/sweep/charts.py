@@ -1,6 +1,6 @@
 """The charts of a sweep, drawn from its results table (PNG files in the output folder).
 
-trim: controls and attitude (deg) and the rotors' power (kW) against the first axis (speed), each
+trim: controls and attitude (deg) and the rotors' and the engine power (kW) against the first axis (speed), each
 alone and the three side by side (``trim_summary.png``); simulate: the envelope
 (min to max, and the mean) of each plotted coordinate and output against the first axis;
 floquet: frequency (Hz) and ``Re λ`` (1/s) of every mode against the first axis (rotor speed).
@@ -85,7 +85,8 @@ def _save(fig, plt, path: Path, title: str) -> Path:
     return path
 
 
-POWER = ("main_rotor.power", "tail_rotor.power")
+POWER = ("main_rotor.power", "tail_rotor.power", "engine.power")
+"""Aerodynamic shaft power of each rotor and the power the engines deliver (:mod:`mbs.loads.engine`)."""
 
 
 def _trim(rows: list[dict], names: list[str], out: Path) -> list[Path]:
@@ -98,8 +99,8 @@ def _trim(rows: list[dict], names: list[str], out: Path) -> list[Path]:
              _line_chart(rows, names, {"roll": ["roll"], "pitch": ["pitch"]}, deg, "deg", out / "trim_attitude.png",
                          "trim: attitude")]
     if power:
-        paths.append(_line_chart(rows, names, {"rotor power": power}, 1e-3, "kW", out / "trim_power.png",
-                                 "trim: aerodynamic shaft power"))
+        paths.append(_line_chart(rows, names, {"rotor and engine power": power}, 1e-3, "kW", out / "trim_power.png",
+                                 "trim: rotors' aerodynamic shaft power and engine power"))
     return paths + [_trim_summary(rows, names, controls, power, out / "trim_summary.png")]
 
 
@@ -110,7 +111,7 @@ def _trim_summary(rows, names, controls, power, path: Path) -> Path:
     deg = 180 / np.pi
     panels = [("collective pitch (deg)", [c for c in controls if "collective" in c], deg),
               ("cyclic pitch (deg)", [c for c in controls if "cyclic" in c], deg),
-              ("attitude (deg)", ["roll", "pitch"], deg), ("shaft power (kW)", power, 1e-3)]
+              ("attitude (deg)", ["roll", "pitch"], deg), ("rotor and engine power (kW)", power, 1e-3)]
     panels = [p for p in panels if p[1]]
     fig, axes = plt.subplots(1, len(panels), figsize=(3.6 * len(panels), 3.6), squeeze=False)
     group = next(iter(_groups(rows, names).values()))

@@ -1,5 +1,6 @@
 /* Player of an exported page. Sets the meshcat scene's node transforms from the keyframes of
-   window.__viewerData at the player's time t (s of the simulation): positions linear and
+   window.__viewerData at the player's time t (s of the simulation), the body nodes' and the
+   hub-load arrows' (which also have a scale): positions and scales linear and
    quaternions spherical-linear between keys (the mapping of viewer/animation.py, local_at and
    world_at). Controls: play/pause (space bar), time slider (arrow keys: one key back or on),
    playback speed, follow-fuselage camera; the readout shows t, revolutions and the main-rotor
@@ -22,8 +23,9 @@
   function node(path) { return viewer.scene_tree.find(path.split("/").filter(Boolean)).object; }
 
   var T = decode(D.t), K = T.length, T0 = T[0], T1 = T[K - 1];
-  var nodes = D.nodes.map(function (n) {
-    return {object: node(n.path), position: decode(n.position), quaternion: decode(n.quaternion)};
+  var nodes = D.nodes.concat(D.arrows || []).map(function (n) {
+    return {object: node(n.path), position: decode(n.position), quaternion: decode(n.quaternion),
+            scale: n.scale ? decode(n.scale) : null};
   });
   var world = node(D.world);
   var follow = D.follow ? decode(D.follow) : null;
@@ -94,6 +96,10 @@
       var p = lerp(n.position, 3, i, w), q = slerp(n.quaternion, i, w);
       n.object.position.set(p[0], p[1], p[2]);
       n.object.quaternion.set(q[0], q[1], q[2], q[3]);
+      if (n.scale) {
+        var s = lerp(n.scale, 3, i, w);
+        n.object.scale.set(s[0], s[1], s[2]);
+      }
     });
     if (follow) {
       var f = state.follow ? lerp(follow, 3, i, w) : lerp(follow, 3, 0, 0);

@@ -7,6 +7,7 @@ import casadi as ca
 import numpy as np
 
 from mbs import _rotation as rot
+from mbs.loads.rotorcraft import add_load_outputs
 from mbs.models.helicopter import frames as fr
 from mbs.models.helicopter.aero import add_airframe_aero, add_rotor_aero
 from mbs.models.helicopter.config import Config
@@ -41,6 +42,7 @@ def build(cfg: Config = Config(), aircraft=None, name: str | None = None) -> Mod
     if cfg.rotors == "driven":
         _add_parameters(m, d, cfg, trim, stored)
     add_outputs(m, d, cfg)
+    add_load_outputs(m, d, cfg)
     _set_initial(m, d, cfg, trim, stored)
     return m
 

@@ -6,8 +6,9 @@ from mbs.models.helicopter.aero import INFLOW_TEXT, rotor_model
 from mbs.tree import Model
 
 ROTOR_OUTPUTS = (("thrust", "N", "thrust along the shaft"),
-                 ("torque", "N m", "aerodynamic shaft torque (the drive's torque on the rotor)"),
-                 ("power", "W", "aerodynamic shaft power, torque times rotor speed"))
+                 ("torque", "N m", "aerodynamic torque of the blade elements about the shaft (the drive's torque is "
+                                   "shaft_torque)"),
+                 ("power", "W", "aerodynamic power, torque times rotor speed"))
 
 
 def add_outputs(m: Model, d, cfg) -> None:
