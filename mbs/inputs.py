@@ -55,7 +55,7 @@ class InputTable:
         span = self.time[j] - self.time[i]
         w = np.where(span > 0, (t - self.time[i]) / np.where(span > 0, span, 1.0), 0.0)
         w = np.clip(w, 0.0, 1.0)[:, None]
-        return (1 - w) * self.values[i] + w * self.values[j]
+        return self.values[i] + w * (self.values[j] - self.values[i])  # exact where the table is flat
 
     def rows(self) -> list[dict]:
         """The table as ``[{"time": t, name: value, ...}, ...]`` (the FMU demo's ``schedule`` in run.json)."""
