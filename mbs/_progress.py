@@ -31,8 +31,9 @@ class Progress:
 
 def left(elapsed: float, frac: float) -> str:
     """``", about 2.5 min left"`` at the fraction ``frac`` done after ``elapsed`` s ('' too early or when done)."""
-    if frac >= 1.0 or frac < 0.01 or elapsed < 1.0:
+    remaining = elapsed * (1 - frac) / frac if frac > 0 else 0.0
+    if frac >= 1.0 or frac < 0.01 or elapsed < 1.0 or remaining < 1.0:
         return " " * 22
     from mbs.run_cost import duration
 
-    return f", about {duration(elapsed * (1 - frac) / frac)} left".ljust(22)
+    return f", about {duration(remaining)} left".ljust(22)

@@ -99,11 +99,10 @@ def cmd_simulate(args) -> int:
     check_size(cost, args.max_gb)
     if cost.worth_saying():
         print(f"heli simulate: {cost.message()}", file=sys.stderr, flush=True)
-    show = not args.quiet
-    sim = run.execute(Progress(f"simulate {scene.name}", show),
-                      Progress("outputs and energies", show and cost.rows * cost.row_s > 2.0))
+    show, slow = not args.quiet, cost.rows * cost.row_s > 2.0
+    sim = run.execute(Progress(f"simulate {scene.name}", show), Progress("outputs and energies", show and slow))
     sim.step_error = step
-    paths = write(sim, Path(args.out))
+    paths = write(sim, Path(args.out), Progress("writing results.csv", show and slow))
     res = {**sim.summary(), "files": {k: str(v) for k, v in paths.items()}, "warnings": run.warnings,
            "cost": cost.summary()}
     lines = [f"{sim.scene.name}: {sim.revs:g} revolutions, {res['steps']} {sim.method} steps ({sim.system.dtype}, "
@@ -143,12 +142,14 @@ def _model_facts(scene) -> tuple[dict, bool]:
 
 
 def _check_speed(args, scene) -> None:
-    """Refuse ``--speed`` on a scene whose fuselage does not fly (clamped or none): it would be ignored."""
-    if getattr(args, "speed", None) is None:
-        return
-    if not _model_facts(scene)[1]:
-        raise ValueError(f"--speed {args.speed:g}: scene {scene.name!r} has no free fuselage, so no flight speed "
-                         "(its rotor turns in still air); give --speed for forward-flight or hover")
+    """Refuse ``--speed`` and ``--climb-rate`` on a scene whose fuselage does not fly (clamped or
+    none): they would be ignored."""
+    given = [(f, v) for f, v in (("--speed", getattr(args, "speed", None)),
+                                 ("--climb-rate", getattr(args, "climb_rate", 0.0) or None)) if v is not None]
+    if given and not _model_facts(scene)[1]:
+        flag, value = given[0]
+        raise ValueError(f"{flag} {value:g}: scene {scene.name!r} has no free fuselage, so no flight speed or climb "
+                         "(its rotor turns in still air); give it for forward-flight or hover")
 
 
 def _check_floquet_settings(scene, settings: dict, sweep: tuple | None) -> None:
@@ -408,6 +409,13 @@ def trim_file(text: str) -> Path:
     if path.resolve().is_relative_to(package):
         raise A.Bad(f"{text!r} is inside the installed package ({package}); give a file of your own "
                     f"(without PATH: {user_trims()})")
+    if path.exists():  # its other entries are kept: a file that cannot be read would fail after the trim
+        tomllib = __import__("tomllib" if sys.version_info >= (3, 11) else "tomli")
+        try:
+            tomllib.loads(path.read_text())
+        except (ValueError, OSError, UnicodeDecodeError) as exc:
+            raise A.Bad(f"{text!r} exists and is not a TOML file whose entries could be kept ({exc}); give another "
+                        "file or repair it") from None
     return path
 
 

@@ -45,10 +45,16 @@ def column_units(model) -> dict[str, str]:
     return out
 
 
-def write_csv(columns: dict[str, np.ndarray], path: Path) -> Path:
-    """``columns`` (name -> (n,) values) as ``path``: a header row, then the values (17 digits)."""
-    np.savetxt(path, np.column_stack(list(columns.values())), delimiter=",", header=",".join(columns),
-               comments="", fmt="%.17g")
+def write_csv(columns: dict[str, np.ndarray], path: Path, progress=None, chunk: int = 20000) -> Path:
+    """``columns`` (name -> (n,) values) as ``path``: a header row, then the values (17 digits),
+    ``chunk`` rows at a time with ``progress(rows written, n)`` after each."""
+    table = np.column_stack(list(columns.values()))
+    with open(path, "w") as f:
+        f.write(",".join(columns) + "\n")
+        for start in range(0, len(table), chunk):
+            np.savetxt(f, table[start:start + chunk], delimiter=",", fmt="%.17g")
+            if progress:
+                progress(min(start + chunk, len(table)), len(table))
     return Path(path)
 
 

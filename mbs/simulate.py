@@ -345,14 +345,15 @@ def _float64_twin(scene, options) -> System:
     return scene.system("vm", **(options or {}))
 
 
-def write(sim: Simulation, out: Path) -> dict[str, Path]:
-    """Write ``results.csv``, ``run.json`` and the plots into ``out``; returns the paths."""
+def write(sim: Simulation, out: Path, progress=None) -> dict[str, Path]:
+    """Write ``results.csv`` (``progress(rows, n)`` as it goes), ``run.json`` and the plots into
+    ``out``; returns the paths."""
     from mbs import plots
     from mbs.results import write_csv
 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    paths = {"results": write_csv(sim.columns(), out / "results.csv"), "run": out / "run.json"}
+    paths = {"results": write_csv(sim.columns(), out / "results.csv", progress), "run": out / "run.json"}
     paths["run"].write_text(json.dumps(sim.summary(), indent=1))
     paths["hinge_angles"] = plots.hinge_angles(sim, out / "hinge_angles.png")
     if sim.scene.conservative:

@@ -51,6 +51,7 @@ CASES = [
     ("trim hover --write trims.txt", ["--write", "'trims.txt' must be a file name ending in .toml"]),
     ("trim hover --write /dev/null/x.toml", ["--write", "'/dev/null/x.toml'", "/dev/null exists and is not a folder"]),
     ("trim hover --write DIR", ["--write", "DIR", "must be a file name ending in .toml"]),
+    ("trim hover --write BADTOML", ["--write", "BADTOML", "exists and is not a TOML file", "Expected"]),
     ("floquet hover --set lag_damping", ["--set", "'lag_damping'", "NAME=VALUE"]),
     ("floquet hover --sweep omega=20:60", ["--sweep", "'omega=20:60'", "NAME=LO:HI:N"]),
     ("floquet structural", ["scene 'structural' has no periodic solution"]),
@@ -109,6 +110,8 @@ CASES = [
     ("simulate elastic-rotor --revs 0.002", ["--revs 0.002 is less than one step", "200 steps per revolution"]),
     ("trim ground-run --speed 20", ["--speed 20", "scene 'ground-run' has no free fuselage"]),
     ("floquet ground-run --speed 5", ["--speed 5", "scene 'ground-run' has no free fuselage"]),
+    ("trim ground-run --climb-rate 5", ["--climb-rate 5", "scene 'ground-run' has no free fuselage"]),
+    ("trim elastic-rotor --speed 0", ["--speed 0", "scene 'elastic-rotor' has no free fuselage"]),
     ("floquet hover --set collective=0.3", ["--set collective", "the trim sets the controls of scene 'hover'", "omega"]),
     ("floquet hover --sweep collective=0.2:0.3:3", ["--sweep collective", "the trim sets the controls"]),
     ("floquet ground-run --set omega=40 --sweep omega=30:40:3", ["--set omega", "--sweep omega", "drop one"]),
@@ -193,10 +196,11 @@ def places(tmp_path, monkeypatch) -> dict[str, str]:
     monkeypatch.chdir(tmp_path)
     (tmp_path / "a-file").write_text("not a folder")
     (tmp_path / "empty.csv").write_text("")
+    (tmp_path / "trims.toml").write_text("[hover\nspeed = 0\n")
     (tmp_path / "results").mkdir()
     (tmp_path / "results" / "results.csv").write_text("time\n0\n")
     out = {"FILE": str(tmp_path / "a-file"), "DIR": str(tmp_path / "results"), "PKG": str(PACKAGE_TRIMS), "EMPTY": "",
-           "EMPTYFILE": str(tmp_path / "empty.csv")}
+           "EMPTYFILE": str(tmp_path / "empty.csv"), "BADTOML": str(tmp_path / "trims.toml")}
     for name, text in INPUT_TABLES.items():
         (tmp_path / f"{name.lower()}.csv").write_text(text)
         out[name] = str(tmp_path / f"{name.lower()}.csv")
