@@ -122,3 +122,24 @@ def test_heli_derivatives_prints_the_table_and_writes_matlab(tmp_path, capsys):
 def test_heli_derivatives_refuses_a_clamped_scene(capsys):
     assert main(["derivatives", "ground-run"]) == 2
     assert "free-flying" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("name", ["A.MAT", "a.mat", "B.NPZ", "b.npz"])
+def test_matrix_files_keep_the_given_name_in_any_case(name, tmp_path):
+    """``--mat A.MAT`` was accepted and then refused after the whole computation ('unknown matrix
+    file type'), and ``B.NPZ`` became ``B.NPZ.npz``: the file is written under its own name."""
+    from types import SimpleNamespace
+
+    from scipy.io import loadmat
+
+    from mbs import arguments
+    from mbs.analysis.derivatives import write_matrices
+
+    path = arguments.matrix_file(str(tmp_path / name))
+    res = SimpleNamespace(A=np.eye(8), B=np.ones((8, 4)), states=["u", "w", "q", "theta", "v", "p", "phi", "r"],
+                          controls=["collective", "longitudinal_cyclic", "lateral_cyclic", "tail_collective"],
+                          speed=0.0, modes=[])
+    assert write_matrices(res, path) == str(tmp_path / name)
+    assert [p.name for p in tmp_path.iterdir()] == [name]
+    data = loadmat(path) if name.lower().endswith(".mat") else np.load(path)
+    assert np.array_equal(data["A"], np.eye(8)) and np.array_equal(data["B"], np.ones((8, 4)))
