@@ -118,7 +118,6 @@ CASES = [
     ("floquet hover --set lag_damping=50", ["--set lag_damping", "'lag_damping' is not a parameter of scene 'hover'"]),
     ("floquet hover --set speed=10", ["--set speed", "the flight speed is --speed"]),
     ("floquet ground-run --set omega=80", ["--set omega=80", "outside its range [22.2, 53.3] rad/s"]),
-    ("floquet ground-resonance --sweep omega=1:60:3", ["--sweep omega", "omega = 1 rad/s is outside its range"]),
     ("scenes --markdown --json", ["--markdown and --json"]),
     ("view DIR --simulate hover", ["--simulate hover", "would ignore", "give one of them"]),
     ("view DIR --duration 5", ["--duration applies to --serve only"]),
