@@ -148,11 +148,12 @@ def check_settings(settings: dict[str, float], parameters: dict, scene: str, fre
     """Refuse (ValueError naming it) a ``--set`` name that is neither a parameter of the model
     (``parameters``: name -> ``{"low", "high", "unit"}``) nor ``speed``, a value outside the
     parameter's range, and ``speed`` on a scene without a free fuselage."""
+    known = [*parameters, *([SPEED] if free else [])]
     for name, value in settings.items():
         if name == SPEED:
             _check_speed(value, scene, free)
         else:
-            _check_value(f"--set {name}={value:g}", name, value, parameters, scene)
+            _check_value(f"--set {name}={value:g}", name, value, parameters, scene, known)
 
 
 def check_table(table: InputTable, parameters: dict, scene: str, settings: dict[str, float]) -> None:
@@ -165,13 +166,13 @@ def check_table(table: InputTable, parameters: dict, scene: str, settings: dict[
         if name in settings:
             raise ValueError(f"{where}: column {name!r} is also given by --set {name}=...; give it in one place")
         for i, value in enumerate(table.values[:, k]):
-            _check_value(f"{where}: line {table.line(i)}", name, float(value), parameters, scene)
+            _check_value(f"{where}: line {table.line(i)}", name, float(value), parameters, scene, list(parameters))
 
 
-def _check_value(where: str, name: str, value: float, parameters: dict, scene: str) -> None:
+def _check_value(where: str, name: str, value: float, parameters: dict, scene: str, known: list[str]) -> None:
     if name not in parameters:
-        known = ", ".join([*parameters, SPEED]) if where.startswith("--set") else ", ".join(parameters)
-        raise ValueError(f"{where}: {name!r} is not a parameter of scene {scene!r} (it has: {known or 'none'})")
+        raise ValueError(f"{where}: {name!r} is not a parameter of scene {scene!r} (settable: "
+                         f"{', '.join(known) or 'none'})")
     q = parameters[name]
     low, high, unit = q.get("low", -math.inf), q.get("high", math.inf), q.get("unit", "")
     if not low <= value <= high:
