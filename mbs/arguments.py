@@ -89,8 +89,15 @@ def folder_problem(path: Path) -> str | None:
     return None
 
 
+def _named(text: str, what: str) -> None:
+    """Refuse an empty name (``Path('')`` is the working folder: nothing the user meant)."""
+    if not text.strip():
+        raise Bad(f"{text!r} is empty; give a {what}")
+
+
 def output_folder(text: str) -> Path:
-    """Type: a folder that can be created or written."""
+    """Type: a folder that can be created or written (not an empty name)."""
+    _named(text, "folder name ('.' for the working folder)")
     path = Path(text).expanduser()
     problem = folder_problem(path)
     if problem:
@@ -102,6 +109,7 @@ def output_file(*suffixes: str) -> Callable[[str], Path]:
     """Type: a file path ending in one of ``suffixes`` (any when none) whose folder can be
     created or written."""
     def convert(text: str) -> Path:
+        _named(text, "file name")
         path = Path(text).expanduser()
         if suffixes and path.suffix.lower() not in suffixes:
             raise Bad(f"{text!r} must be a file name ending in {' or '.join(suffixes)}")
@@ -148,3 +156,26 @@ def add_aircraft(p: argparse.ArgumentParser) -> None:
                    help="aircraft file (or the name of a packaged aircraft: "
                         f"{', '.join(aircraft.packaged())}; default bo105) of which the helicopter scenes are "
                         "built; 'heli aircraft new NAME' writes a template, 'heli aircraft check FILE' checks it")
+
+
+def matrix_file(text: str) -> Path:
+    """Type: a writable ``.mat`` (MATLAB, needs scipy) or ``.npz`` file, any case of the suffix."""
+    path = output_file(".mat", ".npz")(text)
+    if path.suffix.lower() == ".mat":
+        try:
+            import scipy.io  # noqa: F401
+        except ImportError:
+            raise Bad(f"{text!r}: writing .mat files needs scipy (pip install scipy), or give a .npz file") from None
+    return path
+
+
+def input_table(text: str):
+    """Type: an input table (:func:`mbs.inputs.read_table`): the first problem, naming its line and
+    column, refuses it; names and ranges are checked against the scene later, before any build."""
+    from mbs.inputs import read_table
+
+    _named(text, "CSV file name")
+    try:
+        return read_table(text)
+    except ValueError as exc:
+        raise Bad(str(exc)) from None

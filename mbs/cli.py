@@ -2,8 +2,9 @@
 
 Each area registers its subcommands from its own module (``register(sub, bench)``), so the
 core, the benchmarks, the FMU and the viewer stay independent. Every subcommand prints
-human-readable lines; with ``--json`` the last line on stdout is one JSON object.
-Progress bars go to stderr.
+human-readable lines; with ``--json`` stdout is exactly one JSON object (``heli ... --json |
+python -m json.tool`` works) and every human-readable line goes to stderr. Progress bars and
+warnings (``heli <command>: warning: <what, and what to do>``) go to stderr.
 
 Every argument is checked while the command line is parsed (types in :mod:`mbs.arguments`),
 before any work starts. A user's mistake, found then or later, ends with one line on stderr,
@@ -13,6 +14,7 @@ never with a traceback.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import json
 import logging
@@ -22,12 +24,22 @@ COMMAND_MODULES = ("mbs.commands", "mbs.aircraft.commands", "mbs.bench.commands"
                    "mbs.bench.scaling", "mbs.sweep.commands", "fmu.commands", "viewer.commands", "mbs.loads.commands")
 
 
+_json_out = None
+"""The real stdout while a ``--json`` command runs (:func:`main` sends the rest of stdout to stderr)."""
+_prog = "heli"
+
+
 def emit(result: dict, as_json: bool, lines: list[str]) -> None:
-    """Print ``lines``; with ``as_json`` also one JSON object as the last line."""
+    """Print ``lines``; with ``as_json`` print them on stderr and ``result`` as one JSON object on stdout."""
     for line in lines:
-        print(line)
+        print(line, file=sys.stderr if as_json else sys.stdout)
     if as_json:
-        print(json.dumps(result, default=_jsonable))
+        print(json.dumps(result, default=_jsonable), file=_json_out or sys.stdout, flush=True)
+
+
+def warn(message: str) -> None:
+    """``heli <command>: warning: <message>`` on stderr."""
+    print(f"{_prog}: warning: {message}", file=sys.stderr, flush=True)
 
 
 def _jsonable(o):
@@ -37,7 +49,8 @@ def _jsonable(o):
 
 
 def add_json(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--json", action="store_true", help="print one machine-readable JSON object last")
+    p.add_argument("--json", action="store_true",
+                   help="print one machine-readable JSON object on stdout (the human-readable lines go to stderr)")
 
 
 class Parser(argparse.ArgumentParser):
@@ -105,10 +118,14 @@ def main(argv: list[str] | None = None) -> int:
     ap = parser()
     args = ap.parse_args(argv)
     _show_messages(bool(getattr(args, "quiet", False)))
-    prog = " ".join(["heli", *(getattr(args, k) for k in ("command", "bench", "fmu_command", "aircraft_command", "kind")
-                               if isinstance(getattr(args, k, None), str))])
+    global _prog, _json_out
+    prog = _prog = " ".join(["heli", *(getattr(args, k) for k in ("command", "bench", "fmu_command", "aircraft_command",
+                                                                   "kind") if isinstance(getattr(args, k, None), str))])
+    as_json = bool(getattr(args, "json", False))
+    _json_out = sys.stdout if as_json else None
     try:
-        return int(args.fn(args) or 0)
+        with contextlib.redirect_stdout(sys.stderr) if as_json else contextlib.nullcontext():
+            return int(args.fn(args) or 0)
     except USER_ERRORS as exc:
         text = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
         print(f"{prog}: error: {text}", file=sys.stderr)
@@ -116,6 +133,8 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print(f"{prog}: interrupted", file=sys.stderr)
         return 130
+    finally:
+        _json_out = None
 
 
 if __name__ == "__main__":

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import os
 import re
+import sys
 from pathlib import Path
 
 from mbs import arguments as A
@@ -14,6 +15,8 @@ FIXED_METHODS = ("euler", "rk4", "rk8")  # mbs.integrators.FIXED_STEP, named her
 def cmd_scenes(args) -> int:
     from mbs import scenes
 
+    if args.markdown and args.json:
+        raise ValueError("--markdown and --json: the Markdown table is text; give one of them")
     rows = [scene_row(sc) for sc in scenes.all_scenes().values()]
     if args.markdown:
         print(scene_table(rows))
@@ -78,16 +81,35 @@ def _scene(args):
 
 def cmd_simulate(args) -> int:
     from mbs._progress import Progress
-    from mbs.simulate import simulate, write
+    from mbs.cli import warn
+    from mbs.run_cost import check_size
+    from mbs.simulate import prepare, write
 
-    sim = simulate(_scene(args), args.revs, args.steps_per_rev, args.dtype, args.backend,
-                   every=args.every, progress=Progress(f"simulate {args.scene}", not args.quiet), method=args.method)
-    paths = write(sim, Path(args.out))
-    res = sim.summary()
-    res["files"] = {k: str(v) for k, v in paths.items()}
+    scene = _scene(args)
+    _check_revs(args.revs, args.steps_per_rev or scene.steps_per_rev)
+    settings = dict(_settings(args.set))
+    speed = settings.pop("speed", None)
+    run = prepare(scene, args.revs, args.steps_per_rev, args.dtype, args.backend, params=settings, every=args.every,
+                  method=args.method, inputs=args.inputs, speed=speed)
+    for text in run.warnings:
+        warn(text)
+    step = run.check_step(args.step_tol)
+    if not step.ok or step.ratio is None:
+        warn(step.message())
+    cost = run.cost(step.step_s)
+    check_size(cost, args.max_gb)
+    if cost.worth_saying():
+        print(f"heli simulate: {cost.message()}", file=sys.stderr, flush=True)
+    show, slow = not args.quiet, cost.rows * cost.row_s > 2.0
+    sim = run.execute(Progress(f"simulate {scene.name}", show), Progress("outputs and energies", show and slow))
+    sim.step_error = step
+    paths = write(sim, Path(args.out), Progress("writing results.csv", show and slow))
+    res = {**sim.summary(), "files": {k: str(v) for k, v in paths.items()}, "warnings": run.warnings,
+           "cost": cost.summary()}
     lines = [f"{sim.scene.name}: {sim.revs:g} revolutions, {res['steps']} {sim.method} steps ({sim.system.dtype}, "
              f"{sim.system.backend}) in {sim.traj.wall_s:.3f} s, {res['realtime_factor']:.1f}x real time",
-             f"result: {sim.traj.message}"]
+             f"result: {sim.traj.message}" + ("" if step.ok else " (but the step is too coarse: see the warning)"),
+             f"step check ({1e3 * step.wall_s:.0f} ms): {step.message()}"]
     if "max_rel_energy_error" in res:
         lines.append(f"max relative energy error: {res['max_rel_energy_error']:.3e}")
     lines += [f"wrote {p}" for p in paths.values()]
@@ -95,11 +117,77 @@ def cmd_simulate(args) -> int:
     return 0 if sim.traj.ok else 1
 
 
+def _check_revs(revs: float, steps_per_rev: int) -> None:
+    """Refuse a ``--revs`` shorter than one step."""
+    if round(revs * steps_per_rev) < 1:
+        raise ValueError(f"--revs {revs:g} is less than one step ({steps_per_rev} steps per revolution): give "
+                         f"--revs {1 / steps_per_rev:g} or more")
+
+
+def _settings(items: list[str] | None) -> dict[str, float]:
+    """The ``--set NAME=VALUE`` values; a name given twice is refused."""
+    from mbs.analysis.fanplot import parse_settings
+
+    names = [item.partition("=")[0].strip() for item in items or []]
+    twice = sorted({n for n in names if names.count(n) > 1})
+    if twice:
+        raise ValueError(f"--set {twice[0]} is given more than once; give each name once")
+    return parse_settings(items)
+
+
+def _model_facts(scene) -> tuple[dict, bool]:
+    """Parameters (name -> :class:`mbs.tree.Parameter`) of ``scene``'s model and whether its
+    fuselage flies free; symbolic only, so callers check options before anything is compiled."""
+    model = scene.model()
+    return model.parameters, any(type(b.joint).__name__ == "FreeJoint" for b in model.bodies.values())
+
+
+def _check_speed(args, scene) -> None:
+    """Refuse ``--speed`` and ``--climb-rate`` on a scene whose fuselage does not fly (clamped or
+    none): they would be ignored."""
+    given = [(f, v) for f, v in (("--speed", getattr(args, "speed", None)),
+                                 ("--climb-rate", getattr(args, "climb_rate", 0.0) or None)) if v is not None]
+    if given and not _model_facts(scene)[1]:
+        flag, value = given[0]
+        raise ValueError(f"{flag} {value:g}: scene {scene.name!r} has no free fuselage, so no flight speed or climb "
+                         "(its rotor turns in still air); give it for forward-flight or hover")
+
+
+def _check_floquet_settings(scene, settings: dict, sweep: tuple | None) -> None:
+    """Refuse ``--set``/``--sweep`` names that are no parameters, ``--set`` values out of range (a
+    sweep's are rows with their status), a name both set and swept, and a control of a
+    free-flying scene (its trim sets the controls). ``sweep``: ``(name, values)`` of ``--sweep``,
+    or None."""
+    from mbs.inputs import check_settings
+
+    swept = sweep[0] if sweep else None
+    option = {**{n: "--set" for n in settings}, **({swept: "--sweep"} if swept else {})}
+    if not option:
+        return
+    if swept in settings:
+        raise ValueError(f"--set {swept}=... and --sweep {swept}=...: the sweep sets {swept}; drop one of them")
+    parameters, free = _model_facts(scene)
+    for name, flag in option.items():
+        if name not in parameters:
+            hint = "; the flight speed is --speed" if name == "speed" else ""
+            raise ValueError(f"{flag} {name}: {name!r} is not a parameter of scene {scene.name!r} "
+                             f"(it has: {', '.join(parameters) or 'none'}){hint}")
+        if free and parameters[name].control:
+            others = ", ".join(n for n, q in parameters.items() if not q.control) or "none"
+            raise ValueError(f"{flag} {name}: the trim sets the controls of scene {scene.name!r} (its fuselage flies "
+                             f"free), so {name} given here would be overridden; set a parameter that is not a control "
+                             f"({others}), or use a scene with a clamped fuselage (ground-run)")
+    limits = {n: {"low": q.low, "high": q.high, "unit": q.unit} for n, q in parameters.items()}
+    check_settings(settings, limits, scene.name, free)  # a sweep's values beyond the range are failed rows
+
+
 def cmd_trim(args) -> int:
     from mbs._progress import Progress
     from mbs.trim import trim
 
-    res = trim(_scene(args), speed=args.speed, climb_rate=args.climb_rate, method=args.method,
+    scene = _scene(args)
+    _check_speed(args, scene)
+    res = trim(scene, speed=args.speed, climb_rate=args.climb_rate, method=args.method,
                steps_per_rev=args.steps_per_rev, backend=args.backend, tol=args.tol,
                max_iterations=args.iterations, progress=Progress(f"trim {args.scene}", not args.quiet))
     out, lines = res.summary(), _trim_lines(res)
@@ -146,14 +234,17 @@ they repeat blade 1's; ``--json`` has them all)."""
 
 
 def cmd_floquet(args) -> int:
-    from mbs.analysis.fanplot import WithParameters, parse_settings
+    from mbs.analysis.fanplot import WithParameters, parse_sweep
     from mbs.analysis.floquet import check_scene, floquet
     from mbs.analysis.trim import evaluators
 
+    scene = _scene(args)
+    _check_speed(args, scene)
+    settings = _settings(args.set)
+    _check_floquet_settings(scene, settings, parse_sweep(args.sweep) if args.sweep else None)
     if args.sweep:
-        return _floquet_sweep(args)
-    settings = parse_settings(args.set)
-    sc = scene = _scene(args)
+        return _floquet_sweep(args, scene)
+    sc = scene
     check_scene(scene)
     system, stepper = evaluators(scene, args.method, args.backend)
     if settings:
@@ -190,7 +281,7 @@ def _floquet_files(res, out: Path) -> list[str]:
             str(floquet_plot.figure(res, stem.with_suffix(".png")))]
 
 
-def _floquet_sweep(args) -> int:
+def _floquet_sweep(args, scene) -> int:
     """``heli floquet SCENE --sweep NAME=LO:HI:N``: the fan plot (PNG) and its table (CSV)."""
     import time
 
@@ -199,7 +290,7 @@ def _floquet_sweep(args) -> int:
 
     start = time.perf_counter()
     name, values = fp.parse_sweep(args.sweep)
-    ana = fp.FanPlotAnalysis(_scene(args), fp.parse_settings(args.set), args.method, args.steps_per_rev,
+    ana = fp.FanPlotAnalysis(scene, fp.parse_settings(args.set), args.method, args.steps_per_rev,
                              args.backend, fixed_frame=args.frame != "rotating")
     setup_s = time.perf_counter() - start
     points = fp.sweep(ana, name, values, Progress(f"floquet sweep {args.scene}", not args.quiet))
@@ -242,7 +333,9 @@ def _sweep_lines(res: dict, points) -> list[str]:
 def cmd_derivatives(args) -> int:
     from mbs.analysis.derivatives import derivatives, write_matrices
 
-    res = derivatives(_scene(args), speed=args.speed, method=args.method, steps_per_rev=args.steps_per_rev,
+    scene = _scene(args)
+    _check_speed(args, scene)
+    res = derivatives(scene, speed=args.speed, method=args.method, steps_per_rev=args.steps_per_rev,
                       backend=args.backend)
     out, lines = res.summary(), _derivative_lines(res)
     if args.mat:
@@ -269,15 +362,25 @@ def _derivative_lines(res) -> list[str]:
     for f in FORCES:
         row = [res.table[f"{f}_{v}"] for v in [*VELOCITIES, *syms]]
         lines.append(f"  {f:4s}" + "".join(f"{x:+11.4g}" for x in row))
-    lines += ["  A, x = (u, w, q, theta, v, p, phi, r):",
-              *["    " + " ".join(f"{x:+9.4f}" for x in row) for row in res.A],
-              f"  B, u = ({', '.join(syms)}):", *["    " + " ".join(f"{x:+9.4f}" for x in row) for row in res.B],
-              f"  {'mode':22s} {'Re λ 1/s':>10s} {'Im λ rad/s':>11s} {'ζ':>7s} {'period s':>9s}"]
+    lines += matrix_lines("A", res.A, res.states, res.states) + matrix_lines("B", res.B, res.states, syms)
+    lines.append(f"  {'mode':22s} {'Re λ 1/s':>10s} {'Im λ rad/s':>11s} {'ζ':>7s} {'period s':>9s}")
     for m in res.modes:
         period = f"{m.period_s:9.2f}" if m.period_s else " " * 9
         lines.append(f"  {m.name:22s} {m.eigenvalue.real:+10.4f} {m.eigenvalue.imag:11.4f} "
                      f"{m.damping_ratio:+7.3f} {period}")
     return lines
+
+
+SYMBOLS = {"theta": "θ", "phi": "φ"}
+
+
+def matrix_lines(name: str, m, rows: list[str], columns: list[str]) -> list[str]:
+    """``m`` printed with its labels: a row per state (the derivative of), a column per state or
+    control (per unit of); Greek symbols for the Euler angles."""
+    label = lambda s: SYMBOLS.get(s, s)  # noqa: E731
+    return [f"  {name} (row: time derivative of the state; column: per unit of the state or control):",
+            "    " + " " * 6 + "".join(f"{label(c):>10s}" for c in columns),
+            *[f"    {'d' + label(r) + '/dt':6s}" + "".join(f"{x:+10.4f}" for x in row) for r, row in zip(rows, m)]]
 
 
 def cmd_figures(args) -> int:
@@ -306,6 +409,13 @@ def trim_file(text: str) -> Path:
     if path.resolve().is_relative_to(package):
         raise A.Bad(f"{text!r} is inside the installed package ({package}); give a file of your own "
                     f"(without PATH: {user_trims()})")
+    if path.exists():  # its other entries are kept: a file that cannot be read would fail after the trim
+        tomllib = __import__("tomllib" if sys.version_info >= (3, 11) else "tomli")
+        try:
+            tomllib.loads(path.read_text())
+        except (ValueError, OSError, UnicodeDecodeError) as exc:
+            raise A.Bad(f"{text!r} exists and is not a TOML file whose entries could be kept ({exc}); give another "
+                        "file or repair it") from None
     return path
 
 
@@ -399,7 +509,7 @@ def register(sub, bench) -> None:
     p = sub.add_parser("derivatives", help="stability and control derivatives at trim (quasi-static rotor in its "
                        "periodic equilibrium), the A and B matrices and the flight modes")
     _add_periodic_arguments(p)
-    p.add_argument("--mat", metavar="FILE", default=None, type=A.output_file(".mat", ".npz"),
+    p.add_argument("--mat", metavar="FILE", default=None, type=A.matrix_file,
                    help="write A, B and the mode names to FILE (.mat for MATLAB, or .npz)")
     add_json(p)
     _aero(p)
@@ -422,6 +532,22 @@ def register(sub, bench) -> None:
                         "--backend compiled)")
     _backend(p)
     p.add_argument("--every", type=A.positive_int, default=1, help="record every N-th step (default 1: all)")
+    p.add_argument("--set", action="append", metavar="NAME=VALUE", type=A.checked_by(_setting),
+                   help="a control (collective, lateral_cyclic, longitudinal_cyclic, tail_collective; rad), another "
+                        "run-time parameter (e.g. omega=40) or speed=V, the initial forward speed in m/s of a free "
+                        "fuselage (level flight at the start's attitude); repeatable; 'heli scenes --json' lists "
+                        "each scene's parameters")
+    p.add_argument("--inputs", metavar="FILE", type=A.input_table, default=None,
+                   help="input table: a CSV file with a 'time' column (s) and columns named after parameters (the "
+                        "FMU demo's and fmpy's format); linear between rows, a time written twice is a jump, each "
+                        "step holds the values at its start; written into results.csv as columns")
+    p.add_argument("--step-tol", type=A.positive, default=0.01, metavar="FRACTION",
+                   help="largest step error allowed, as a fraction of each state's range over the first revolution "
+                        "(default 0.01): a step-doubling check (three revolutions' worth of steps) warns above it "
+                        "with the --steps-per-rev that would do")
+    p.add_argument("--max-gb", type=A.positive, default=1.0, metavar="GB",
+                   help="refuse a run whose results.csv would exceed this size (default 1 GB; the estimate and the "
+                        "run's time are printed first for long runs); --every N records fewer rows")
     p.add_argument("--out", type=A.output_folder, default="out/simulate", help="output folder (default out/simulate)")
     _aero(p)
     _quiet(p)

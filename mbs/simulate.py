@@ -1,22 +1,32 @@
 """Run a scene and write its results: ``results.csv``, ``run.json`` and plots.
 
 ``results.csv`` columns: ``time`` (s), every state by name (rad, rad/s, m, m/s, quaternion),
-every model output by name, and the energies ``kinetic_translational``,
-``kinetic_rotational``, ``potential_gravity``, ``potential_spring``, ``total_energy`` (J).
-``run.json`` records the scene (with its aircraft file and aerodynamics switches: see
-:func:`run_record`), parameters, integrator and figures, so that a results folder can be
-re-opened (e.g. by the viewer, :func:`scene_of_run`) without guessing.
+every model output by name, the energies ``kinetic_translational``, ``kinetic_rotational``,
+``potential_gravity``, ``potential_spring``, ``total_energy`` (J), and the inputs of an input
+table by parameter name (:mod:`mbs.inputs`; the value in force from that row on). The unit
+of every column is in ``run.json`` (``"units"``; :mod:`mbs.results`). ``run.json`` records
+the scene (with its aircraft file and aerodynamics switches: see :func:`run_record`),
+parameters, ``--set`` values and input table, integrator, the step-error estimate and
+figures, so that a results folder can be re-opened (e.g. by the viewer,
+:func:`scene_of_run`) without guessing.
+
+:func:`prepare` sets a run up without running it (:class:`Run`: its step-error check and cost
+estimate come before the work); :func:`simulate` prepares and runs.
 """
 from __future__ import annotations
 
+import io
 import json
-from dataclasses import dataclass
+import time
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from mbs import scenes as _scenes
 from mbs.backends.system import System, Trajectory
+from mbs.inputs import InputTable
+from mbs.results import read_results  # noqa: F401  (re-exported: the readers of results folders use it)
 
 ENERGY_NAMES = ["kinetic_translational", "kinetic_rotational", "potential_gravity",
                 "potential_spring", "total_energy"]
@@ -24,7 +34,10 @@ ENERGY_NAMES = ["kinetic_translational", "kinetic_rotational", "potential_gravit
 
 @dataclass
 class Simulation:
-    """A finished run of a scene: trajectory plus energies (n, 5) and outputs (n, n_out)."""
+    """A finished run of a scene: trajectory plus energies (n, 5) and outputs (n, n_out);
+    ``param_rows`` (n, np): the parameters in force from each row on, when an input table
+    changed them (``inputs``); ``settings``: the ``--set`` values (``speed`` included);
+    ``units``: column -> unit; ``step_error``: the estimate made before the run, if any."""
 
     scene: _scenes.Scene
     system: System
@@ -36,6 +49,12 @@ class Simulation:
     outputs: np.ndarray
     compensated: bool = True
     method: str = "rk4"
+    param_rows: np.ndarray | None = None
+    inputs: InputTable | None = None
+    settings: dict = field(default_factory=dict)
+    units: dict = field(default_factory=dict)
+    step_error: object = None
+    every: int = 1
 
     @property
     def max_rel_energy_error(self) -> float:
@@ -48,18 +67,32 @@ class Simulation:
         cols.update({n: self.traj.x[:, i] for i, n in enumerate(info.state_names)})
         cols.update({n: self.outputs[:, i] for i, n in enumerate(info.output_names)})
         cols.update({n: self.energy[:, i] for i, n in enumerate(ENERGY_NAMES)})
+        if self.inputs is not None:
+            cols.update({n: self.param_rows[:, info.param_names.index(n)] for n in self.inputs.names})
         return cols
 
+    def column_units(self) -> dict[str, str]:
+        """The unit of every column of :meth:`columns` (empty when not known)."""
+        known = {**self.units, **{n: "J" for n in ENERGY_NAMES}}
+        return {n: known.get(n, "") for n in self.columns()}
+
     def summary(self) -> dict:
+        steps = int(round(self.revs * self.steps_per_rev))
         out = {**run_record(self.scene), "revs": self.revs, "steps_per_rev": self.steps_per_rev,
-               "steps": int(round(self.revs * self.steps_per_rev)), "dtype": str(self.system.dtype),
+               "steps": steps, "every": self.every, "dtype": str(self.system.dtype),
                "backend": self.system.backend, "method": self.method, "compensated_summation": self.compensated,
                "wall_s": self.traj.wall_s,
                "realtime_factor": (self.traj.t[-1] - self.traj.t[0]) / max(self.traj.wall_s, 1e-12),
                "nfev": self.traj.nfev, "result": self.traj.result.name, "message": self.traj.message,
-               "parameters": dict(zip(self.system.info.param_names, self.params.tolist()))}
+               "parameters": dict(zip(self.system.info.param_names, self.params.tolist())),
+               "set": dict(self.settings)}
+        if self.inputs is not None:
+            out["inputs"] = self.inputs.summary()
+        if self.step_error is not None:
+            out["step_error"] = self.step_error.summary()
         if self.scene.conservative:
             out["max_rel_energy_error"] = self.max_rel_energy_error
+        out["units"] = self.column_units()
         return out
 
 
@@ -98,31 +131,213 @@ def scene_of_run(meta: dict, where: str = "run.json") -> _scenes.Scene:
     return with_aero(scene, ",".join(aero) or "none") if aero is not None else scene
 
 
-def simulate(scene: str | _scenes.Scene, revs: float = 1.0, steps_per_rev: int | None = None,
-             dtype: str = "float64", backend: str = "compiled", params: dict | None = None,
-             every: int = 1, progress=None, system: System | None = None, x0=None,
-             options: dict | None = None, compensated: bool = True, method: str = "rk4") -> Simulation:
-    """Run ``scene`` for ``revs`` main-rotor revolutions of ``method`` (a fixed-step method of
-    the generated driver: ``rk4``, the paper's, ``rk8`` or ``euler``) at ``steps_per_rev``.
+ROW_SAMPLE = 200  # rows timed and measured for the cost estimate (at most a revolution)
 
-    ``compensated=False`` turns off the compensated summation of the step updates (plain
-    floating-point arithmetic, as in the paper).
-    """
+
+@dataclass
+class Run:
+    """A run set up and not yet started (:func:`prepare`): ``steps`` steps of ``h`` s from ``x0``
+    with parameters ``p`` (and the input table ``inputs``), rows every ``every`` steps;
+    ``warnings``: what the set-up changed or could not honour, one line each."""
+
+    scene: _scenes.Scene
+    system: System
+    p: np.ndarray
+    x0: np.ndarray
+    h: float
+    steps: int
+    steps_per_rev: int
+    every: int = 1
+    method: str = "rk4"
+    compensated: bool = True
+    inputs: InputTable | None = None
+    settings: dict = field(default_factory=dict)
+    units: dict = field(default_factory=dict)
+    options: dict = field(default_factory=dict)
+    warnings: list = field(default_factory=list)
+
+    @property
+    def revs(self) -> float:
+        return self.steps / self.steps_per_rev
+
+    def window(self, h: float, n: int, every: int = 1, progress=None) -> tuple[Trajectory, np.ndarray | None]:
+        """The first ``n`` steps of ``h`` s (the run's inputs held step by step); the trajectory and
+        the parameters in force from each row on (None without an input table)."""
+        if self.inputs is None:
+            return self.system.run(self.x0, 0.0, h, n, every=every, p=self.p, method=self.method,
+                                   progress=progress, compensated=self.compensated), None
+        from mbs.inputs import run_held
+
+        return run_held(self.system, self.x0, h, n, self.p, self.inputs, every, self.method, progress,
+                        self.compensated)
+
+    def check_step(self, tolerance: float | None = None):
+        """The step-error estimate over the first revolution (:func:`mbs.step_error.estimate`)."""
+        from mbs import step_error
+
+        res = step_error.estimate(self.system, self.x0, self.p, self.h, self.steps_per_rev, self.steps,
+                                  self.method, tolerance or step_error.DEFAULT_TOLERANCE,
+                                  run=lambda h, n, every: self.window(h, n, every)[0])
+        res.unit = self.units.get(res.state, "")
+        return res
+
+    def cost(self, step_s: float | None = None):
+        """Time and size of the run (:class:`mbs.run_cost.RunCost`), measured: a step (``step_s``,
+        else timed here over up to a revolution) and a sample of recorded rows."""
+        from mbs.run_cost import RunCost
+
+        n = max(1, min(self.steps, self.steps_per_rev, ROW_SAMPLE))
+        start = time.perf_counter()
+        traj, rows_p = self.window(self.h, n)
+        step_s = step_s or (time.perf_counter() - start) / n
+        sample = self._finish(traj, rows_p)  # also the warm-up of the bound functions
+        evaluator = self.system if self.system.dtype == np.float64 else _float64_twin(self.scene, self.options)
+        start = time.perf_counter()
+        _histories(evaluator, traj, self.p if rows_p is None else rows_p)
+        cols, text = sample.columns(), io.StringIO()
+        np.savetxt(text, np.column_stack(list(cols.values())), delimiter=",", fmt="%.17g")
+        row_s = (time.perf_counter() - start) / len(traj.t)
+        rows = self.steps // self.every + 1 + (self.steps % self.every > 0)
+        return RunCost(self.steps, rows, len(cols), step_s, row_s, len(text.getvalue()) / len(traj.t), self.every)
+
+    def execute(self, progress=None, evaluate_progress=None) -> Simulation:
+        """Run, then evaluate the energies and outputs at every recorded row (``evaluate_progress``
+        reports that part, row by row)."""
+        nfev = self.system.nfev
+        traj, rows_p = self.window(self.h, self.steps, self.every, progress)
+        traj.nfev -= nfev  # this run's evaluations (the checks before it ran on the same system)
+        return self._finish(traj, rows_p, evaluate_progress)
+
+    def _finish(self, traj: Trajectory, rows_p, progress=None) -> Simulation:
+        evaluator = self.system if self.system.dtype == np.float64 else _float64_twin(self.scene, self.options)
+        p = self.p if rows_p is None else rows_p
+        energy, outputs = _histories(evaluator, traj, p, progress)
+        return Simulation(self.scene, self.system, traj, self.p, self.revs, self.steps_per_rev, energy, outputs,
+                          self.compensated, self.method, rows_p, self.inputs, dict(self.settings), dict(self.units),
+                          every=self.every)
+
+
+def _histories(system: System, traj: Trajectory, p, progress=None) -> tuple[np.ndarray, np.ndarray]:
+    """Energies (n, 5) and outputs (n, n_out) at the rows of ``traj``; ``p`` (np,) or per row (n, np)
+    (checked parameters: the generated functions are called on bound buffers, unchecked)."""
+    n = len(traj.t)
+    rows = np.broadcast_to(np.asarray(p, dtype=float), (n, len(system.info.param_names)))
+    energy, outputs = np.empty((n, len(ENERGY_NAMES))), np.empty((n, len(system.info.output_names)))
+    bound = [(system.bind("energy"), energy), (system.bind("outputs"), outputs)]
+    for i in range(n):
+        for f, out in bound:
+            f.inputs[0][:], f.inputs[1][...], f.inputs[2][:] = traj.x[i], traj.t[i], rows[i]
+            f()
+            out[i] = f.outputs[0]
+        if progress and (i % 1000 == 999 or i == n - 1):
+            progress(i + 1, n)
+    return energy, outputs
+
+
+def prepare(scene: str | _scenes.Scene, revs: float = 1.0, steps_per_rev: int | None = None,
+            dtype: str = "float64", backend: str = "compiled", params: dict | None = None, every: int = 1,
+            system: System | None = None, x0=None, options: dict | None = None, compensated: bool = True,
+            method: str = "rk4", inputs: InputTable | None = None, speed: float | None = None) -> Run:
+    """Set up a run of ``scene`` for ``revs`` main-rotor revolutions of ``method`` at
+    ``steps_per_rev`` (see :func:`simulate`) without running it. ``params`` and ``speed`` (m/s,
+    the initial forward speed of a free fuselage) are the ``--set`` values and ``inputs`` an
+    input table: each is checked against the model (ValueError naming it) before anything is
+    compiled."""
+    from mbs import inputs as inp
+
     scene = _scenes.get(scene) if isinstance(scene, str) else scene
     if not (np.isfinite(revs) and revs > 0):
         raise ValueError(f"revs = {revs} must be positive")
     steps_per_rev = steps_per_rev or scene.steps_per_rev
     if steps_per_rev < 1:
         raise ValueError(f"steps_per_rev = {steps_per_rev} must be >= 1")
-    system = system or scene.system(backend, dtype, **(options or {}))
+    settings = {**(params or {}), **({} if speed is None else {inp.SPEED: speed})}
+    system, units = _system(scene, system, backend, dtype, options, settings, inputs)
     p = system.params(params or {})
-    h = scene.revolution(system, p) / steps_per_rev
     n = int(round(revs * steps_per_rev))
-    traj = system.run(system.x0() if x0 is None else x0, 0.0, h, n, every=every, p=p, progress=progress,
-                      compensated=compensated, method=method)
-    evaluator = system if system.dtype == np.float64 else _float64_twin(scene, options)
-    return Simulation(scene, system, traj, p, revs, steps_per_rev, evaluator.history("energy", traj, p),
-                      evaluator.history("outputs", traj, p), compensated, method)
+    if n < 1:
+        raise ValueError(f"revs = {revs:g} is less than one step ({steps_per_rev} steps per revolution: give at "
+                         f"least {1 / steps_per_rev:g})")
+    x = system.x0() if x0 is None else system.check_state(x0)
+    run = Run(scene, system, p, x, scene.revolution(system, p) / steps_per_rev, n, steps_per_rev, every, method,
+              compensated, inputs, settings, units, dict(options or {}))
+    if speed is not None:
+        run.x0 = inp.with_forward_speed(system.info, x, speed)
+    run.warnings += _setup_warnings(run, revs, speed, x)
+    return run
+
+
+def _system(scene, system, backend, dtype, options, settings, inputs) -> tuple[System, dict]:
+    """The run's system, built after the settings and inputs are checked on the symbolic model,
+    and the units of its columns."""
+    from mbs.results import column_units
+
+    if system is not None:
+        limits = {q["name"]: q for q in system.info.parameters}
+        free = any(b["joint"] == "FreeJoint" for b in system.info.bodies)
+        _check_inputs(scene.name, limits, free, settings, inputs)
+        return system, {}
+    from mbs.backends import build
+
+    model = scene.model(**(options or {}))
+    limits = {n: {"low": q.low, "high": q.high, "unit": q.unit} for n, q in model.parameters.items()}
+    free = any(type(b.joint).__name__ == "FreeJoint" for b in model.bodies.values())
+    _check_inputs(scene.name, limits, free, settings, inputs)
+    return build(model, backend, dtype), column_units(model)
+
+
+def _check_inputs(scene: str, limits: dict, free: bool, settings: dict, inputs) -> None:
+    from mbs import inputs as inp
+
+    inp.check_settings(settings, limits, scene, free)
+    if inputs is not None:
+        inp.check_table(inputs, limits, scene, settings)
+
+
+def _setup_warnings(run: Run, revs: float, speed: float | None, x_default: np.ndarray) -> list[str]:
+    """What the set-up changed or cannot honour: a ``revs`` that is no whole number of steps, a
+    speed away from the scene's trim, input jumps between step starts, rows after the end."""
+    from mbs import inputs as inp
+
+    out = []
+    if abs(run.steps - revs * run.steps_per_rev) > 1e-9 * run.steps:
+        out.append(f"--revs {revs:g} is {revs * run.steps_per_rev:g} steps at {run.steps_per_rev} steps per "
+                   f"revolution: running {run.steps} steps ({run.revs:g} revolutions)")
+    own = inp.initial_speed(run.system.info, x_default)
+    if speed is not None and own is not None and abs(speed - own) > 1e-9:
+        controls = [q["name"] for q in run.system.info.parameters if q.get("control")]
+        out.append(f"--set speed={speed:g}: the run starts at {speed:g} m/s with the attitude"
+                   f"{' and controls' if controls else ''} of scene {run.scene.name!r} at {own:g} m/s, so it starts "
+                   f"with a transient; 'heli trim {run.scene.name} --speed {speed:g}' gives the trimmed controls "
+                   "to --set")
+    if run.inputs is not None:
+        stop = run.steps * run.h
+        out += [f"--inputs {run.inputs.path}: the jump at t = {t:.6g} s acts at the next step start, t = {a:.6g} s "
+                f"(the step is {run.h:.6g} s); put jumps on multiples of the step"
+                for t, a in inp.late_switches(run.inputs, run.h, stop)]
+        late = run.inputs.time[run.inputs.time > stop * (1 + 1e-12)]
+        if late.size:
+            out.append(f"--inputs {run.inputs.path}: {late.size} row(s) after the end of the run (t = {stop:.6g} s) "
+                       "are not used")
+    return out
+
+
+def simulate(scene: str | _scenes.Scene, revs: float = 1.0, steps_per_rev: int | None = None,
+             dtype: str = "float64", backend: str = "compiled", params: dict | None = None,
+             every: int = 1, progress=None, system: System | None = None, x0=None,
+             options: dict | None = None, compensated: bool = True, method: str = "rk4",
+             inputs: InputTable | None = None, speed: float | None = None) -> Simulation:
+    """Run ``scene`` for ``revs`` main-rotor revolutions of ``method`` (a fixed-step method of
+    the generated driver: ``rk4``, the paper's, ``rk8`` or ``euler``) at ``steps_per_rev``.
+
+    ``compensated=False`` turns off the compensated summation of the step updates (plain
+    floating-point arithmetic, as in the paper). ``inputs``: an input table
+    (:class:`mbs.inputs.InputTable`) held step by step; ``speed``: the initial forward speed
+    (m/s) of a free fuselage. No step-error check and no cost estimate here: ``heli simulate``
+    makes them (:meth:`Run.check_step`, :meth:`Run.cost`).
+    """
+    return prepare(scene, revs, steps_per_rev, dtype, backend, params, every, system, x0, options, compensated,
+                   method, inputs, speed).execute(progress)
 
 
 def _float64_twin(scene, options) -> System:
@@ -130,31 +345,17 @@ def _float64_twin(scene, options) -> System:
     return scene.system("vm", **(options or {}))
 
 
-def write(sim: Simulation, out: Path) -> dict[str, Path]:
-    """Write ``results.csv``, ``run.json`` and the plots into ``out``; returns the paths."""
+def write(sim: Simulation, out: Path, progress=None) -> dict[str, Path]:
+    """Write ``results.csv`` (``progress(rows, n)`` as it goes), ``run.json`` and the plots into
+    ``out``; returns the paths."""
     from mbs import plots
+    from mbs.results import write_csv
 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    cols = sim.columns()
-    paths = {"results": out / "results.csv", "run": out / "run.json"}
-    np.savetxt(paths["results"], np.column_stack(list(cols.values())), delimiter=",",
-               header=",".join(cols), comments="", fmt="%.17g")
+    paths = {"results": write_csv(sim.columns(), out / "results.csv", progress), "run": out / "run.json"}
     paths["run"].write_text(json.dumps(sim.summary(), indent=1))
     paths["hinge_angles"] = plots.hinge_angles(sim, out / "hinge_angles.png")
     if sim.scene.conservative:
         paths["energy_error"] = plots.energy_error([sim], out / "energy_error.png")
     return paths
-
-
-def read_results(folder_or_csv: Path) -> tuple[dict[str, np.ndarray], dict]:
-    """Columns of a ``results.csv`` and the ``run.json`` beside it (empty if absent)."""
-    path = Path(folder_or_csv)
-    csv = path / "results.csv" if path.is_dir() else path
-    if not csv.exists():
-        raise FileNotFoundError(f"no results file at {csv}")
-    names = csv.read_text().split("\n", 1)[0].split(",")
-    data = np.loadtxt(csv, delimiter=",", skiprows=1, ndmin=2)
-    meta_path = csv.parent / "run.json"
-    meta = json.loads(meta_path.read_text()) if meta_path.exists() else {}
-    return {n: data[:, i] for i, n in enumerate(names)}, meta

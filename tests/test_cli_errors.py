@@ -51,6 +51,7 @@ CASES = [
     ("trim hover --write trims.txt", ["--write", "'trims.txt' must be a file name ending in .toml"]),
     ("trim hover --write /dev/null/x.toml", ["--write", "'/dev/null/x.toml'", "/dev/null exists and is not a folder"]),
     ("trim hover --write DIR", ["--write", "DIR", "must be a file name ending in .toml"]),
+    ("trim hover --write BADTOML", ["--write", "BADTOML", "exists and is not a TOML file", "Expected"]),
     ("floquet hover --set lag_damping", ["--set", "'lag_damping'", "NAME=VALUE"]),
     ("floquet hover --sweep omega=20:60", ["--sweep", "'omega=20:60'", "NAME=LO:HI:N"]),
     ("floquet structural", ["scene 'structural' has no periodic solution"]),
@@ -98,20 +99,118 @@ CASES = [
     ("bench scaling --out /dev/null/x", ["--out", "'/dev/null/x'"]),
     ("bench scaling --max-instructions 0", ["--max-instructions", "0 must be a whole number >= 1"]),
     ("bench nosuch", ["BENCHMARK", "'nosuch'"]),
+    # options that would do nothing, or be overridden
+    ("simulate structural --out EMPTY", ["--out", "'' is empty"]),
+    ("figures --out EMPTY", ["--out", "'' is empty"]),
+    ("floquet hover --out EMPTY", ["--out", "'' is empty"]),
+    ("derivatives hover --mat EMPTY", ["--mat", "'' is empty"]),
+    ("trim hover --write EMPTY", ["--write", "'' is empty"]),
+    ("view DIR --html EMPTY", ["--html", "'' is empty"]),
+    ("simulate structural --revs 0.001", ["--revs 0.001 is less than one step", "100 steps per revolution"]),
+    ("simulate elastic-rotor --revs 0.002", ["--revs 0.002 is less than one step", "200 steps per revolution"]),
+    ("trim ground-run --speed 20", ["--speed 20", "scene 'ground-run' has no free fuselage"]),
+    ("floquet ground-run --speed 5", ["--speed 5", "scene 'ground-run' has no free fuselage"]),
+    ("trim ground-run --climb-rate 5", ["--climb-rate 5", "scene 'ground-run' has no free fuselage"]),
+    ("trim elastic-rotor --speed 0", ["--speed 0", "scene 'elastic-rotor' has no free fuselage"]),
+    ("floquet hover --set collective=0.3", ["--set collective", "the trim sets the controls of scene 'hover'", "omega"]),
+    ("floquet hover --sweep collective=0.2:0.3:3", ["--sweep collective", "the trim sets the controls"]),
+    ("floquet ground-run --set omega=40 --sweep omega=30:40:3", ["--set omega", "--sweep omega", "drop one"]),
+    ("floquet hover --set lag_damping=50", ["--set lag_damping", "'lag_damping' is not a parameter of scene 'hover'"]),
+    ("floquet hover --set speed=10", ["--set speed", "the flight speed is --speed"]),
+    ("floquet ground-run --set omega=80", ["--set omega=80", "outside its range [22.2, 53.3] rad/s"]),
+    ("scenes --markdown --json", ["--markdown and --json"]),
+    ("view DIR --simulate hover", ["--simulate hover", "would ignore", "give one of them"]),
+    ("view DIR --duration 5", ["--duration applies to --serve only"]),
+    ("view DIR --wait 3", ["--wait applies to --simulate only"]),
+    ("view DIR --port 7001", ["--port applies to --serve or --simulate only"]),
+    ("view DIR --serve --html page.html", ["--html applies to the HTML page"]),
+    ("view DIR --serve --max-mb 3", ["--max-mb applies to the HTML page"]),
+    ("view DIR --serve --no-trace", ["--no-trace applies to the HTML page"]),
+    ("view --simulate hover --every 2", ["--every applies to", "with --simulate it would do nothing"]),
+    ("view --simulate hover --start 0.1", ["--start applies to"]),
+    # --set and --inputs of simulate: names and ranges from the scene's model, before anything is built
+    ("simulate hover --set colective=0.3", ["--set colective=0.3", "'colective' is not a parameter of scene 'hover'",
+                                            "collective", "speed"]),
+    ("simulate hover --set collective=1", ["--set collective=1", "collective = 1 rad is outside its range"]),
+    ("simulate hover --set collective", ["--set", "'collective'", "NAME=VALUE"]),
+    ("simulate hover --set collective=0.2 --set collective=0.3", ["--set collective is given more than once"]),
+    ("simulate ground-run --set speed=20", ["--set speed=20", "scene 'ground-run' has no free fuselage"]),
+    ("simulate hover --set speed=200", ["--set speed=200", "[-20, 90] m/s"]),
+    ("simulate demo-rotor --set omega=40", ["--set omega=40", "'omega' is not a parameter of scene 'demo-rotor'"]),
+    ("simulate hover --inputs DIR/missing.csv", ["--inputs", "missing.csv: no such file"]),
+    ("simulate hover --inputs EMPTYFILE", ["--inputs", "is empty"]),
+    ("simulate hover --inputs IN_NOTIME", ["--inputs", "the first column must be 'time' (s), not 't'"]),
+    ("simulate hover --inputs IN_TEXT", ["--inputs", "line 3, column 'collective': 'high' is not a number"]),
+    ("simulate hover --inputs IN_SHORT", ["--inputs", "line 3 has 1 values for 2 columns"]),
+    ("simulate hover --inputs IN_BACK", ["--inputs", "line 4: time 0.01 s is before the previous row's 0.02 s"]),
+    ("simulate hover --inputs IN_LATE", ["--inputs", "the first row is at time 0.1 s", "give a row at time 0"]),
+    ("simulate hover --inputs IN_NAME", ["--inputs", "'colective' is not a parameter of scene 'hover'"]),
+    ("simulate hover --inputs IN_RANGE", ["--inputs", "line 4: collective = 0.5 rad is outside its range"]),
+    ("simulate hover --inputs IN_SPEED", ["--inputs", "column 'speed'", "--set speed=V"]),
+    ("simulate hover --inputs IN_GOOD --set collective=0.3", ["column 'collective' is also given by --set"]),
+    # heli view: files that are no run to show, found before any work
+    ("view SWEEP", ["is not a results table of 'heli simulate'", "first column is 'parameter'", "sweep"]),
+    ("view EMPTYFILE", ["is empty: not a results table"]),
+    ("view CORRUPT", ["line 3, column 'fuselage.x': 'nan?' is not a number"]),
+    ("view HEADER_ONLY", ["has a header but no rows"]),
+    ("view DIVERGED", ["the run stopped before its end", "state became non-finite", "--steps-per-rev"]),
+    ("view NAN", ["column 'blade1.flap' is nan at t = 0.01 s"]),
+    ("view BADJSON", ["run.json is not valid JSON"]),
+    # a run too large for its output limit: size and time said, with the --every that fits
+    ("simulate hover --revs 1e5", ["results.csv would be about", "GB", "more than --max-gb 1", "--every"]),
+    ("derivatives hover --mat A.MAT.txt", ["--mat", "'A.MAT.txt' must be a file name ending in .mat or .npz"]),
     ("", ["the following arguments are required: COMMAND"]),
     ("nosuch", ["COMMAND", "'nosuch'"]),
 ]
 
 
+INPUT_TABLES = {  # --inputs files: name -> text
+    "IN_GOOD": "time,collective\n0,0.25\n0.1,0.25\n0.1,0.26\n",
+    "IN_NOTIME": "t,collective\n0,0.25\n",
+    "IN_TEXT": "time,collective\n0,0.25\n0.1,high\n",
+    "IN_SHORT": "time,collective\n0,0.25\n0.1\n",
+    "IN_BACK": "time,collective\n0,0.25\n0.02,0.25\n0.01,0.26\n",
+    "IN_LATE": "time,collective\n0.1,0.25\n",
+    "IN_NAME": "time,colective\n0,0.25\n",
+    "IN_RANGE": "time,collective\n0,0.25\n\n0.1,0.5\n",  # a blank line 3 does not count as a row
+    "IN_SPEED": "time,speed\n0,10\n",
+}
+RUN_JSON = '{"scene": "hover", "result": "successful"}'
+FOLDERS = {  # results folders heli view must refuse: name -> (results.csv, run.json)
+    "SWEEP": ("parameter,value,status\nspeed,0,ok\n", None),
+    "CORRUPT": ("time,fuselage.x\n0,1\n0.01,nan?\n", RUN_JSON),
+    "HEADER_ONLY": ("time,fuselage.x\n", RUN_JSON),
+    "DIVERGED": ("time,blade1.flap\n0,0.01\n0.01,0.02\n", '{"scene": "hover", "result": "nonfinite", "message": '
+                 '"the state became non-finite (at t = 0.02 s, step 3)"}'),
+    "NAN": ("time,blade1.flap\n0,0.01\n0.01,nan\n", RUN_JSON),
+    "BADJSON": ("time,blade1.flap\n0,0.01\n", '{"scene": "hover",'),
+}
+
+
 @pytest.fixture
 def places(tmp_path, monkeypatch) -> dict[str, str]:
-    """Stand-ins of the table: an existing file, a results folder, the package's trims file;
-    the working folder is a fresh temporary one."""
+    """Stand-ins of the table: an existing file, a results folder, the package's trims file,
+    input tables, results folders that are no run to show, an empty name; the working folder
+    is a fresh temporary one."""
     monkeypatch.chdir(tmp_path)
     (tmp_path / "a-file").write_text("not a folder")
+    (tmp_path / "empty.csv").write_text("")
+    (tmp_path / "trims.toml").write_text("[hover\nspeed = 0\n")
     (tmp_path / "results").mkdir()
     (tmp_path / "results" / "results.csv").write_text("time\n0\n")
-    return {"FILE": str(tmp_path / "a-file"), "DIR": str(tmp_path / "results"), "PKG": str(PACKAGE_TRIMS)}
+    out = {"FILE": str(tmp_path / "a-file"), "DIR": str(tmp_path / "results"), "PKG": str(PACKAGE_TRIMS), "EMPTY": "",
+           "EMPTYFILE": str(tmp_path / "empty.csv"), "BADTOML": str(tmp_path / "trims.toml")}
+    for name, text in INPUT_TABLES.items():
+        (tmp_path / f"{name.lower()}.csv").write_text(text)
+        out[name] = str(tmp_path / f"{name.lower()}.csv")
+    for name, (table, run) in FOLDERS.items():
+        folder = tmp_path / name.lower()
+        folder.mkdir()
+        (folder / "results.csv").write_text(table)
+        if run:
+            (folder / "run.json").write_text(run)
+        out[name] = str(folder)
+    return out
 
 
 def run_main(argv: list[str], capsys) -> tuple[int, str]:
@@ -134,6 +233,7 @@ def assert_one_line_error(code: int, err: str, words: list[str]) -> None:
 @pytest.mark.parametrize("line, words", CASES, ids=[c[0] or "(nothing)" for c in CASES])
 def test_bad_invocation_is_one_line_and_exit_2(line, words, places, capsys, tmp_path):
     argv = [places.get(w, w) for w in line.split()]
+    words = [w for w in words if w]
     before = sorted(p.name for p in tmp_path.iterdir())
     code, err = run_main(argv, capsys)
     assert_one_line_error(code, err, [places.get(w, w) for w in words])

@@ -95,17 +95,26 @@ def test_classical_signs_and_named_modes(lin, speed, capsys):
 
 
 def test_heli_derivatives_prints_the_table_and_writes_matlab(tmp_path, capsys):
+    """With --json, stdout is the JSON object alone and the labelled tables go to stderr; an
+    upper-case ``.MAT`` is a MATLAB file of exactly that name."""
     from scipy.io import loadmat
 
-    path = tmp_path / "bo105_hover.mat"
+    path = tmp_path / "bo105_hover.MAT"
     assert main(["derivatives", "hover", "--steps-per-rev", "50", "--json", "--mat", str(path)]) == 0
-    out = capsys.readouterr().out.strip().splitlines()
-    res = json.loads(out[-1])
+    captured = capsys.readouterr()
+    res, out = json.loads(captured.out), captured.err.splitlines()
     assert res["states"] == ["u", "w", "q", "theta", "v", "p", "phi", "r"]
     assert np.array(res["A"]).shape == (8, 8) and np.array(res["B"]).shape == (8, 4)
     assert {"X_u", "Z_w", "M_q", "L_p", "N_r", "Z_θ0", "M_θ1s", "L_θ1c", "N_θ0T"} <= set(res["derivatives"])
     assert any("roll subsidence" in line or "pitch-roll subsidence" in line for line in out)
     assert any(line.startswith("  M ") for line in out)
+    header = out.index("  A (row: time derivative of the state; column: per unit of the state or control):")
+    assert out[header + 1].split() == ["u", "w", "q", "θ", "v", "p", "φ", "r"]
+    assert [line.split()[0] for line in out[header + 2:header + 10]] == [
+        "du/dt", "dw/dt", "dq/dt", "dθ/dt", "dv/dt", "dp/dt", "dφ/dt", "dr/dt"]
+    assert [float(x) for x in out[header + 4].split()[1:]] == pytest.approx(np.array(res["A"])[2], abs=5e-5)
+    assert out[header + 11].split() == ["θ0", "θ1s", "θ1c", "θ0T"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bo105_hover.MAT"]
     mat = loadmat(path)
     assert np.allclose(mat["A"], res["A"]) and np.allclose(mat["B"], res["B"])
 
@@ -113,3 +122,24 @@ def test_heli_derivatives_prints_the_table_and_writes_matlab(tmp_path, capsys):
 def test_heli_derivatives_refuses_a_clamped_scene(capsys):
     assert main(["derivatives", "ground-run"]) == 2
     assert "free-flying" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("name", ["A.MAT", "a.mat", "B.NPZ", "b.npz"])
+def test_matrix_files_keep_the_given_name_in_any_case(name, tmp_path):
+    """``--mat A.MAT`` was accepted and then refused after the whole computation ('unknown matrix
+    file type'), and ``B.NPZ`` became ``B.NPZ.npz``: the file is written under its own name."""
+    from types import SimpleNamespace
+
+    from scipy.io import loadmat
+
+    from mbs import arguments
+    from mbs.analysis.derivatives import write_matrices
+
+    path = arguments.matrix_file(str(tmp_path / name))
+    res = SimpleNamespace(A=np.eye(8), B=np.ones((8, 4)), states=["u", "w", "q", "theta", "v", "p", "phi", "r"],
+                          controls=["collective", "longitudinal_cyclic", "lateral_cyclic", "tail_collective"],
+                          speed=0.0, modes=[])
+    assert write_matrices(res, path) == str(tmp_path / name)
+    assert [p.name for p in tmp_path.iterdir()] == [name]
+    data = loadmat(path) if name.lower().endswith(".mat") else np.load(path)
+    assert np.array_equal(data["A"], np.eye(8)) and np.array_equal(data["B"], np.ones((8, 4)))

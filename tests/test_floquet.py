@@ -55,7 +55,7 @@ def test_hover_modes(capsys):
     one more flap mode, the regressing one in the fixed frame, couples with the body's pitch and
     roll and is damped less), the teeter near the tail rotor's 1/rev (5.25/rev of the main rotor)."""
     assert main(["floquet", "hover", "--frame", "rotating", "--json"]) == 0
-    res = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    res = json.loads(capsys.readouterr().out)  # stdout is the JSON object alone
     modes = res["modes"]
     assert res["frame"] == "rotating" and "files" not in res
     assert min(abs(np.hypot(*m["multiplier"]) - 1) for m in modes) < 1e-9  # heading
@@ -79,7 +79,7 @@ def test_hover_chart_and_table_in_the_fixed_frame(tmp_path, capsys):
     lag modes split into regressing (near 1 - 0.68/rev), advancing (near 1 + 0.68/rev),
     collective and differential (near 0.68/rev), and the multipliers do not change."""
     assert main(["floquet", "hover", "--out", str(tmp_path), "--json"]) == 0
-    res = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    res = json.loads(capsys.readouterr().out)  # stdout is the JSON object alone
     assert res["frame"] == "fixed (multi-blade)"
     png, table = tmp_path / "floquet_hover.png", tmp_path / "floquet_hover.csv"
     assert res["files"] == [str(table), str(png)]

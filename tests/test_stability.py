@@ -117,8 +117,8 @@ def test_cli_prints_the_table_and_one_json_object(capsys):
     from mbs.cli import main
 
     assert main(["bench", "stability", "--scene", "demo-rotor", "--revs", "5", "--case", "none", "--json"]) == 0
-    out = capsys.readouterr().out.strip().splitlines()
-    res = json.loads(out[-1])
+    captured = capsys.readouterr()
+    res, out = json.loads(captured.out), captured.err.splitlines()  # --json: the table on stderr
     rk4 = res["table"]["methods"]["rk4"]
     assert 0.9 <= rk4["ratio"] <= 1.1 and res["cases"] == {}
-    assert any(line.lstrip().startswith("rk4") and f"{rk4['ratio']:.3f}" in line for line in out[:-1])
+    assert any(line.lstrip().startswith("rk4") and f"{rk4['ratio']:.3f}" in line for line in out)

@@ -169,7 +169,7 @@ def test_heli_sweep_trim_writes_the_table_and_charts_and_reports_json(tmp_path, 
     argv = ["sweep", "trim", SCENE, "--speed", "0:0:1", "--steps-per-rev", "50", "--workers", "0", "--out",
             str(tmp_path), "--quiet", "--json"]
     assert main(argv) == 0
-    res = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    res = json.loads(capsys.readouterr().out)  # stdout is the JSON object alone
     assert (res["points"], res["ok"], res["computed"], res["reused"]) == (1, 1, 1, 0)
     assert {p.rsplit("/", 1)[-1] for p in res["files"]} == {"results.parquet", "results.csv", "trim_controls.png",
                                                           "trim_attitude.png", "trim_power.png", "trim_summary.png"}

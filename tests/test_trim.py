@@ -101,8 +101,8 @@ def test_hover_collective_matches_blade_element_momentum_theory():
 def test_heli_trim_reports_and_writes_to_a_user_path(tmp_path, capsys):
     path = tmp_path / "trims.toml"
     assert main(["trim", "forward-flight", "--speed", "30", "--quiet", "--json", "--write", str(path)]) == 0
-    out = capsys.readouterr().out.strip().splitlines()
-    res = json.loads(out[-1])
+    captured = capsys.readouterr()
+    res, out = json.loads(captured.out), captured.err.splitlines()  # --json: the report on stderr
     assert res["converged"] and res["max_abs_residual"] <= 1e-10 and res["period"]["full_revs"] == 4
     assert set(res["controls"]) == {"collective", "lateral_cyclic", "longitudinal_cyclic", "tail_collective"}
     assert res["controls_deg"]["collective"] == pytest.approx(np.degrees(res["controls"]["collective"]))

@@ -22,7 +22,7 @@ def quick(tmp_path_factory):
     with contextlib.redirect_stdout(buf):
         code = main(["bench", "work-precision", "--quick", "--repeats", "1", "--out", str(out), "--json"])
     assert code == 0
-    return out, json.loads(buf.getvalue().strip().splitlines()[-1])
+    return out, json.loads(buf.getvalue())  # stdout is the JSON object alone
 
 
 def _rows(path) -> list[dict]:

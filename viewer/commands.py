@@ -18,9 +18,35 @@ def _follows(args) -> bool:
     return args.camera == "follow" and not args.no_follow
 
 
-def cmd_view(args) -> int:
+MODES = {"html": "the HTML page (the default)", "serve": "--serve", "simulate": "--simulate"}
+ONLY = {"html": ("html",), "max_mb": ("html",), "no_trace": ("html",), "duration": ("serve",), "wait": ("simulate",),
+        "port": ("serve", "simulate"), "every": ("html", "serve"), "start": ("html", "serve")}
+"""Options that act in some modes only: given in another, they would do nothing, so they are refused."""
+
+
+def _mode(args) -> str:
+    return "simulate" if args.simulate is not None else "serve" if args.serve else "html"
+
+
+def _check_options(args) -> None:
+    """Refuse what would be ignored: a results folder with --simulate, and options of other modes."""
     if args.results is None and args.simulate is None:
         raise ValueError("give a results folder or results.csv, or --simulate SCENE")
+    if args.results is not None and args.simulate is not None:
+        raise ValueError(f"--simulate {args.simulate} runs the scene afresh and would ignore {args.results}; give one "
+                         "of them")
+    mode = _mode(args)
+    for dest, modes in ONLY.items():
+        value = getattr(args, dest)
+        if value not in (None, False) and mode not in modes:
+            option = "--" + dest.replace("_", "-")
+            where = " or ".join(MODES[m] for m in modes)
+            raise ValueError(f"{option} applies to {where} only: with {MODES[mode]} it would do nothing")
+
+
+def cmd_view(args) -> int:
+    _check_options(args)
+    args.every, args.max_mb = args.every or 1, args.max_mb or 5.0
     if args.simulate is not None:
         return _live_simulation(args)
     if args.serve:
@@ -94,8 +120,8 @@ def register(sub, bench) -> None:
                    help="main-rotor revolutions shown, the last ones (default 0: the whole run)")
     p.add_argument("--start", type=A.finite, default=None,
                    help="first time shown, s (default: last --revs revolutions)")
-    p.add_argument("--every", type=A.positive_int, default=1,
-                   help="keep every N-th recorded row (keys are added back where a joint would turn "
+    p.add_argument("--every", type=A.positive_int, default=None,
+                   help="keep every N-th recorded row (default 1) (keys are added back where a joint would turn "
                         "60 deg or more)")
     p.add_argument("--slow", type=A.positive, default=10.0,
                    help="the page starts playing F times slower than real time (default 10; it has a speed control)")
@@ -103,13 +129,13 @@ def register(sub, bench) -> None:
     p.add_argument("--no-follow", action="store_true", help="same as --camera fixed")
     p.add_argument("--camera", choices=["follow", "fixed"], default="follow",
                    help="the view starts following the fuselage (default) or fixed to the ground; the page has a toggle")
-    p.add_argument("--max-mb", type=A.positive, default=5.0, metavar="MB",
+    p.add_argument("--max-mb", type=A.positive, default=None, metavar="MB",
                    help="size limit of the page in MB (default 5): longer runs show every N-th recorded row")
     p.add_argument("--backend", choices=["vm", "compiled"], default="vm",
                    help="evaluator for the poses: CasADi's virtual machine (default) or compiled C")
     p.add_argument("--port", type=A.port, default=None, help="web port of the live server (default: first free from 7000)")
     p.add_argument("--duration", type=A.positive, default=None, help="with --serve: stop after this many seconds")
-    p.add_argument("--wait", type=A.non_negative, default=0.0, help="with --simulate: seconds to wait before running "
+    p.add_argument("--wait", type=A.non_negative, default=None, help="with --simulate: seconds to wait before running "
                                                             "(time to open the page)")
     add_json(p)
     p.set_defaults(fn=cmd_view)

@@ -22,6 +22,8 @@ import numpy as np
 from viewer import kinematics as kin
 
 DEFAULT_MAX_STEP = np.radians(60.0)
+MAX_KEYS = 200_000
+"""More keyframes than this: the motion turns too fast between recorded rows to be shown (a diverged run)."""
 
 
 @dataclass
@@ -73,14 +75,20 @@ def from_simulation(sim) -> Recording:
 def from_results(path: str | Path, backend: str = "vm") -> Recording:
     """Recording of a results folder or ``results.csv`` written by :func:`mbs.simulate.write`.
 
-    The scene named in ``run.json`` is rebuilt with ``backend`` ("vm" or "compiled"); its
+    Everything that can be wrong with the files is found before the model is built (one-line
+    ValueError): a file that is no run's table, a run that stopped (diverged), a non-finite
+    value. The scene recorded in ``run.json`` (its aircraft and aerodynamics switches too:
+    :func:`mbs.simulate.scene_of_run`) is rebuilt with ``backend`` ("vm" or "compiled"); its
     parameters are taken from ``run.json``, or row by row from columns of the same name
     (inputs that change during the run).
     """
-    from mbs.simulate import read_results, scene_of_run
+    from mbs.results import read_results
+    from mbs.simulate import scene_of_run
 
     cols, meta = read_results(Path(path))
-    scene = scene_of_run(meta, str(path))
+    where = Path(path) / "run.json" if Path(path).is_dir() else Path(path).parent / "run.json"
+    _check_run(path, cols, meta)
+    scene = scene_of_run(meta, str(where))
     system = scene.system(backend)
     names = system.info.state_names
     missing = [n for n in ["time", *names] if n not in cols]
@@ -94,6 +102,25 @@ def from_results(path: str | Path, backend: str = "vm") -> Recording:
         P = np.array([system.params(p, **{n: cols[n][i] for n in varying}) for i in range(len(cols["time"]))])
     x = np.column_stack([cols[n] for n in names])
     return _checked(Recording(system, cols["time"], x, p, scene.name, scene.revolution(system, p), P, scene.plots))
+
+
+def _check_run(path, cols: dict, meta: dict) -> None:
+    """Refuse, before any work, a run that stopped before its end and a non-finite value."""
+    if "scene" not in meta:
+        raise ValueError(f"no run.json with a scene name next to {path}: cannot tell which model to show")
+    if meta.get("result", "successful") != "successful":
+        raise ValueError(f"{path}: the run stopped before its end ({meta.get('message', meta['result'])}); its last "
+                         "rows are no motion to show: run it again with a smaller step (--steps-per-rev)")
+    for name, values in cols.items():
+        bad = np.flatnonzero(~np.isfinite(values))
+        if bad.size:
+            t = cols["time"][bad[0]]
+            raise ValueError(f"{path}: column {name!r} is {values[bad[0]]} at t = {t:.6g} s (the run diverged?); "
+                             "nothing after that can be shown")
+    t = cols["time"]
+    back = np.flatnonzero(np.diff(t) <= 0)
+    if back.size:
+        raise ValueError(f"{path}: time does not increase at t = {t[back[0] + 1]:.6g} s (line {back[0] + 3})")
 
 
 def as_recording(source, backend: str = "vm") -> Recording:
@@ -199,7 +226,13 @@ def motion(source, revs: float | None = 1.0, start: float | None = None, every: 
         if not np.any(steps >= max_step):
             origins, rotations = np.array([f[0] for f in frames]), np.array([f[1] for f in frames])
             return Motion(rec, t, origins, rotations, local, parents)
-        t = _split(t, np.ceil(steps / (0.95 * max_step)).astype(int))
+        parts = np.ceil(np.minimum(steps, 1e12) / (0.95 * max_step))
+        if parts.sum() > MAX_KEYS:
+            i = int(np.argmax(parts))
+            raise ValueError(f"between t = {t[i]:.6g} and {t[i + 1]:.6g} s a joint turns by {steps[i]:.3g} rad: too "
+                             "fast to show between recorded rows (did the run diverge? check it with heli simulate, or "
+                             "record every step)")
+        t = _split(t, parts.astype(int))
     raise RuntimeError("could not resample the trajectory below the keyframe angle limit")
 
 

@@ -178,10 +178,10 @@ def derivatives(scene: str = "forward-flight", speed: float | None = None, metho
     from mbs.analysis.trim import _check_scene, periodic_solution
 
     sc = _check_scene(scene)
-    system = system or sc.system(backend)
-    if not TrimLayout.of(system.info).free:
+    if not _flies_free(sc.model()):  # symbolic: before anything is compiled
         raise ValueError(f"scene {sc.name!r} has no free fuselage: derivatives need a free-flying scene; "
                          f"free-flying trimmable scenes: {', '.join(_free_scenes(scenes))}")
+    system = system or sc.system(backend)
     stepper = stepper or TangentStepper(sc.model(), method, backend)
     start = time.perf_counter()
     sol = periodic_solution(sc, speed, method=method, steps_per_rev=steps_per_rev, system=system, stepper=stepper)
@@ -191,12 +191,16 @@ def derivatives(scene: str = "forward-flight", speed: float | None = None, metho
     return linearise(sol, system, held_stepper, sol.radius, start)
 
 
+def _flies_free(model) -> bool:
+    """Whether ``model`` (a :class:`mbs.Model`) has a free fuselage."""
+    return any(type(b.joint).__name__ == "FreeJoint" for b in model.bodies.values())
+
+
 def _free_scenes(scenes) -> list[str]:
     """Names of the trimmable scenes with a free fuselage."""
     from mbs.analysis.trim import trimmable
 
-    free = lambda m: any(type(b.joint).__name__ == "FreeJoint" for b in m.bodies.values())  # noqa: E731
-    return sorted(n for n, s in scenes.all_scenes().items() if trimmable(s) and free(s.model()))
+    return sorted(n for n, s in scenes.all_scenes().items() if trimmable(s) and _flies_free(s.model()))
 
 
 def linearise(sol, system, held_stepper: HeldStepper, radius: float, start: float | None = None) -> Derivatives:
@@ -230,12 +234,14 @@ def write_matrices(res: Derivatives, path) -> str:
             "eigenvalues": np.array([m.eigenvalue for m in res.modes]),
             "mode_names": np.array([m.name for m in res.modes], dtype=object)}
     path.parent.mkdir(parents=True, exist_ok=True)
-    if path.suffix == ".mat":
+    if path.suffix.lower() == ".mat":
         from scipy.io import savemat
 
-        savemat(path, data)
-    elif path.suffix == ".npz":
-        np.savez(path, **{k: (v.astype(str) if getattr(v, "dtype", None) == object else v) for k, v in data.items()})
+        with open(path, "wb") as f:  # a file object: savemat would append .mat to a name ending in .MAT
+            savemat(f, data)
+    elif path.suffix.lower() == ".npz":
+        with open(path, "wb") as f:  # a file object: np.savez would append .npz to a name ending in .NPZ
+            np.savez(f, **{k: (v.astype(str) if getattr(v, "dtype", None) == object else v) for k, v in data.items()})
     else:
         raise ValueError(f"unknown matrix file type {path.suffix!r}: use .mat (MATLAB) or .npz")
     return str(path)
