@@ -69,8 +69,8 @@ ELASTIC_ROTOR = Config(fuselage="none", tail_rotor=False, airframe_aero=False, s
                        trim="hover", blade_segments=8)
 ELASTIC_TEXT = ("hub clamped and driven (vertical shaft), the main rotor's blades elastic, 8 segments each on flap, "
                 "lag and torsion hinges with springs (the aircraft's first blade frequencies: 1.117, 0.68 and 3.7/rev "
-                "for the Bo105), blade-element aerodynamics with uniform dynamic inflow, hover controls; RK4 at 200 "
-                "steps per revolution")
+                "for the Bo105), blade-element aerodynamics with uniform dynamic inflow, hover controls; RK4 at 300 "
+                "steps per revolution (at 200 the step check finds the tip segments' lag rates 3 % off)")
 
 
 def _register() -> None:
@@ -80,7 +80,7 @@ def _register() -> None:
         register(Scene(name, text, _builder(cfg, name), omega=bo105.omega, conservative=conservative,
                        plots=_plots(cfg, n), aircraft=bo105))
     register(Scene("elastic-rotor", ELASTIC_TEXT, _builder(ELASTIC_ROTOR, "elastic-rotor"), omega=bo105.omega,
-                   steps_per_rev=200, plots=_plots(ELASTIC_ROTOR, n), aircraft=bo105))
+                   steps_per_rev=300, plots=_plots(ELASTIC_ROTOR, n), aircraft=bo105))
 
 
 _register()
