@@ -84,6 +84,7 @@ CASES = [
     ("sweep trim hover --speed 0:10", ["--speed", "'0:10' must be LO:HI:N"]),
     ("sweep trim hover --speed 0:10:0", ["--speed", "'0:10:0'"]),
     ("sweep trim nosuch --speed 0:10:2", ["SCENE", "'nosuch'"]),
+    ("sweep trim ground-run --speed 0:20:2", ["cannot sweep 'speed'", "no free fuselage: no flight speed"]),
     ("sweep trim hover --speed 0:10:2 --out /dev/null/x", ["--out", "'/dev/null/x'"]),
     ("sweep simulate hover --param collective", ["--param", "'collective' must be NAME=LO:HI:N"]),
     ("sweep simulate hover --revs 0 --param collective=0.2:0.3:2", ["--revs", "0 must be positive"]),

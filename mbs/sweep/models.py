@@ -100,8 +100,10 @@ def check_axes(kind: str, scene: str, built, names: list[str]) -> None:
     params = list(info.param_names)
     if kind == "trim":
         controls = [p["name"] for p in info.parameters if p.get("control")]
-        params = ["speed", "climb_rate"] + [p for p in params if p not in controls]
+        free = any(b["joint"] == "FreeJoint" for b in info.bodies)  # a flight speed needs a free fuselage
+        params = ["speed", "climb_rate"] * free + [p for p in params if p not in controls]
     bad = [n for n in names if n not in params]
     if bad:
-        raise ValueError(f"cannot sweep {', '.join(map(repr, bad))} in a {kind} sweep of {scene!r}; "
-                         f"sweepable: {', '.join(params)}")
+        why = " (it has no free fuselage: no flight speed)" if kind == "trim" and not free else ""
+        raise ValueError(f"cannot sweep {', '.join(map(repr, bad))} in a {kind} sweep of {scene!r}{why}; "
+                         f"sweepable: {', '.join(params) or 'nothing'}")
