@@ -151,3 +151,16 @@ def test_every_unit_has_its_si_base_units(fmu_path):
 def test_native_fmu_offers_no_virtual_machine():
     sv = next(sv for sv in model_description(_native()).find("ModelVariables") if sv.get("name") == "evaluator")
     assert "vm:" not in sv.get("description") and sv[0].get("start") == "compiled"
+
+
+def test_guid_comes_from_the_content_and_a_rebuild_keeps_it(tmp_path):
+    """pythonfmu's builder makes a time- and MAC-based GUID (uuid1) at every build; ours is
+    derived from what the FMU is built from: a fresh build gives the cached FMU's GUID."""
+    import uuid
+
+    cached = model_description(build.ensure_fmu(FAMILY)[0]).get("guid")
+    proc = subprocess.run([sys.executable, "-m", "fmu.build", "--dest", str(tmp_path / "again.fmu")], cwd=tmp_path,
+                          capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    assert model_description(tmp_path / "again.fmu").get("guid") == cached
+    assert uuid.UUID(cached).version == 5
