@@ -74,7 +74,7 @@ def plan(scene_names) -> tuple[dict, dict]:
     from mbs.backends import build
     from mbs.backends.compiled import generate
 
-    from fmu import periodic
+    from fmu import periodic, structure
 
     groups, per_scene, starts = {}, {}, {}
     for name in scene_names:
@@ -96,6 +96,7 @@ def plan(scene_names) -> tuple[dict, dict]:
             "scenes": {n: _scene_spec(per_scene[n], variables, starts[n]) for n in scene_names}}
     _add_starts(variables, spec["scenes"][spec["primary"]], spec["primary"])
     functions = {g: (vm, {**vm.functions, "fmu_outputs": fmu_outputs(vm, computed)}) for g, vm in groups.values()}
+    spec["structure"] = structure.structure(spec, functions)  # ModelStructure from the functions' sparsity
     return spec, functions
 
 
@@ -422,7 +423,7 @@ def build_here(scene_names, dest: Path) -> Path:
         sys.path.insert(0, str(stage))
         built = FmuBuilder.build_FMU(stage / f"{entry}.py", dest=stage / "out", project_files=[package, models],
                                      canGetAndSetFMUstate=True, canSerializeFMUstate=True)
-        _recompress(built, Path(dest), shim_library)
+        _recompress(built, Path(dest), shim_library, spec)
     return Path(dest)
 
 
@@ -435,19 +436,36 @@ def compiled_shim(guid: str) -> bytes:
         return shim.compile_shim(Path(tmp) / "shim.so", guid).read_bytes()
 
 
-def _recompress(src: Path, dest: Path, shim_library: bytes | None = None) -> None:
+def _recompress(src: Path, dest: Path, shim_library: bytes | None = None, spec: dict | None = None) -> None:
     """pythonfmu stores files uncompressed; deflate them (the libraries shrink about 4x).
     With ``shim_library``, the FMI front end takes the place of pythonfmu's library, which
-    moves to ``binaries/linux64/pythonfmu/``, and other platforms' binaries are dropped."""
+    moves to ``binaries/linux64/pythonfmu/``, and other platforms' binaries are dropped. With
+    ``spec``, the model description gets its ``<ModelStructure>`` (:mod:`fmu.structure`)."""
     from fmu.shim import relocate
 
     dest.parent.mkdir(parents=True, exist_ok=True)
     with zipfile.ZipFile(src) as zin, zipfile.ZipFile(dest, "w", zipfile.ZIP_DEFLATED) as zout:
         for item in zin.infolist():
             data = zin.read(item.filename)
+            if item.filename == "modelDescription.xml" and spec:
+                data = with_model_structure(data, spec)
             entries = relocate(item.filename, data, shim_library) if shim_library else [(item.filename, data)]
             for name, payload in entries:
                 zout.writestr(name, payload)
+
+
+def with_model_structure(xml: bytes, spec: dict) -> bytes:
+    """The model description ``xml`` with its ``<ModelStructure>`` replaced by the spec's."""
+    from xml.etree import ElementTree as ET
+
+    from fmu.structure import model_structure_xml
+
+    root = ET.fromstring(xml)
+    old = root.find("ModelStructure")
+    root.insert(list(root).index(old), model_structure_xml(spec))
+    root.remove(old)
+    ET.indent(root, "\t")
+    return b'<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, encoding="utf-8") + b"\n"
 
 
 # -- cache ----------------------------------------------------------------------------------

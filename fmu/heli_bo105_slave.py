@@ -411,20 +411,15 @@ class HeliRotorSlave(Fmi2Slave):
 
     def to_xml(self, model_options=dict()):
         """pythonfmu's description plus start values, units, ranges (numbers written with
-        ``repr``: shortest text that reads back bit for bit), ``<UnitDefinitions>`` and
-        ``<InitialUnknowns>``."""
+        ``repr``: shortest text that reads back bit for bit) and ``<UnitDefinitions>``; the
+        build writes ``<ModelStructure>`` (``fmu.structure``: from the generated functions'
+        sparsity)."""
         root = super().to_xml(model_options)
         if self._spec.get("guid"):
             root.set("guid", self._spec["guid"])  # from the FMU's content (fmu.build.content_guid); the shim checks it
         svs = list(root.find("ModelVariables"))
         units = {self._annotate(sv) for sv in svs}
         self._unit_definitions(root, units - {None})
-        from xml.etree.ElementTree import SubElement
-
-        initial = SubElement(root.find("ModelStructure"), "InitialUnknowns")
-        for i, sv in enumerate(svs, 1):
-            if sv.get("causality") == "output":
-                SubElement(initial, "Unknown", index=str(i))
         return root
 
     def _annotate(self, sv) -> str | None:

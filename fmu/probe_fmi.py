@@ -182,6 +182,24 @@ def case_log_categories(a: dict) -> dict:
             "unknown": p.record("fmi2SetDebugLogging", set_logging, "logNoSuchCategory")}
 
 
+def case_feedthrough(a: dict) -> dict:
+    """After one step, each input moved by ``delta`` (rad) in turn, without a step: the
+    outputs whose value changed at once (direct feedthrough), per input."""
+    p = _ready(a)
+    p.step(0.0, GOOD_STEP)
+    outputs = [v.name for v in p.md.modelVariables if v.causality == "output"]
+    inputs = [v.name for v in p.md.modelVariables if v.causality == "input"]
+    base = p.get_reals([p.vr(n) for n in outputs])[1]
+    out = {}
+    for name in inputs:
+        value = p.get(name)
+        p.set({name: value + a["delta"]})
+        moved = p.get_reals([p.vr(n) for n in outputs])[1]
+        p.set({name: value})
+        out[name] = [n for n, b, m in zip(outputs, base, moved) if b != m]
+    return out
+
+
 CASES = {name[5:]: fn for name, fn in globals().items() if name.startswith("case_")}
 
 

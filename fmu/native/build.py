@@ -317,13 +317,10 @@ def _co_simulation(identifier_: str, sources: list[str]) -> ET.Element:
 
 
 def _model_structure(spec: dict) -> ET.Element:
-    structure = ET.Element("ModelStructure")
-    outputs = [str(k + 1) for k, v in enumerate(spec["variables"]) if v["causality"] == "output"]
-    for tag in ("Outputs", "InitialUnknowns"):
-        group = ET.SubElement(structure, tag)
-        for index in outputs:
-            ET.SubElement(group, "Unknown", index=index)
-    return structure
+    """``<ModelStructure>`` from the generated functions' sparsity (:mod:`fmu.structure`)."""
+    from fmu.structure import model_structure_xml
+
+    return model_structure_xml(spec)
 
 
 def model_description(spec: dict, guid: str, sources: list[str]) -> bytes:
