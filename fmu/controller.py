@@ -16,8 +16,10 @@ The FMU (``HoverHold``, FMI 2.0 co-simulation, C: ``controller_fmi2.c`` with the
 ``δ = δ_trim − gain_scale · K e`` (``e``: the inputs minus the trim, positions turned into the
 trim heading's axes, heading wrapped to ±π; outputs clamped to the helicopter's input ranges).
 The controller samples: ``fmi2DoStep`` computes the outputs from the inputs averaged over the
-last rotor revolution (which removes the rotor harmonics that the quasi-static design leaves
-out: fed back, the 4/rev fuselage vibration drove the cyclic to its stops); no direct
+last 1/BLADES revolution (which removes the rotor harmonics at BLADES/rev and its multiples, all
+the fuselage feels in steady flight, and which the quasi-static design leaves out: fed back, they
+drove the cyclic to its stops; a whole revolution's average delayed the loop into a roll limit
+cycle); no direct
 feedthrough, so a loop with the helicopter FMU, whose fuselage outputs are states, is no
 algebraic loop; before the first step the outputs are the trim controls.
 ``gain_scale = 0`` leaves the loop open (the trim controls, held).
@@ -51,10 +53,11 @@ OUTPUTS = ("collective", "longitudinal_cyclic", "lateral_cyclic", "tail_collecti
 STATES = ("u", "w", "q", "theta", "v", "p", "phi", "r", "north", "east", "down", "psi")
 """The regulator's state: Padfield's 8 (derivatives' order), then position in the trim heading's
 axes (m) and heading (rad)."""
-MAX_STATE = {"u": 2.0, "w": 1.0, "v": 2.0, "p": 0.5, "q": 0.5, "r": 0.3, "theta": 0.03, "phi": 0.03,
+MAX_STATE = {"u": 2.0, "w": 1.0, "v": 2.0, "p": 0.3, "q": 0.3, "r": 0.3, "theta": 0.012, "phi": 0.012,
              "north": 2.0, "east": 2.0, "down": 2.0, "psi": 0.1}
 """Bryson's rule: the deviation (m/s, rad/s, rad, m) at which each state costs 1."""
 MAX_CONTROL = 0.01  # rad: the pitch deviation at which each control costs 1
+BLADES = 4  # main-rotor blades: the inputs are averaged over 1/BLADES revolution
 FROM_INPUT = {"u": "fuselage.u", "w": "fuselage.w", "q": "fuselage.q", "theta": "fuselage.pitch",
               "v": "fuselage.v", "p": "fuselage.p", "phi": "fuselage.roll", "r": "fuselage.r",
               "north": "fuselage.x", "east": "fuselage.y", "down": "fuselage.z", "psi": "fuselage.yaw"}
@@ -117,7 +120,8 @@ def design(log=None) -> dict:
     scene = spec["scenes"][SCENE]
     controls = {c: float(scene["periodic"]["defaults"][c]) for c in OUTPUTS}
     ranges = {c: scene["ranges"][c] for c in OUTPUTS}
-    return {"gains": gains.tolist(), "trim_inputs": trim, "revolution": scene["revolution"], "trim_controls": controls, "ranges": ranges,
+    window = scene["revolution"] / BLADES  # the fuselage feels the rotor's harmonics at BLADES/rev and multiples
+    return {"gains": gains.tolist(), "trim_inputs": trim, "revolution": scene["revolution"], "window": window, "trim_controls": controls, "ranges": ranges,
             "heading": trim["fuselage.yaw"], "A": a.tolist(), "B": b.tolist(), "K_states": k.tolist(),
             "open_loop": _eigenvalues(a), "closed_loop": _eigenvalues(a - b @ k),
             "reference": {key: float(v) for key, v in ref.items()}, "states": list(STATES)}
@@ -170,7 +174,7 @@ def c_data(dsg: dict, guid: str) -> str:
             f"static const double TRIM_IN[HH_NIN] = {c_reals([dsg['trim_inputs'][n] for n in INPUTS])};\n"
             f"static const double TRIM_OUT[HH_NOUT] = {c_reals([dsg['trim_controls'][c] for c in OUTPUTS])};\n"
             f"static const double LOW[HH_NOUT] = {c_reals(low)};\nstatic const double HIGH[HH_NOUT] = {c_reals(high)};\n"
-            f"static const double REVOLUTION = {c_real(dsg['revolution'])};\n"
+            f"static const double WINDOW = {c_real(dsg['window'])}; /* averaging window (s) */\n"
             f"static const double COS_HEADING = {c_real(math.cos(dsg['heading']))};\n"
             f"static const double SIN_HEADING = {c_real(math.sin(dsg['heading']))};\n"
             f"static const char* const NAMES[HH_NIN + HH_NOUT + 1] = {{{', '.join(map(c_string, INPUTS + OUTPUTS))}, "

@@ -4,11 +4,12 @@
        out = clamp(TRIM_OUT - gain_scale * GAINS e, LOW, HIGH),
        e = in - TRIM_IN, north/east turned into the trim heading's axes, heading wrapped to +-pi,
 
-   computed by fmi2DoStep (no direct feedthrough) from the inputs averaged over the last rotor
-   revolution (REVOLUTION s, each sample weighted by its step; at most HH_SAMPLES samples): the
+   computed by fmi2DoStep (no direct feedthrough) from the inputs averaged over the last quarter
+   revolution (WINDOW s, each sample weighted by its step; at most HH_SAMPLES samples): the
    average removes the rotor's harmonics (the 4/rev vibration of the fuselage), which the
-   design's quasi-static rotor does not have and which high-gain feedback would amplify. Before
-   the first step the outputs are TRIM_OUT. The design's numbers are in hover_hold_data.h. */
+   design's quasi-static rotor does not have and which high-gain feedback would amplify; the
+   window before the start counts as at the trim. Before the first step the outputs are
+   TRIM_OUT. The design's numbers are in hover_hold_data.h. */
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -71,7 +72,10 @@ static void reset(controller* c) {
   c->scale = 1.0;
   memcpy(c->in, TRIM_IN, sizeof c->in);
   memcpy(c->out, TRIM_OUT, sizeof c->out);
-  c->head = c->count = 0;
+  c->head = 0; /* one revolution at the trim before the start: the first averages ramp in */
+  c->count = 1;
+  c->sample_dt[0] = WINDOW;
+  memcpy(c->samples[0], TRIM_IN, sizeof c->samples[0]);
 }
 
 fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String guid, fmi2String resources,
@@ -214,9 +218,9 @@ static void average(controller* c, double dt, double* mean) {
   c->sample_dt[c->head] = dt;
   memcpy(c->samples[c->head], c->in, sizeof c->in);
   memset(mean, 0, sizeof(double) * HH_NIN);
-  for (n = 0; n < c->count && span < REVOLUTION; ++n) {
+  for (n = 0; n < c->count && span < WINDOW; ++n) {
     j = (c->head - n + HH_SAMPLES) % HH_SAMPLES;
-    w = c->sample_dt[j] < REVOLUTION - span ? c->sample_dt[j] : REVOLUTION - span;
+    w = c->sample_dt[j] < WINDOW - span ? c->sample_dt[j] : WINDOW - span;
     span += w;
     for (k = 0; k < HH_NIN; ++k) mean[k] += w * c->samples[j][k];
   }

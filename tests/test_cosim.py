@@ -41,7 +41,8 @@ def test_libcosim_sees_no_algebraic_loop(cosim):
 def test_closed_loop_holds_the_hover_for_a_minute_and_the_open_loop_diverges(cosim):
     c, o = cosim["closed"], cosim["open"]
     assert c["max_drift_m"] < 5.0 and c["drift_beyond_5m_s"] is None
-    assert c["attitude_within_2deg_after_s"] < 2.5 and c["max_attitude_deg"] < 3.5, c  # 3.0 deg at 0.45 s: the first response
+    # the aircraft's first response to the gust peaks at 2.14 deg (0.5 s), within 2 deg again from 0.78 s
+    assert c["attitude_within_2deg_after_s"] < 1.0 and c["max_attitude_deg"] < 2.5, c
     assert o["drift_beyond_5m_s"] is not None and o["drift_beyond_5m_s"] < 10.0, o
     assert o["attitude_beyond_20deg_s"] is not None and o["attitude_beyond_20deg_s"] < 20.0, o
     for name in ("ssp", "ssp_open", "figure", "csv"):
