@@ -92,6 +92,8 @@ def cmd_cosim(args) -> int:
              f"{c['attitude_within_2deg_after_s']:.2f} s), position within {c['max_drift_m']:.2f} m of the start",
              f"open loop: attitude beyond 2 deg at {o['attitude_beyond_2deg_s']} s, beyond 20 deg at "
              f"{o['attitude_beyond_20deg_s']} s; drift beyond 5 m at {o['drift_beyond_5m_s']} s",
+             f"algebraic loops: {len(res['algebraic_loops'])} (with every output depending on every input, as "
+             f"without ModelStructure dependencies: {res['algebraic_loops_without_dependencies']})",
              f"libcosim vs fmpy master: largest difference {res['libcosim_vs_fmpy_max_abs']:.3g}; wall time "
              f"libcosim {res['libcosim_wall_s']:.2f} s (recording), fmpy {res['fmpy_wall_s']:.2f} s",
              *[f"wrote {p}" for p in res["files"].values()]]

@@ -54,7 +54,7 @@ def run_libcosim(ssp_file: Path, stop: float, step: float, record: bool = True) 
     from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
     from libcosimpy.CosimObserver import CosimObserver
 
-    log_output_level(CosimLogLevel.INFO)
+    log_output_level(CosimLogLevel.WARNING)  # what libcosim warns about (an ignored variable, ...) is shown
     step_ns, n = round(step * 1e9), round(stop / step)
     ex = CosimExecution.from_ssp_file(str(ssp_file), step_size=step_ns)
     slaves = {info.name.decode(): info.index for info in ex.slave_infos()}
@@ -167,6 +167,51 @@ def _transfer(slaves: dict, wires: list):
     return transfer
 
 
+# -- algebraic loops ----------------------------------------------------------------------------------
+
+def algebraic_loops(ssp_file: Path, declared: bool = True) -> list[list[str]]:
+    """The algebraic loops of the ``.ssp`` system as a master finds them: cycles of connections
+    and direct feedthrough (an output to the inputs its ``ModelStructure`` says it depends on;
+    with ``declared = False``, or where an FMU declares nothing, to every input, as a tool must
+    then assume). Each loop as its ``component.variable`` names."""
+    from fmpy import read_model_description
+    from fmpy.ssp.ssd import read_ssd
+
+    ssd = read_ssd(str(ssp_file))
+    edges: dict[str, set[str]] = {}
+    with zipfile.ZipFile(ssp_file) as z:
+        for c in ssd.system.elements:
+            md = read_model_description(z.open(c.source))
+            inputs = [v.name for v in md.modelVariables if v.causality == "input"]
+            for u in md.outputs:
+                deps = inputs if not declared or u.dependencies is None else [d.name for d in u.dependencies]
+                for d in deps:
+                    edges.setdefault(f"{c.name}.{d}", set()).add(f"{c.name}.{u.variable.name}")
+    for con in ssd.system.connections:
+        edges.setdefault(f"{con.startElement}.{con.startConnector}", set()).add(f"{con.endElement}.{con.endConnector}")
+    return _cycles(edges)
+
+
+def _cycles(edges: dict[str, set[str]]) -> list[list[str]]:
+    """One cycle through each strongly connected part of the directed graph ``edges`` that has one."""
+    loops, done = [], set()
+    for root in sorted(edges):
+        stack, path, on_path = [(root, iter(sorted(edges.get(root, ()))))], [root], {root}
+        while stack:
+            node, children = stack[-1]
+            child = next(children, None)
+            if child is None:
+                stack.pop(), on_path.discard(path.pop()), done.add(node)
+            elif child in on_path:
+                loop = path[path.index(child):]
+                if not any(set(loop) == set(seen) for seen in loops):
+                    loops.append(loop)
+            elif child not in done:
+                stack.append((child, iter(sorted(edges.get(child, ())))))
+                path.append(child), on_path.add(child)
+    return loops
+
+
 # -- figures of merit --------------------------------------------------------------------------------
 
 def excursions(res: dict, trim: dict) -> dict:
@@ -238,6 +283,7 @@ def run(out: Path, stop: float = 60.0, log=None) -> dict:
     step = controller.default_step()
     closed_ssp = write(out / "hover_hold.ssp", heli, ctrl, stop, closed=True)
     open_ssp = write(out / "hover_open_loop.ssp", heli, ctrl, stop, closed=False)
+    loops = algebraic_loops(closed_ssp)
     closed = run_libcosim(closed_ssp, stop, step)
     via_fmpy = run_fmpy(closed_ssp, stop, step, out / ".fmpy")
     open_ = run_libcosim(open_ssp, stop, step)
@@ -248,6 +294,7 @@ def run(out: Path, stop: float = 60.0, log=None) -> dict:
     np.savetxt(csv, np.column_stack([closed[m] for m in names]), delimiter=",", header=",".join(names), comments="")
     return {"stop_s": stop, "step_s": step, "steps": len(closed["time"]), "closed": excursions(closed, trim),
             "open": excursions(open_, trim), "libcosim_vs_fmpy_max_abs": max_difference(closed, via_fmpy),
+            "algebraic_loops": loops, "algebraic_loops_without_dependencies": len(algebraic_loops(closed_ssp, False)),
             "libcosim_wall_s": closed["wall_s"], "fmpy_wall_s": via_fmpy["wall_s"],
             "closed_loop_eigenvalues": dsg["closed_loop"], "open_loop_eigenvalues": dsg["open_loop"],
             "files": {"ssp": str(closed_ssp), "ssp_open": str(open_ssp), "figure": str(figure), "csv": str(csv)},
