@@ -14,7 +14,7 @@ open loop.
 """
 from __future__ import annotations
 
-import math
+import tempfile
 import time
 import zipfile
 from pathlib import Path
@@ -25,6 +25,7 @@ from fmu import controller
 
 HELI, CTRL = "helicopter", "controller"
 RECORDED = list(controller.INPUTS)
+VIEWER_REVS = 20  # revolutions shown by the viewer page: the first 2.8 s, the response to the disturbance
 
 
 def system(heli_fmu: Path, ctrl_fmu: Path, closed: bool = True, speed: float = 1.0) -> dict:
@@ -121,10 +122,11 @@ def _read(ssp_file: Path, unzipped: Path) -> tuple[dict, list]:
     return slaves, wires
 
 
-def run_fmpy(ssp_file: Path, stop: float, step: float, workdir: Path) -> dict:
+def run_fmpy(ssp_file: Path, stop: float, step: float, workdir: Path, states: list[str] | None = None) -> dict:
     """The ``.ssp`` in our master loop over fmpy (libcosim's sequence, see the module docstring):
     recorded outputs after every step, wall time, and the time spent in the helicopter's
-    ``fmi2DoStep`` (s)."""
+    ``fmi2DoStep`` (s); with ``states`` (names of the helicopter's variables), also those after
+    every step, as ``states`` (n + 1, len(states)) from the start, for the viewer."""
     slaves, wires = _read(ssp_file, workdir)
     step_ns, n = round(step * 1e9), round(stop / step)
     for s in slaves.values():
@@ -135,7 +137,10 @@ def run_fmpy(ssp_file: Path, stop: float, step: float, workdir: Path) -> dict:
         s.fmu.exitInitializationMode()
     heli, ctrl = slaves[HELI], slaves[CTRL]
     out_h, out_c = [heli.vr[m] for m in RECORDED], [ctrl.vr[m] for m in controller.OUTPUTS]
-    rows, in_heli = [], 0.0
+    rows, in_heli, kept = [], 0.0, []
+    state_vrs = [heli.vr[m] for m in states or []]
+    if states:
+        kept.append(heli.fmu.getReal(state_vrs))
     start = time.perf_counter()
     for k in range(n):
         t0, t1 = k * step_ns / 1e9, (k + 1) * step_ns / 1e9
@@ -145,11 +150,43 @@ def run_fmpy(ssp_file: Path, stop: float, step: float, workdir: Path) -> dict:
         ctrl.fmu.doStep(currentCommunicationPoint=t0, communicationStepSize=t1 - t0)
         transfer()
         rows.append([t1, *heli.fmu.getReal(out_h), *ctrl.fmu.getReal(out_c)])
+        if states:
+            kept.append(heli.fmu.getReal(state_vrs))
     wall = time.perf_counter() - start
     for s in slaves.values():
         s.fmu.terminate()
         s.fmu.freeInstance()
-    return {**_table(rows), "wall_s": wall, "helicopter_dostep_s": in_heli}
+    extra = {"states": np.array(kept), "state_names": list(states)} if states else {}
+    return {**_table(rows), "wall_s": wall, "helicopter_dostep_s": in_heli, **extra}
+
+
+def viewer_page(res: dict, path: Path, scene: str = controller.SCENE) -> Path | None:
+    """``viewer.html``: the first VIEWER_REVS revolutions of the closed loop in the browser viewer (the helicopter's states from
+    the fmpy run, the pitch inputs row by row); None without the viewer package."""
+    try:
+        from viewer import export_html
+        from viewer.motion import Recording
+    except ImportError:
+        return None
+    from mbs import scenes
+
+    sc = scenes.get(scene)
+    system = sc.system("vm")
+    cols = dict(zip(res["state_names"], res["states"].T))
+    x = np.column_stack([cols[n] for n in system.info.state_names])
+    t = np.r_[0.0, res["time"]]
+    controls = {c: np.r_[res[c][0], res[c]] for c in controller.OUTPUTS}  # held over the step that follows
+    p = system.params()
+    rows = np.array([system.params(p, **{c: float(v[i]) for c, v in controls.items()}) for i in range(len(t))])
+    rec = Recording(system, t, x, p, f"{scene}, closed loop (HoverHold FMU)", sc.revolution(system, p), rows)
+    return export_html(rec, path, revs=VIEWER_REVS, start=0.0, slow=5.0).path
+
+
+def _state_names(heli_fmu: Path) -> list[str]:
+    """The helicopter FMU's outputs and locals (every state among them)."""
+    from fmpy import read_model_description
+
+    return [v.name for v in read_model_description(str(heli_fmu)).modelVariables if v.causality in ("output", "local")]
 
 
 def _transfer(slaves: dict, wires: list):
@@ -285,19 +322,23 @@ def run(out: Path, stop: float = 60.0, log=None) -> dict:
     open_ssp = write(out / "hover_open_loop.ssp", heli, ctrl, stop, closed=False)
     loops = algebraic_loops(closed_ssp)
     closed = run_libcosim(closed_ssp, stop, step)
-    via_fmpy = run_fmpy(closed_ssp, stop, step, out / ".fmpy")
+    with tempfile.TemporaryDirectory(prefix="heli-cosim-fmpy-") as tmp:
+        via_fmpy = run_fmpy(closed_ssp, stop, step, Path(tmp), _state_names(heli))
     open_ = run_libcosim(open_ssp, stop, step)
     trim = dsg["trim_inputs"]
     figure = plot(closed, open_, trim, out / "hover_hold.png")
+    page = viewer_page(via_fmpy, out / "viewer.html")
     csv = out / "hover_hold.csv"
     names = ["time", *RECORDED, *controller.OUTPUTS]
-    np.savetxt(csv, np.column_stack([closed[m] for m in names]), delimiter=",", header=",".join(names), comments="")
+    np.savetxt(csv, np.column_stack([closed[m] for m in names]), delimiter=",", header=",".join(names), comments="",
+               fmt="%.12g")
     return {"stop_s": stop, "step_s": step, "steps": len(closed["time"]), "closed": excursions(closed, trim),
             "open": excursions(open_, trim), "libcosim_vs_fmpy_max_abs": max_difference(closed, via_fmpy),
             "algebraic_loops": loops, "algebraic_loops_without_dependencies": len(algebraic_loops(closed_ssp, False)),
             "libcosim_wall_s": closed["wall_s"], "fmpy_wall_s": via_fmpy["wall_s"],
             "closed_loop_eigenvalues": dsg["closed_loop"], "open_loop_eigenvalues": dsg["open_loop"],
-            "files": {"ssp": str(closed_ssp), "ssp_open": str(open_ssp), "figure": str(figure), "csv": str(csv)},
+            "files": {"ssp": str(closed_ssp), "ssp_open": str(open_ssp), "figure": str(figure), "csv": str(csv),
+                      **({"viewer": str(page)} if page else {})},
             "helicopter_fmu": str(heli), "controller_fmu": str(ctrl)}
 
 

@@ -48,8 +48,10 @@ def test_closed_loop_holds_the_hover_for_a_minute_and_the_open_loop_diverges(cos
     assert c["attitude_within_2deg_after_s"] < 1.0 and c["max_attitude_deg"] < 2.5, c
     assert o["drift_beyond_5m_s"] is not None and o["drift_beyond_5m_s"] < 10.0, o
     assert o["attitude_beyond_20deg_s"] is not None and o["attitude_beyond_20deg_s"] < 20.0, o
-    for name in ("ssp", "ssp_open", "figure", "csv"):
+    for name in ("ssp", "ssp_open", "figure", "csv", "viewer"):
         assert Path(cosim["files"][name]).stat().st_size > 0
+    page = Path(cosim["files"]["viewer"]).read_text()
+    assert "closed loop (HoverHold FMU)" in page and "longitudinal_cyclic" in page
 
 
 def test_ssp_holds_the_system_structure_and_both_fmus(cosim):
