@@ -24,6 +24,7 @@ import subprocess
 import sys
 import tempfile
 import time
+import uuid
 import zipfile
 from pathlib import Path
 
@@ -84,7 +85,7 @@ def plan(scene_names, aircraft=None) -> tuple[dict, dict]:
     from mbs.backends import build
     from mbs.backends.compiled import generate
 
-    from fmu import periodic
+    from fmu import periodic, structure
 
     groups, per_scene, starts = {}, {}, {}
     craft = load_aircraft(aircraft)
@@ -108,6 +109,7 @@ def plan(scene_names, aircraft=None) -> tuple[dict, dict]:
             "scenes": {n: _scene_spec(per_scene[n], variables, starts[n]) for n in scene_names}}
     _add_starts(variables, spec["scenes"][spec["primary"]], spec["primary"])
     functions = {g: (vm, {**vm.functions, "fmu_outputs": fmu_outputs(vm, computed)}) for g, vm in groups.values()}
+    spec["structure"] = structure.structure(spec, functions)  # ModelStructure from the functions' sparsity
     return spec, functions
 
 
@@ -388,16 +390,27 @@ def stage_code(stage: Path) -> tuple[str, Path]:
     return entry, folder
 
 
-def stage_models(stage: Path, spec: dict, groups: dict) -> Path:
+def content_guid(spec: dict, code_digest: str, sources: dict[str, str]) -> str:
+    """The FMU's GUID from its content: the spec (variables, scenes, starts), the staged code
+    and the generated C of every model group; the same content gives the same GUID, any change
+    another one."""
+    h = hashlib.sha256(json.dumps([spec, code_digest, sources], sort_keys=True).encode())
+    return "{" + str(uuid.UUID(bytes=h.digest()[:16], version=5)) + "}"
+
+
+def stage_models(stage: Path, spec: dict, groups: dict, code_digest: str = "") -> Path:
     """Compile each model group (cached) and write ``heli_models/``: per group the library,
-    ``info.json`` and the CasADi functions the virtual machine needs."""
+    ``info.json`` and the CasADi functions the virtual machine needs; ``spec.json`` gets the
+    FMU's GUID (:func:`content_guid`)."""
     from mbs.backends.compiled import compile_source, generate
 
     root = stage / "heli_models"
+    sources = {group: generate(functions, vm.info, "float64") for group, (vm, functions) in groups.items()}
+    spec["guid"] = content_guid({k: v for k, v in spec.items() if k != "guid"}, code_digest, sources)
     for group, (vm, functions) in groups.items():
         folder = root / group
         (folder / "vm").mkdir(parents=True)
-        compiled = compile_source(generate(functions, vm.info, "float64"), vm.info)
+        compiled = compile_source(sources[group], vm.info)
         shutil.copy2(compiled / "model.so", folder / "model.so")
         (folder / "info.json").write_text(vm.info.to_json())
         for name in VM_FUNCTIONS:
@@ -411,41 +424,61 @@ def build_here(scene_names, dest: Path, aircraft=None) -> Path:
     imports the staged code). Writes ``dest`` (a ``.fmu`` path)."""
     from pythonfmu import FmuBuilder
 
-    shim_library = compiled_shim()  # first: without a C compiler this fails at once, clearly
+    from fmu import shim
+
+    shim.find_compiler()  # first: without a C compiler this fails at once, clearly
     spec, groups = plan(list(scene_names), aircraft)
     with tempfile.TemporaryDirectory(prefix="heli-fmu-stage-") as tmp:
         stage = Path(tmp)
         entry, package = stage_code(stage)
-        models = stage_models(stage, spec, groups)
+        models = stage_models(stage, spec, groups, package.name)
+        shim_library = compiled_shim(spec["guid"])
         sys.path.insert(0, str(stage))
         built = FmuBuilder.build_FMU(stage / f"{entry}.py", dest=stage / "out", project_files=[package, models],
                                      canGetAndSetFMUstate=True, canSerializeFMUstate=True)
-        _recompress(built, Path(dest), shim_library)
+        _recompress(built, Path(dest), shim_library, spec)
     return Path(dest)
 
 
-def compiled_shim() -> bytes:
-    """The FMU's FMI front end (``fmu/shim/fmi2_shim.c``) compiled for this machine; raises
-    :class:`fmu.shim.ShimBuildError` (e.g. no C compiler)."""
+def compiled_shim(guid: str) -> bytes:
+    """The FMU's FMI front end (``fmu/shim/fmi2_shim.c``) compiled for this machine with the
+    FMU's GUID; raises :class:`fmu.shim.ShimBuildError` (e.g. no C compiler)."""
     from fmu import shim
 
     with tempfile.TemporaryDirectory(prefix="heli-fmu-shim-") as tmp:
-        return shim.compile_shim(Path(tmp) / "shim.so").read_bytes()
+        return shim.compile_shim(Path(tmp) / "shim.so", guid).read_bytes()
 
 
-def _recompress(src: Path, dest: Path, shim_library: bytes | None = None) -> None:
+def _recompress(src: Path, dest: Path, shim_library: bytes | None = None, spec: dict | None = None) -> None:
     """pythonfmu stores files uncompressed; deflate them (the libraries shrink about 4x).
     With ``shim_library``, the FMI front end takes the place of pythonfmu's library, which
-    moves to ``binaries/linux64/pythonfmu/``, and other platforms' binaries are dropped."""
+    moves to ``binaries/linux64/pythonfmu/``, and other platforms' binaries are dropped. With
+    ``spec``, the model description gets its ``<ModelStructure>`` (:mod:`fmu.structure`)."""
     from fmu.shim import relocate
 
     dest.parent.mkdir(parents=True, exist_ok=True)
     with zipfile.ZipFile(src) as zin, zipfile.ZipFile(dest, "w", zipfile.ZIP_DEFLATED) as zout:
         for item in zin.infolist():
             data = zin.read(item.filename)
+            if item.filename == "modelDescription.xml" and spec:
+                data = with_model_structure(data, spec)
             entries = relocate(item.filename, data, shim_library) if shim_library else [(item.filename, data)]
             for name, payload in entries:
                 zout.writestr(name, payload)
+
+
+def with_model_structure(xml: bytes, spec: dict) -> bytes:
+    """The model description ``xml`` with its ``<ModelStructure>`` replaced by the spec's."""
+    from xml.etree import ElementTree as ET
+
+    from fmu.structure import model_structure_xml
+
+    root = ET.fromstring(xml)
+    old = root.find("ModelStructure")
+    root.insert(list(root).index(old), model_structure_xml(spec))
+    root.remove(old)
+    ET.indent(root, "\t")
+    return b'<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, encoding="utf-8") + b"\n"
 
 
 # -- cache ----------------------------------------------------------------------------------

@@ -17,7 +17,12 @@ def cmd_fmu_build(args) -> int:
     from fmu import build
 
     scenes = tuple(args.scenes.split(",")) if args.scenes else build.DEFAULT_SCENES
-    if args.native:
+    if args.controller:
+        from fmu.controller import NAME, ensure_controller_fmu
+
+        scenes = (NAME,)
+        path, seconds = ensure_controller_fmu(force=args.force, log=_log)
+    elif args.native:
         from fmu.native.build import ensure_native_fmu
 
         path, seconds = ensure_native_fmu(scenes, force=args.force, log=_log, aircraft=args.aircraft)
@@ -77,6 +82,40 @@ def cmd_bench_fmu(args) -> int:
     return 0
 
 
+def cmd_cosim(args) -> int:
+    from fmu import cosim
+
+    res = cosim.run(Path(args.out), args.stop, log=_log)
+    c, o = res["closed"], res["open"]
+    lines = [f"hover, 1 m/s initial disturbance, {res['stop_s']:g} s in steps of {res['step_s'] * 1e3:.6f} ms "
+             f"({res['steps']} steps)",
+             f"closed loop: attitude within {c['max_attitude_deg']:.2f} deg of the trim (within 2 deg after "
+             f"{c['attitude_within_2deg_after_s']:.2f} s), position within {c['max_drift_m']:.2f} m of the start",
+             f"open loop: attitude beyond 2 deg at {o['attitude_beyond_2deg_s']} s, beyond 20 deg at "
+             f"{o['attitude_beyond_20deg_s']} s; drift beyond 5 m at {o['drift_beyond_5m_s']} s",
+             f"algebraic loops: {len(res['algebraic_loops'])} (with every output depending on every input, as "
+             f"without ModelStructure dependencies: {res['algebraic_loops_without_dependencies']})",
+             f"libcosim vs fmpy master: largest difference {res['libcosim_vs_fmpy_max_abs']:.3g}; wall time "
+             f"libcosim {res['libcosim_wall_s']:.2f} s (recording), fmpy {res['fmpy_wall_s']:.2f} s",
+             *[f"wrote {p}" for p in res["files"].values()]]
+    emit(res, args.json, lines)
+    return 0
+
+
+def cmd_bench_cosim(args) -> int:
+    from fmu import cosim
+
+    r = cosim.bench(args.stop, args.repeats)
+    lines = [f"closed-loop co-simulation, {r['stop_s']:g} s, step {r['step_s'] * 1e3:.6f} ms, median of {r['repeats']}",
+             f"  libcosim (simulate_until): {r['libcosim_wall_s']:.2f} s wall, {r['libcosim_realtime_factor']:.1f}x "
+             "real time",
+             f"  fmpy master loop:          {r['fmpy_wall_s']:.2f} s wall, {r['fmpy_realtime_factor']:.1f}x real time",
+             f"  helicopter fmi2DoStep:     {r['helicopter_dostep_s']:.2f} s = {100 * r['helicopter_share_fmpy']:.0f} % "
+             f"of the fmpy loop, {100 * r['helicopter_share_libcosim']:.0f} % of libcosim's"]
+    emit(r, args.json, lines)
+    return 0
+
+
 def fmu_destination(text: str) -> Path:
     """Argument type of ``fmu build --out``: a ``.fmu`` file, or else a folder, that can be written."""
     return A.output_file(".fmu")(text) if text.lower().endswith(".fmu") else A.output_folder(text)
@@ -113,6 +152,9 @@ def register(sub, bench) -> None:
     b.add_argument("--native", action="store_true",
                    help="the native FMU (HeliRotorNative_<scene>.fmu): C only, no Python at run time")
     A.add_aircraft(b)
+    b.add_argument("--controller", choices=["hover-hold"], default=None,
+                   help="instead, the controller FMU hover-hold (HoverHold.fmu): LQR at the hover trim from the "
+                        "model's own derivatives, for a closed loop with the helicopter FMU (see heli cosim)")
     add_json(b)
     b.set_defaults(fn=cmd_fmu_build)
 
@@ -124,6 +166,20 @@ def register(sub, bench) -> None:
     A.add_aircraft(p)
     add_json(p)
     p.set_defaults(fn=cmd_demo)
+
+    p = sub.add_parser("cosim", help="closed loop: helicopter FMU + hover-hold controller FMU in one SSP file, run "
+                       "in libcosim and in an fmpy master loop; writes the .ssp files, hover_hold.png and .csv")
+    p.add_argument("--out", type=A.output_folder, default="out/cosim", help="output folder (default out/cosim)")
+    p.add_argument("--stop", type=A.positive, default=60.0, help="simulated time in s (default 60)")
+    add_json(p)
+    p.set_defaults(fn=cmd_cosim)
+
+    p = bench.add_parser("cosim", help="closed-loop co-simulation: wall time in libcosim and in fmpy, share of "
+                         "the helicopter FMU")
+    p.add_argument("--stop", type=A.positive, default=60.0, help="simulated time in s (default 60)")
+    p.add_argument("--repeats", type=A.positive_int, default=3, help="runs per master (median; default 3)")
+    add_json(p)
+    p.set_defaults(fn=cmd_bench_cosim)
 
     p = bench.add_parser("fmu", help="FMU under fmpy against the core: real-time factors and overhead")
     p.add_argument("--revs", type=demo_revs, default=20.0, help="revolutions per run (default 20)")

@@ -5,11 +5,14 @@ A thin adapter over the core: the variables, scenes and models come from the bui
 library ``model.so``, ``info.json`` and the CasADi functions for the virtual machine); the
 numerics are the core's fixed-step driver (RK4, or rk8 by the parameter ``integrator``).
 Inputs are held constant over a communication step, which is split into
-``n = ceil(dt / max_step)`` equal sub-steps.
+``n = ceil(dt / max_step (1 - SUBSTEP_TOLERANCE))`` equal sub-steps (a master that counts time in
+whole nanoseconds rounds the default step, which is ``max_step``, up by up to 0.5 ns).
 
 Start values: every input and parameter has the primary scene's value as its XML start. A
-value set equal to its start counts as "not set": the scene in use supplies its own
-default (so a master that applies every start value runs any scene with that scene's trim).
+value that the master sets is used, whatever it is ("was it set" is recorded, never inferred
+from the value); one not set takes the default of the scene in use. When the scene in use is
+not the primary one, ``exitInitializationMode`` warns about each value set equal to its XML
+start that differs from that scene's default (a master that applies every XML start).
 ``initial_state`` selects the start: ``scene`` (the scene's initial state, the default) or
 ``periodic`` (the scene's periodic trim from the build, :mod:`fmu.periodic`), whose
 controls are then the inputs' defaults.
@@ -65,10 +68,10 @@ DIAGNOSTIC_ROWS = 1000  # rows recorded when a failed step is redone to find whe
 # SI base-unit exponents for <UnitDefinitions>; unknown units are declared by name only.
 BASE_UNITS = {"rad": {"rad": 1}, "rad/s": {"rad": 1, "s": -1}, "m": {"m": 1}, "m/s": {"m": 1, "s": -1},
               "s": {"s": 1}, "J": {"kg": 1, "m": 2, "s": -2}, "N": {"kg": 1, "m": 1, "s": -2},
-              "1": {}}
+              "N m": {"kg": 1, "m": 2, "s": -2}, "W": {"kg": 1, "m": 2, "s": -3}, "1": {}}
 KINDS = {"Real": Real, "String": String}
 FALLBACK = {Real: math.nan, String: "", Integer: 0, Boolean: False}  # what a failed getter answers
-UNSET = object()  # a setting equal to its start value: the scene in use supplies the value
+SUBSTEP_TOLERANCE = 1e-6  # relative: a step this much longer than n max_step is n sub-steps
 
 
 class Stepper:
@@ -201,15 +204,6 @@ def _placeholder():
     own ``get_*``/``set_*``, so no variable holds a closure over the instance (a freed
     instance is then not kept alive by a reference cycle)."""
     return None
-
-
-def _is_start(value, start) -> bool:
-    """True when ``value`` is exactly the variable's start value (a number or a string)."""
-    if start is None or isinstance(value, bool):
-        return False
-    if isinstance(start, str):
-        return isinstance(value, str) and value == start
-    return isinstance(value, (int, float)) and value == start
 
 
 def _keep_one(entry: str | None) -> None:
@@ -417,18 +411,15 @@ class HeliRotorSlave(Fmi2Slave):
 
     def to_xml(self, model_options=dict()):
         """pythonfmu's description plus start values, units, ranges (numbers written with
-        ``repr``: shortest text that reads back bit for bit), ``<UnitDefinitions>`` and
-        ``<InitialUnknowns>``."""
+        ``repr``: shortest text that reads back bit for bit) and ``<UnitDefinitions>``; the
+        build writes ``<ModelStructure>`` (``fmu.structure``: from the generated functions'
+        sparsity)."""
         root = super().to_xml(model_options)
+        if self._spec.get("guid"):
+            root.set("guid", self._spec["guid"])  # from the FMU's content (fmu.build.content_guid); the shim checks it
         svs = list(root.find("ModelVariables"))
         units = {self._annotate(sv) for sv in svs}
         self._unit_definitions(root, units - {None})
-        from xml.etree.ElementTree import SubElement
-
-        initial = SubElement(root.find("ModelStructure"), "InitialUnknowns")
-        for i, sv in enumerate(svs, 1):
-            if sv.get("causality") == "output":
-                SubElement(initial, "Unknown", index=str(i))
         return root
 
     def _annotate(self, sv) -> str | None:
@@ -489,17 +480,15 @@ class HeliRotorSlave(Fmi2Slave):
         return start["defaults"][name]
 
     def _set(self, name: str, value, call: str = "set") -> None:
-        """Store ``value`` for the input or parameter ``name`` (its start value: "not set"),
+        """Store ``value`` for the input or parameter ``name`` (set, whatever its value),
         check it (a refusal is stored, and logged as ``"<call>: <message>"``) and invalidate
         what depends on it."""
         v = self._vars[name]
-        new = UNSET if _is_start(value, v.get("start")) else value
-        if v["causality"] == "input" and self._unchanged(name, new):
+        if v["causality"] == "input" and self._unchanged(name, value):
             return  # a master sets every input before each step; most are unchanged
-        self._store(name, new)
+        self._store(name, value)
         try:
-            if new is not UNSET:
-                self._check(name, value)
+            self._check(name, value)
         except BadValue as exc:
             self._p = self._cache = None
             self._errors[name] = str(exc)
@@ -508,16 +497,12 @@ class HeliRotorSlave(Fmi2Slave):
         self._apply(name, v, call)
 
     def _unchanged(self, name: str, new) -> bool:
-        """True when ``name`` already holds ``new`` (or both are "not set") and was accepted."""
-        old = self._settings.get(name, UNSET)
-        return name not in self._errors and (old is new or (UNSET not in (old, new) and old == new))
+        """True when ``name`` was set to ``new`` already and accepted."""
+        return name in self._settings and name not in self._errors and self._settings[name] == new
 
     def _store(self, name: str, new) -> None:
-        """Record the setting ``new`` of ``name`` (UNSET: forget it) and clear its refusal."""
-        if new is UNSET:
-            self._settings.pop(name, None)
-        else:
-            self._settings[name] = new
+        """Record the setting ``new`` of ``name`` and clear its refusal."""
+        self._settings[name] = new
         self._errors.pop(name, None)
 
     def _apply(self, name: str, v: dict, call: str) -> None:
@@ -592,6 +577,22 @@ class HeliRotorSlave(Fmi2Slave):
         self._frozen = {n: self._use(n) for n, v in self._vars.items()
                         if v["causality"] == "parameter" and v["variability"] == "fixed"}
         self._phase = "stepping"
+        self._warn_start_values()
+
+    def _warn_start_values(self) -> None:
+        """Warn about each Real set equal to its XML start (the primary scene's default) that
+        differs from the default of the scene in use; the value set is used."""
+        scene, primary = self._use("scene"), self._spec["primary"]
+        for name, value in self._settings.items():
+            v = self._vars[name]
+            if scene == primary or name in self._errors or v["type"] != "Real" or value != v.get("start"):
+                continue
+            default = self._default(name)
+            if default != value:
+                unit = v.get("unit") or ""
+                self._report(f"fmi2ExitInitializationMode: {v['causality']} {name!r} = {value!r} {unit} was set: it "
+                             f"equals its XML start (the default of scene {primary!r}), while scene {scene!r} "
+                             f"defaults to {default!r} {unit}; the value set is used", Fmi2Status.warning)
 
     @entry_point("terminate")
     def terminate(self):
@@ -676,6 +677,10 @@ class HeliRotorSlave(Fmi2Slave):
             self._report(f"doStep at t = {t!r} s called while the instance is in {self._phase} "
                          "(call exitInitializationMode first)")
             return False
+        problem = self._step_problem(t, dt)
+        if problem:  # misuse: an error (a discard would make the master retry a smaller step)
+            self._report(f"fmi2DoStep: {problem}")
+            return False
         refusal = self._refusal(t, dt)
         if refusal:
             self._report(f"doStep at t = {t!r} s refused: {refusal}", Fmi2Status.discard)
@@ -686,14 +691,11 @@ class HeliRotorSlave(Fmi2Slave):
         """Why the step from ``t`` (s) of ``dt`` (s) must not be taken, or None."""
         if self._errors:
             return "; ".join(self._errors.values())
-        problem = self._step_problem(t, dt)
-        if problem:
-            return problem
         if self._stepper is None:
             self._prepare()
         self._params()
         limit = self._limits["max_substeps"]
-        if not dt / self._h_max <= limit:
+        if not dt / self._h_max * (1 - SUBSTEP_TOLERANCE) <= limit:
             return (f"communicationStepSize = {dt!r} s needs {dt / self._h_max:.4g} sub-steps of max_step = "
                     f"{self._h_max!r} s, more than the limit of {limit} per doStep; use shorter "
                     "communication steps")
@@ -701,7 +703,7 @@ class HeliRotorSlave(Fmi2Slave):
 
     def _advance(self, t: float, dt: float) -> bool:
         """Integrate ``[t, t + dt]`` (s) in ``n`` equal sub-steps, then check the result."""
-        n = max(1, math.ceil(dt / self._h_max - 1e-12))
+        n = max(1, math.ceil(dt / self._h_max * (1 - SUBSTEP_TOLERANCE)))
         before = self._stepper.snapshot()
         status, _ = self._stepper.step(t, dt / n, n)
         if status:

@@ -253,7 +253,7 @@ def run_core(scene: str, times: list[float], table: np.ndarray, max_step: float 
     for k in range(len(times) - 1):
         p = system.params(base, **inputs_at(table, times[k]))
         dt = times[k + 1] - times[k]
-        n = max(1, math.ceil(dt / h_max - 1e-12))
+        n = max(1, math.ceil(dt / h_max * (1 - 1e-6)))  # the FMUs' SUBSTEP_TOLERANCE
         x = system.run(x, times[k], dt / n, n, every=n, p=p, method=method).x[-1]
         rows.append(_core_outputs(system, info, x, times[k + 1], p, quat_to_euler))
     names = names or list(rows[0])
@@ -408,9 +408,10 @@ def main(argv: list[str] | None = None) -> int:
 def finish(code: int = 0) -> None:
     """End a host process once its result is written: flush, then leave without the
     interpreter's teardown. One host that had run the pythonfmu FMU aborted in that teardown
-    during a full test run (glibc "corrupted double-linked list", after complete results; the
-    symptom reported upstream as PythonFMU issue #228, not reproduced in 300 runs since);
-    the tests check what the FMU computed, and README.md states the problem."""
+    during a full test run (glibc "corrupted double-linked list", after complete results), the
+    symptom of pythonfmu 0.7.0's double release of its Python state at exit, which the FMU's
+    front end now prevents (``fmu/shim``; tests/test_fmu_exit.py runs C hosts through their
+    exit); these hosts check what the FMU computed, not the interpreter's teardown."""
     sys.stdout.flush()
     sys.stderr.flush()
     os._exit(code)

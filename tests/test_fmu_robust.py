@@ -24,7 +24,7 @@ import pytest
 from fmu import build
 
 FAMILY = build.DEFAULT_SCENES
-ERROR, DISCARD = 3, 2  # fmi2Error, fmi2Discard
+ERROR, DISCARD, WARNING = 3, 2, 1  # fmi2Error, fmi2Discard, fmi2Warning
 REFUSED = (DISCARD, ERROR)
 REPEAT = 10
 
@@ -126,15 +126,25 @@ def test_bad_max_step_while_stepping_discards_steps_until_corrected(fmu_path, tm
 
 
 @pytest.mark.parametrize("scene", ["ground-run", "hover"])
-def test_all_xml_start_values_applied_run_the_scene_with_its_own_defaults(fmu_path, tmp_path, scene):
+def test_all_xml_start_values_applied_are_used_and_named(fmu_path, tmp_path, scene):
+    """A master that applies every XML start (the primary scene's values) to another scene:
+    the values set are used ("was it set" is recorded, never inferred from the value), and
+    exitInitializationMode says so: hover starts at forward flight's 10 m/s with a warning
+    naming the values; ground-run, which has no free fuselage, refuses the 10 m/s (error)
+    until it is set to 0."""
     names = ["blade1.flap", "seesaw.teeter", "total_energy", "fuselage.u", "fuselage.v", "fuselage.w"]
-    res = probe("all_starts", {"fmu": str(fmu_path), "scene": scene, "names": names}, tmp_path)
-    for key in ("set_scene", "set_starts", "exit", "get"):
+    res = probe("all_starts", {"fmu": str(fmu_path), "scene": scene, "names": names,
+                               "fix": {"initial_forward_speed": 0.0}}, tmp_path)
+    for key in ("set_scene", "set_starts", "get"):
         assert res[key]["status"] == 0, res[key]
     values = dict(zip(res["get"]["names"], res["get"]["value"]))
     assert all(math.isfinite(v) for v in values.values()), values
-    if scene == "hover":  # not forward flight's 10 m/s
-        assert math.hypot(values["fuselage.u"], values["fuselage.v"], values["fuselage.w"]) < 1e-9, values
+    if scene == "hover":
+        assert_refused(res["exit"], (WARNING,), ["'initial_forward_speed' = 10.0", "'collective'", "hover"])
+        assert math.hypot(values["fuselage.u"], values["fuselage.v"], values["fuselage.w"]) == pytest.approx(10.0)
+    else:
+        assert_refused(res["exit"], (ERROR,), ["'initial_forward_speed' = 10.0", "no free fuselage"])
+        assert res["fixed"] == [0, WARNING], res  # the collective etc. set to forward flight's: a warning
     assert_recovered(res["after"])
 
 

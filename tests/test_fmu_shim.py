@@ -308,7 +308,7 @@ def test_relocate_moves_pythonfmus_library_and_drops_other_platforms():
 def test_building_without_a_compiler_says_so(monkeypatch, tmp_path):
     monkeypatch.setenv("CC", "no-such-cc")
     with pytest.raises(shim.ShimBuildError, match="needs a C compiler.*no-such-cc"):
-        shim.compile_shim(tmp_path / "shim.so")
+        shim.compile_shim(tmp_path / "shim.so", "{12345678-1234-5678-1234-567812345678}")
 
 
 def test_building_the_fmu_without_a_compiler_fails_at_once_with_that_message(tmp_path):
@@ -319,7 +319,7 @@ def test_building_the_fmu_without_a_compiler_fails_at_once_with_that_message(tmp
 
 
 def test_the_shim_compiles_cleanly(tmp_path):
-    out = shim.compile_shim(tmp_path / "shim.so")
+    out = shim.compile_shim(tmp_path / "shim.so", "{12345678-1234-5678-1234-567812345678}")
     proc = subprocess.run(["nm", "-D", "--defined-only", str(out)], capture_output=True, text=True)
     if proc.returncode:
         pytest.skip("nm is not available")
@@ -434,7 +434,9 @@ def _mode_build_echo(a: dict) -> dict:
     script = Path("echo.py")
     script.write_text(ECHO_SLAVE)
     built = FmuBuilder.build_FMU(script, dest="out")
-    build._recompress(built, Path(a["dest"]), build.compiled_shim())
+    from fmpy import read_model_description
+
+    build._recompress(built, Path(a["dest"]), build.compiled_shim(read_model_description(str(built)).guid))
     return {"fmu": a["dest"]}
 
 

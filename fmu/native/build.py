@@ -37,11 +37,13 @@ from xml.etree import ElementTree as ET
 from fmu import build as pybuild
 
 HERE = Path(__file__).resolve().parent
-HAND_WRITTEN = ("heli_fmi2.c", "heli_model.h")
+HAND_WRITTEN = ("heli_fmi2.c", "heli_model.h", "heli_libm.c", "heli_libm.h")
 FMI_HEADERS = ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h")
 FUNCTIONS = ("incr_rk4", "incr_rk8", "project", "energy", "fmu_outputs")
 METHODS = ("rk4", "rk8")
-CFLAGS = ["-O2", "-fPIC", "-fno-math-errno", "-fvisibility=hidden"]
+CFLAGS = ["-O2", "-fPIC", "-fno-math-errno", "-fvisibility=hidden", "-DHELI_LIBM_LINKED"]
+"""The shipped binary links libm and calls it directly (``heli_libm.h``); a rebuild from ``sources/``
+without ``-DHELI_LIBM_LINKED`` (fmpy's, or a plain ``cc``) needs no ``-lm``."""
 HINGE = re.compile(r"\.(flap|lag|teeter)$")
 _EXPORT = re.compile(r"^CASADI_SYMBOL_EXPORT\s+[\w\s\*]*?\b(\w+)\s*\(", re.MULTILINE)
 PLATFORM = "linux64"
@@ -134,7 +136,7 @@ def model_source(group: str, functions: dict, nx: int) -> str:
     names = sorted(set(_EXPORT.findall(body)), key=len, reverse=True)
     body = re.sub(r"\b(" + "|".join(map(re.escape, names)) + r")\b", rf"heli_{group}_\1", body)
     prologue = (f"/* Model group {group} of the native heli rotor FMU (generated at build time). */\n"
-                "#include <math.h>\n#include <stdlib.h>\n#include <string.h>\n"
+                "#include <math.h>\n#include <stdlib.h>\n#include <string.h>\n#include \"heli_libm.h\"\n"
                 f"#define CASADI_CODEGEN_PREFIX\n#define CODEGEN_PREFIX heli_{group}_\n"
                 "#define CASADI_SYMBOL_EXPORT\n#if defined(__GNUC__)\n#pragma GCC visibility push(hidden)\n#endif\n")
     return prologue + body + "#if defined(__GNUC__)\n#pragma GCC visibility pop\n#endif\n"
@@ -316,13 +318,10 @@ def _co_simulation(identifier_: str, sources: list[str]) -> ET.Element:
 
 
 def _model_structure(spec: dict) -> ET.Element:
-    structure = ET.Element("ModelStructure")
-    outputs = [str(k + 1) for k, v in enumerate(spec["variables"]) if v["causality"] == "output"]
-    for tag in ("Outputs", "InitialUnknowns"):
-        group = ET.SubElement(structure, tag)
-        for index in outputs:
-            ET.SubElement(group, "Unknown", index=index)
-    return structure
+    """``<ModelStructure>`` from the generated functions' sparsity (:mod:`fmu.structure`)."""
+    from fmu.structure import model_structure_xml
+
+    return model_structure_xml(spec)
 
 
 def model_description(spec: dict, guid: str, sources: list[str]) -> bytes:
@@ -353,11 +352,20 @@ def model_description(spec: dict, guid: str, sources: list[str]) -> bytes:
 def native_spec(scene_names, aircraft=None) -> tuple[dict, dict]:
     """``fmu.build.plan`` with this FMU's identifier."""
     spec, groups = pybuild.plan(list(scene_names), aircraft)
-    spec = {**spec, "model_identifier": identifier(scene_names, aircraft)}
+    variables = [_native_variable(v) for v in spec["variables"]]
+    spec = {**spec, "model_identifier": identifier(scene_names, aircraft), "variables": variables}
     for name, sc in spec["scenes"].items():
         if sc["group"] not in groups:
             raise ValueError(f"scene {name!r}: model group {sc['group']!r} was not planned")
     return spec, groups
+
+
+def _native_variable(v: dict) -> dict:
+    """A variable of the plan as the native FMU offers it: its ``evaluator`` has no virtual machine."""
+    if v["name"] != "evaluator":
+        return v
+    return {**v, "allowed": ["compiled"], "description": "compiled: the model compiled into this FMU's library "
+            "(the only evaluator of the native FMU; the pythonfmu FMU also offers CasADi's virtual machine, vm)"}
 
 
 def write_sources(folder: Path, spec: dict, groups: dict, guid: str) -> list[str]:
@@ -369,7 +377,7 @@ def write_sources(folder: Path, spec: dict, groups: dict, guid: str) -> list[str
         shutil.copy2(fmi_headers_dir() / name, folder / name)
     (folder / "heli_config.h").write_text(config_header(spec, groups))
     (folder / "heli_data.c").write_text(data_source(spec, groups, guid))
-    files = ["heli_fmi2.c", "heli_data.c"]
+    files = ["heli_fmi2.c", "heli_libm.c", "heli_data.c"]
     for g, (vm, functions) in groups.items():
         (folder / f"heli_model_{g}.c").write_text(model_source(g, functions, vm.info.nx))
         files.append(f"heli_model_{g}.c")

@@ -106,8 +106,9 @@ def _in_initialisation(fmu, unzipdir, name: str, reals: dict, strings: dict):
 
 
 def case_start_values(fmu, unzipdir) -> dict:
-    """Scene ground-run with every XML start value applied equals scene ground-run alone:
-    a value equal to its start counts as not set, so the scene's own defaults apply."""
+    """Scene ground-run with every XML start value applied: the values set are used (so
+    forward flight's initial_forward_speed = 10 m/s is refused: ground-run has no free
+    fuselage), against scene ground-run alone."""
     applied, _ = _in_initialisation(fmu, unzipdir, "applied", {}, {})
     starts = _real_starts(applied)
     set_status = call_status(applied.set, starts, {"scene": "ground-run"})

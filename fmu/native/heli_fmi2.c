@@ -3,9 +3,11 @@
    (fmu/heli_bo105_slave.py):
 
    - The scene (a String parameter) selects the model group, the initial state and the
-     defaults. An input or parameter set to exactly its XML start value counts as not set,
-     so the scene in use supplies its own default.
-   - Inputs are held over a step; doStep splits dt into n = ceil(dt / max_step - 1e-12)
+     defaults. An input or parameter that the master set is used whatever its value (also
+     when it equals the XML start, the primary scene's default); one not set takes the scene's
+     default. exitInitializationMode warns when a value set equal to its XML start differs
+     from the default of the scene in use.
+   - Inputs are held over a step; doStep splits dt into n = ceil(dt / max_step (1 - 1e-6))
      equal sub-steps of the core's fixed-step driver (RK4 or RK8, Kahan-compensated).
    - A refused value (NaN, out of range, a fixed parameter changed after initialisation) is
      stored and logged; the next doStep returns fmi2Discard until it is corrected. A step
@@ -35,6 +37,10 @@
 #define TEXT_LEN 128
 #define MSG_LEN 512
 #define TIME_TOLERANCE 1e-9 /* relative mismatch allowed between the master's time and ours */
+/* A communication step at most this much (relative) longer than n max_step is n sub-steps: a
+   master that counts time in whole nanoseconds rounds the default step (max_step) up by up to
+   0.5 ns, about 4e-7 of it; a sub-step 1e-6 longer than max_step changes nothing in stability. */
+#define SUBSTEP_TOLERANCE 1e-6
 
 enum { INSTANTIATED, INITIALIZATION, STEPPING, TERMINATED, PHASES };
 static const char* const PHASE_NAMES[PHASES] = {"instantiated", "initialization", "step", "terminated"};
@@ -44,7 +50,7 @@ typedef struct {
   int phase;
   double start_time, t;
   double real[HELI_NV];              /* Real value last set */
-  unsigned char set[HELI_NV];        /* set to something other than the XML start */
+  unsigned char set[HELI_NV];        /* set by the master (whatever the value) since instantiation or reset */
   char text[HELI_NV][TEXT_LEN];      /* String value last set */
   char error[HELI_NV][MSG_LEN];      /* why the value set is refused ("" when accepted) */
   double frozen[HELI_NV];            /* fixed parameters in use since initialisation */
@@ -416,7 +422,8 @@ static void clear_snapshot(snapshot* s) {
 }
 
 static int instantiate_problem(fmi2String name, fmi2Type type, fmi2String guid, const fmi2CallbackFunctions* cb) {
-  if (!name) report_without(cb, NULL, "fmi2Instantiate: instanceName is NULL");
+  if (!name || !*name) report_without(cb, NULL, "fmi2Instantiate: instanceName is %s: give the instance a name",
+                                      name ? "empty" : "NULL");
   else if (type != fmi2CoSimulation)
     report_without(cb, name, "fmi2Instantiate: fmuType %d is not supported: this FMU is for co-simulation "
                    "(fmi2CoSimulation) only", (int) type);
@@ -434,6 +441,11 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
   (void) fmuResourceLocation; /* everything is compiled in */
   (void) visible;
   if (instantiate_problem(instanceName, fmuType, fmuGUID, functions)) return NULL;
+  if (!heli_libm_ready()) {
+    report_without(functions, instanceName, "fmi2Instantiate: %s; rebuild the library from sources/ with "
+                   "-DHELI_LIBM_LINKED and -lm", heli_libm_problem());
+    return NULL;
+  }
   c = (instance*) calloc(1, sizeof(instance));
   if (!c || !(c->name = (char*) malloc(strlen(instanceName) + 1)) || !allocate_work(c)) {
     release(c);
@@ -546,6 +558,26 @@ static void freeze(instance* c) {
   }
 }
 
+/* Values set equal to their XML start (the primary scene's default) that differ from the default of
+   the scene in use (a master may apply every XML start): used as set, each with a warning. */
+static int start_values_warned(instance* c) {
+  int vr, n = 0, scene = scene_in_use(c);
+  char a[32], b[32];
+  for (vr = 0; scene != M->primary && vr < M->n_variables; ++vr) {
+    const heli_variable* v = var(vr);
+    double d;
+    if (!accepted(c, vr) || v->type != HELI_REAL || !(c->s.real[vr] == v->start)) continue;
+    d = default_real(c, vr);
+    if (isnan(d) || d == v->start) continue;
+    report(c, fmi2Warning, "fmi2ExitInitializationMode: %s '%s' = %s %s was set: it equals its XML start (the "
+           "default of scene '%s'), while scene '%s' defaults to %s %s; the value set is used", causality_name(v),
+           v->name, repr(c->s.real[vr], a), v->unit, M->scenes[M->primary].name, M->scenes[scene].name,
+           repr(d, b), v->unit);
+    ++n;
+  }
+  return n;
+}
+
 fmi2Status fmi2ExitInitializationMode(fmi2Component component) {
   instance* c = checked(component, "fmi2ExitInitializationMode");
   char why[4 * MSG_LEN];
@@ -568,7 +600,7 @@ fmi2Status fmi2ExitInitializationMode(fmi2Component component) {
   c->s.cache_valid = 0;
   freeze(c);
   c->s.phase = STEPPING;
-  return fmi2OK;
+  return start_values_warned(c) ? fmi2Warning : fmi2OK;
 }
 
 fmi2Status fmi2Terminate(fmi2Component component) {
@@ -637,7 +669,7 @@ static fmi2Status set_one_real(instance* c, int vr, double value) {
     return fmi2Error;
   }
   c->s.real[vr] = value;
-  c->s.set[vr] = !(value == v->start);
+  c->s.set[vr] = 1; /* recorded, never inferred from the value (a value equal to the XML start is a setting too) */
   c->s.error[vr][0] = 0;
   c->s.cache_valid = 0;
   if (check_real(c, vr, value, c->s.error[vr]) || check_frozen(c, vr)) {
@@ -682,13 +714,13 @@ static fmi2Status set_one_string(instance* c, int vr, const char* text) {
     report(c, fmi2Error, "fmi2SetString: the value of parameter '%s' (value reference %d) is NULL", v->name, vr);
     return fmi2Error;
   }
-  if (vr == M->vr_evaluator && choice_of(vr, text) >= 0 && strcmp(text, "compiled")) {
+  if (vr == M->vr_evaluator && !strcmp(text, "vm")) {
     report(c, fmi2Error, "fmi2SetString: parameter 'evaluator' = '%s': the native FMU has no virtual machine "
            "(it runs its compiled model only); use 'compiled' or the pythonfmu FMU", text);
     return fmi2Error;
   }
   copy_text(c->s.text[vr], text, TEXT_LEN);
-  c->s.set[vr] = strcmp(text, v->start_text) != 0;
+  c->s.set[vr] = 1;
   c->s.error[vr][0] = 0;
   c->s.cache_valid = 0;
   if (check_string(vr, text, c->s.error[vr]) || check_frozen(c, vr)) {
@@ -752,15 +784,16 @@ static int refused_step(instance* c, double t) {
   return n;
 }
 
+/* Misuse of the step's arguments: fmi2Error (fmi2Discard would ask the master to retry a smaller step). */
 static int step_problem(instance* c, double t, double dt) {
   char a[32], b[32];
   if (!(isfinite(dt) && dt > 0))
-    report(c, fmi2Discard, "communication step size communicationStepSize = %s s must be positive and finite",
-           repr(dt, a));
+    report(c, fmi2Error, "fmi2DoStep: communication step size communicationStepSize = %s s must be positive and "
+           "finite", repr(dt, a));
   else if (!isfinite(t))
-    report(c, fmi2Discard, "currentCommunicationPoint = %s s is not finite", repr(t, a));
+    report(c, fmi2Error, "fmi2DoStep: currentCommunicationPoint = %s s is not finite", repr(t, a));
   else if (fabs(t - c->s.t) > TIME_TOLERANCE * fmax(1.0, fabs(c->s.t)))
-    report(c, fmi2Discard, "currentCommunicationPoint = %s s does not match the FMU's time %s s (restore a saved "
+    report(c, fmi2Error, "fmi2DoStep: currentCommunicationPoint = %s s does not match the FMU's time %s s (restore a saved "
            "FMU state to go back in time)", repr(t, a), repr(c->s.t, b));
   else return 0;
   return 1;
@@ -769,7 +802,7 @@ static int step_problem(instance* c, double t, double dt) {
 /* Number of sub-steps of dt, or 0 (with a message) beyond MAX_SUBSTEPS; never overflows. */
 static heli_int substeps(instance* c, double dt, double h_max) {
   char a[32], b[32], d[32];
-  double r = dt / h_max - 1e-12;
+  double r = dt / h_max * (1.0 - SUBSTEP_TOLERANCE);
   if (r <= M->max_substeps) return r <= 1 ? 1 : (heli_int) ceil(r);
   report(c, fmi2Discard, "communication step size communicationStepSize = %s s with max_step = %s s needs %s "
          "sub-steps, more than the limit of %.0f; the step was discarded (use a shorter communication step "
@@ -864,7 +897,8 @@ fmi2Status fmi2DoStep(fmi2Component component, fmi2Real t, fmi2Real dt, fmi2Bool
   if (!c) return fmi2Error;
   if (c->s.phase != STEPPING)
     return wrong_phase(c, "fmi2DoStep", "call fmi2ExitInitializationMode first (and no fmi2Terminate before)");
-  if (refused_step(c, t) || step_problem(c, t, dt)) return fmi2Discard;
+  if (step_problem(c, t, dt)) return fmi2Error;
+  if (refused_step(c, t)) return fmi2Discard;
   return advance(c, t, dt);
 }
 

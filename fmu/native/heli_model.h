@@ -5,6 +5,7 @@
 #define HELI_MODEL_H
 
 #include "heli_config.h"
+#include "heli_libm.h"
 
 typedef long long heli_int;
 

@@ -25,13 +25,14 @@ def facts(fmu: str | Path) -> dict:
 
 
 def compile_host(dest: Path) -> Path:
-    """Compile ``host.c`` into the executable ``dest`` (FMI headers from the installed fmpy)."""
+    """Compile ``host.c`` into the executable ``dest`` (FMI headers from the installed fmpy);
+    it does not link the C math library, so an FMU library that needs libm must bring it."""
     from mbs.backends.compiled import find_compiler
 
     from fmu.native.build import fmi_headers_dir
 
     proc = subprocess.run([find_compiler(), "-O2", "-I", str(fmi_headers_dir()), str(HERE / "host.c"), "-o",
-                           str(dest), "-ldl", "-Wl,--no-as-needed", "-lm"], capture_output=True, text=True)
+                           str(dest), "-ldl"], capture_output=True, text=True)
     if proc.returncode:
         raise RuntimeError(f"compiling the C host failed:\n{proc.stderr[-3000:]}")
     return dest

@@ -52,10 +52,13 @@ def headers_dir() -> Path:
     return folder
 
 
-def compile_shim(out: Path) -> Path:
-    """Compile ``fmi2_shim.c`` into the shared library ``out``; raises ShimBuildError."""
+def compile_shim(out: Path, guid: str) -> Path:
+    """Compile ``fmi2_shim.c`` into the shared library ``out`` for the FMU whose GUID is
+    ``guid`` (it refuses any other); raises ShimBuildError."""
     cc = find_compiler()
-    cmd = [cc, *CFLAGS, f"-I{headers_dir()}", str(SOURCE), "-o", str(out), *LIBS]
+    if not guid or '"' in guid or "\\" in guid:
+        raise ShimBuildError(f"not a GUID for the FMI front end: {guid!r}")
+    cmd = [cc, *CFLAGS, f"-I{headers_dir()}", f'-DHELI_GUID="{guid}"', str(SOURCE), "-o", str(out), *LIBS]
     try:
         proc = subprocess.run(cmd, capture_output=True, text=True)
     except OSError as exc:

@@ -17,7 +17,20 @@
  *    instance is dead: every later call answers fmi2Error without calling pythonfmu, and
  *    fmi2FreeInstance leaves it allocated (deleting it would crash);
  *  - NULL instance or arrays, and calls out of the order of the FMI 2.0 state machine,
- *    give fmi2Error and a message naming the call.
+ *    give fmi2Error and a message naming the call;
+ *  - the GUID given to fmi2Instantiate must be this FMU's (HELI_GUID, compiled in: derived
+ *    from the content the FMU was built from), and fmi2SetDebugLogging accepts only the log
+ *    categories of the model description;
+ *  - fmi2GetBooleanStatus(fmi2Terminated) is false: this FMU never asks the master to end
+ *    (pythonfmu answers true after any fmi2Discard);
+ *  - FMU states are this library's records around pythonfmu's: fmi2GetFMUstate into an
+ *    existing state releases pythonfmu's old one (pythonfmu would leak it), a state carries
+ *    the instance's phase, which fmi2SetFMUstate restores, and fmi2SerializeFMUstate refuses
+ *    a buffer smaller than fmi2SerializedFMUstateSize;
+ *  - at the process's exit, pythonfmu's hold on its Python state is released before its own
+ *    exit handlers run: pythonfmu 0.7.0 releases it twice otherwise (its static destructor,
+ *    then its library destructor, on the destroyed shared_ptr), a heap corruption that
+ *    aborts a C host at exit (upstream PythonFMU #211/#213, unreleased).
  *
  * Messages are FMI format strings: a '%' in a message text is written as "%%".
  * The FMI 2.0 headers come from the build machine (fmpy's c-code folder).
@@ -35,7 +48,12 @@
 
 #include "fmi2Functions.h"
 
+#ifndef HELI_GUID
+#error "compile with -DHELI_GUID='\"{...}\"' (the GUID of the FMU's model description)"
+#endif
 #define INNER_DIR "pythonfmu"
+#define STATE_MAGIC 0x53484d53u /* a state record of this library */
+#define BLOB_TAG "HELISHIM" /* first bytes of a serialized state of this library */
 #define NATIVE_HINT "For a host without Python use the native FMU (heli fmu build --native)"
 #define TEXT_MAX 4096
 
@@ -163,6 +181,20 @@ __attribute__((destructor)) static void unload_inner(void)
     pthread_mutex_unlock(&api_lock);
 }
 
+/* pythonfmu's extern "C" finalizePythonInterpreter(): releases its global shared_ptr<PyState>. */
+static void (*release_python_state)(void);
+
+/* Runs at exit() before pythonfmu's own exit handlers (registered after its library was
+ * loaded, so called before its static destructors), or when the host unloads this library:
+ * pythonfmu's global pointer is then empty, and neither its static destructor nor its library
+ * destructor releases the state (a second time). */
+static void release_before_exit(void)
+{
+    if (release_python_state) {
+        release_python_state();
+    }
+}
+
 static int load_inner(char *err, size_t errn)
 {
     char path[PATH_MAX];
@@ -181,6 +213,10 @@ static int load_inner(char *err, size_t errn)
         }
         if (ok) {
             api_handle = handle;
+            *(void **)&release_python_state = dlsym(handle, "finalizePythonInterpreter");
+            if (release_python_state && atexit(release_before_exit) != 0) {
+                release_python_state = NULL;
+            }
         }
     }
     pthread_mutex_unlock(&api_lock);
@@ -486,8 +522,8 @@ const char *fmi2GetVersion(void)
     return fmi2Version;
 }
 
-static int instantiate_arguments(fmi2String instanceName, fmi2Type fmuType, fmi2String fmuResourceLocation,
-                                 const fmi2CallbackFunctions *functions)
+static int instantiate_arguments(fmi2String instanceName, fmi2Type fmuType, fmi2String fmuGUID,
+                                 fmi2String fmuResourceLocation, const fmi2CallbackFunctions *functions)
 {
     const char *name = instanceName ? instanceName : "";
     if (!functions) {
@@ -499,6 +535,9 @@ static int instantiate_arguments(fmi2String instanceName, fmi2Type fmuType, fmi2
              "(fmuType = %d)", name, (int)fmuType);
     } else if (!fmuResourceLocation) {
         tell(functions, name, fmi2Error, "fmi2Instantiate: fmuResourceLocation is NULL");
+    } else if (!fmuGUID || strcmp(fmuGUID, HELI_GUID) != 0) {
+        tell(functions, name, fmi2Error, "fmi2Instantiate: instance '%s': GUID '%s' is not this FMU's '%s' (a model "
+             "description of another build?)", name, fmuGUID ? fmuGUID : "(NULL)", HELI_GUID);
     } else {
         return 1;
     }
@@ -531,7 +570,7 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
                               fmi2Boolean visible, fmi2Boolean loggingOn)
 {
     char err[TEXT_MAX];
-    if (!instantiate_arguments(instanceName, fmuType, fmuResourceLocation, functions)) {
+    if (!instantiate_arguments(instanceName, fmuType, fmuGUID, fmuResourceLocation, functions)) {
         return NULL;
     }
     size_t n = strlen(fmuResourceLocation) + 1;
@@ -596,6 +635,18 @@ static int copy_categories(Instance *s, size_t n, const fmi2String categories[])
     return 1;
 }
 
+static int known_category(const char *name)
+{
+    static const char *names[] = {"logStatusWarning", "logStatusDiscard", "logStatusError", "logStatusFatal",
+                                  "logAll"};
+    for (size_t k = 0; name && k < sizeof names / sizeof names[0]; k++) {
+        if (strcmp(name, names[k]) == 0) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
 /* Kept here: pythonfmu keeps logging everything to from_inner, which filters. */
 fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean loggingOn, size_t nCategories,
                                const fmi2String categories[])
@@ -604,6 +655,13 @@ fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean loggingOn, size_t nC
     Instance *s = live(c, call);
     if (!s || !present(s, call, categories, nCategories, "categories")) {
         return fmi2Error;
+    }
+    for (size_t k = 0; k < nCategories; k++) {
+        if (categories[k] && !known_category(categories[k])) {
+            SAY(s, fmi2Error, "%s: unknown log category '%s' (this FMU has logStatusWarning, logStatusDiscard, "
+                "logStatusError, logStatusFatal, logAll)", call, categories[k]);
+            return fmi2Error;
+        }
     }
     if (!copy_categories(s, nCategories, categories)) {
         SAY(s, fmi2Error, "%s: a category is NULL (or out of memory)", call);
@@ -783,6 +841,30 @@ fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference vr[], size_t 
 
 /* -- FMU state ------------------------------------------------------------------------------- */
 
+/* An FMU state of this library: pythonfmu's state and the instance's phase. */
+typedef struct {
+    unsigned magic;
+    Phase phase;
+    fmi2FMUstate inner;
+} State;
+
+/* Header of a serialized state: BLOB_TAG, the phase, then pythonfmu's serialized state. */
+typedef struct {
+    char tag[8];
+    int phase;
+    int pad;
+} BlobHeader;
+
+static State *state_of(Instance *s, const char *call, fmi2FMUstate FMUstate)
+{
+    State *st = (State *)FMUstate;
+    if (st && st->magic == STATE_MAGIC) {
+        return st;
+    }
+    SAY(s, fmi2Error, "%s: %s is not an FMU state of this FMU", call, st ? "the state given" : "the state (NULL)");
+    return NULL;
+}
+
 fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *FMUstate)
 {
     const char *call = "fmi2GetFMUstate";
@@ -790,17 +872,40 @@ fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *FMUstate)
     if (!s || !not_null(s, call, FMUstate, "FMUstate (the pointer to the state)")) {
         return fmi2Error;
     }
-    return finish(s, call, api.getFMUstate(s->inner, FMUstate));
+    State *st = *FMUstate ? state_of(s, call, *FMUstate) : calloc(1, sizeof(State));
+    if (!st) {
+        if (!*FMUstate) SAY(s, fmi2Error, "%s: out of memory", call);
+        return fmi2Error;
+    }
+    fmi2FMUstate inner = NULL;
+    fmi2Status status = finish(s, call, api.getFMUstate(s->inner, &inner));
+    if (status > fmi2Warning) {
+        if (!*FMUstate) free(st);
+        return status;
+    }
+    if (st->inner) { /* stored into an existing state: pythonfmu's old one goes */
+        finish(s, call, api.freeFMUstate(s->inner, &st->inner));
+    }
+    st->magic = STATE_MAGIC;
+    st->phase = s->phase;
+    st->inner = inner;
+    *FMUstate = st;
+    return status;
 }
 
 fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate FMUstate)
 {
     const char *call = "fmi2SetFMUstate";
     Instance *s = live(c, call);
-    if (!s || !not_null(s, call, FMUstate, "FMUstate")) {
+    State *st = s ? state_of(s, call, FMUstate) : NULL;
+    if (!st) {
         return fmi2Error;
     }
-    return finish(s, call, api.setFMUstate(s->inner, FMUstate));
+    fmi2Status status = finish(s, call, api.setFMUstate(s->inner, st->inner));
+    if (advanced(status)) {
+        s->phase = st->phase;
+    }
+    return status;
 }
 
 fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *FMUstate)
@@ -813,28 +918,52 @@ fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *FMUstate)
     if (!*FMUstate) {
         return fmi2OK; /* nothing to free */
     }
-    return finish(s, call, api.freeFMUstate(s->inner, FMUstate));
+    State *st = state_of(s, call, *FMUstate);
+    if (!st) {
+        return fmi2Error;
+    }
+    fmi2Status status = st->inner ? finish(s, call, api.freeFMUstate(s->inner, &st->inner)) : fmi2OK;
+    st->magic = 0;
+    free(st);
+    *FMUstate = NULL;
+    return status;
 }
 
 fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate FMUstate, size_t *size)
 {
     const char *call = "fmi2SerializedFMUstateSize";
     Instance *s = live(c, call);
-    if (!s || !not_null(s, call, FMUstate, "FMUstate") || !not_null(s, call, size, "size")) {
+    State *st = s ? state_of(s, call, FMUstate) : NULL;
+    if (!st || !not_null(s, call, size, "size")) {
         return fmi2Error;
     }
-    return finish(s, call, api.serializedFMUstateSize(s->inner, FMUstate, size));
+    size_t inner = 0;
+    fmi2Status status = finish(s, call, api.serializedFMUstateSize(s->inner, st->inner, &inner));
+    *size = sizeof(BlobHeader) + inner;
+    return status;
 }
 
 fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate FMUstate, fmi2Byte serializedState[], size_t size)
 {
     const char *call = "fmi2SerializeFMUstate";
     Instance *s = live(c, call);
-    if (!s || !not_null(s, call, FMUstate, "FMUstate") ||
-        !present(s, call, serializedState, size, "serializedState[]")) {
+    State *st = s ? state_of(s, call, FMUstate) : NULL;
+    size_t inner = 0;
+    if (!st || !present(s, call, serializedState, size, "serializedState[]")) {
         return fmi2Error;
     }
-    return finish(s, call, api.serializeFMUstate(s->inner, FMUstate, serializedState, size));
+    fmi2Status status = finish(s, call, api.serializedFMUstateSize(s->inner, st->inner, &inner));
+    if (status > fmi2Warning) {
+        return status;
+    }
+    if (size < sizeof(BlobHeader) + inner) {
+        SAY(s, fmi2Error, "%s: the buffer of %zu bytes is too small for the %zu bytes of the state (ask "
+            "fmi2SerializedFMUstateSize)", call, size, sizeof(BlobHeader) + inner);
+        return fmi2Error;
+    }
+    BlobHeader h = {BLOB_TAG, (int)st->phase, 0};
+    memcpy(serializedState, &h, sizeof h);
+    return finish(s, call, api.serializeFMUstate(s->inner, st->inner, serializedState + sizeof h, inner));
 }
 
 fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte serializedState[], size_t size,
@@ -842,11 +971,32 @@ fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte serializedSta
 {
     const char *call = "fmi2DeSerializeFMUstate";
     Instance *s = live(c, call);
+    BlobHeader h;
     if (!s || !present(s, call, serializedState, size, "serializedState[]") ||
         !not_null(s, call, FMUstate, "FMUstate (the pointer to the state)")) {
         return fmi2Error;
     }
-    return finish(s, call, api.deSerializeFMUstate(s->inner, serializedState, size, FMUstate));
+    if (size) memcpy(&h, serializedState, size < sizeof h ? size : sizeof h);
+    if (size < sizeof h || memcmp(h.tag, BLOB_TAG, sizeof h.tag) != 0 || h.phase < INSTANTIATED ||
+        h.phase > TERMINATED) {
+        SAY(s, fmi2Error, "%s: not a serialized state of this FMU (%zu bytes without its header)", call, size);
+        return fmi2Error;
+    }
+    State *st = calloc(1, sizeof(State));
+    if (!st) {
+        SAY(s, fmi2Error, "%s: out of memory", call);
+        return fmi2Error;
+    }
+    fmi2Status status = finish(s, call, api.deSerializeFMUstate(s->inner, serializedState + sizeof h,
+                                                                size - sizeof h, &st->inner));
+    if (status > fmi2Warning) {
+        free(st);
+        return status;
+    }
+    st->magic = STATE_MAGIC;
+    st->phase = (Phase)h.phase;
+    *FMUstate = st;
+    return status;
 }
 
 /* -- not supported by this FMU --------------------------------------------------------------- */
@@ -923,6 +1073,8 @@ fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind kind, fmi2
     return unsupported(c, "fmi2GetIntegerStatus");
 }
 
+/* fmi2Terminated: false, always (this FMU never asks the master to end the simulation; a
+ * refused step is fmi2Discard and the instance can go on). Other kinds: none. */
 fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind kind, fmi2Boolean *value)
 {
     const char *call = "fmi2GetBooleanStatus";
@@ -930,7 +1082,13 @@ fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind kind, fmi2
     if (!s || !not_null(s, call, value, "value")) {
         return fmi2Error;
     }
-    return finish(s, call, api.getBooleanStatus(s->inner, kind, value));
+    if (kind != fmi2Terminated) {
+        SAY(s, fmi2Discard, "%s: status kind %d is not available (fmi2DoStep never returns fmi2Pending)", call,
+            (int)kind);
+        return fmi2Discard;
+    }
+    *value = fmi2False;
+    return fmi2OK;
 }
 
 fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind kind, fmi2String *value)
