@@ -21,7 +21,7 @@ def cmd_fmu_build(args) -> int:
         from fmu.controller import NAME, ensure_controller_fmu
 
         scenes = (NAME,)
-        path, seconds = ensure_controller_fmu(force=args.force, log=_log)
+        path, seconds = ensure_controller_fmu(force=args.force, log=_log, aircraft=args.aircraft)
     elif args.native:
         from fmu.native.build import ensure_native_fmu
 
@@ -85,7 +85,7 @@ def cmd_bench_fmu(args) -> int:
 def cmd_cosim(args) -> int:
     from fmu import cosim
 
-    res = cosim.run(Path(args.out), args.stop, log=_log)
+    res = cosim.run(Path(args.out), args.stop, log=_log, aircraft=args.aircraft)
     c, o = res["closed"], res["open"]
     lines = [f"hover, 1 m/s initial disturbance, {res['stop_s']:g} s in steps of {res['step_s'] * 1e3:.6f} ms "
              f"({res['steps']} steps)",
@@ -171,6 +171,7 @@ def register(sub, bench) -> None:
                        "in libcosim and in an fmpy master loop; writes the .ssp files, hover_hold.png and .csv")
     p.add_argument("--out", type=A.output_folder, default="out/cosim", help="output folder (default out/cosim)")
     p.add_argument("--stop", type=A.positive, default=60.0, help="simulated time in s (default 60)")
+    A.add_aircraft(p)
     add_json(p)
     p.set_defaults(fn=cmd_cosim)
 

@@ -16,7 +16,7 @@ The FMU (``HoverHold``, FMI 2.0 co-simulation, C: ``controller_fmi2.c`` with the
 ``δ = δ_trim − gain_scale · K e`` (``e``: the inputs minus the trim, positions turned into the
 trim heading's axes, heading wrapped to ±π; outputs clamped to the helicopter's input ranges).
 The controller samples: ``fmi2DoStep`` computes the outputs from the inputs averaged over the
-last 1/BLADES revolution (which removes the rotor harmonics at BLADES/rev and its multiples, all
+last 1/N_b revolution (which removes the rotor harmonics at N_b/rev and its multiples, all
 the fuselage feels in steady flight, and which the quasi-static design leaves out: fed back, they
 drove the cyclic to its stops; a whole revolution's average delayed the loop into a roll limit
 cycle); no direct
@@ -57,7 +57,6 @@ MAX_STATE = {"u": 2.0, "w": 1.0, "v": 2.0, "p": 0.3, "q": 0.3, "r": 0.3, "theta"
              "north": 2.0, "east": 2.0, "down": 2.0, "psi": 0.1}
 """Bryson's rule: the deviation (m/s, rad/s, rad, m) at which each state costs 1."""
 MAX_CONTROL = 0.01  # rad: the pitch deviation at which each control costs 1
-BLADES = 4  # main-rotor blades: the inputs are averaged over 1/BLADES revolution
 FROM_INPUT = {"u": "fuselage.u", "w": "fuselage.w", "q": "fuselage.q", "theta": "fuselage.pitch",
               "v": "fuselage.v", "p": "fuselage.p", "phi": "fuselage.roll", "r": "fuselage.r",
               "north": "fuselage.x", "east": "fuselage.y", "down": "fuselage.z", "psi": "fuselage.yaw"}
@@ -96,32 +95,35 @@ def lqr(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.linalg.solve(r, b.T @ p)
 
 
-def design(log=None) -> dict:
-    """The controller at the hover trim of the helicopter FMU's default family: gains by input
-    name, trim values of the inputs and outputs, output ranges, the open- and closed-loop
-    eigenvalues of the linear model."""
+def design(log=None, aircraft=None) -> dict:
+    """The controller at the hover trim of the helicopter FMU's default family of ``aircraft``
+    (default the Bo105): gains by input name, trim values of the inputs and outputs, output
+    ranges, the open- and closed-loop eigenvalues of the linear model."""
+    from mbs import scenes
     from mbs.analysis.derivatives import derivatives
 
     from fmu import build as pybuild
 
+    craft = pybuild.load_aircraft(aircraft)
     if log:
-        log(f"designing the {NAME} controller: derivatives at the {SCENE} trim ...")
-    d = derivatives(SCENE)
+        log(f"designing the {NAME} controller of the {craft.name}: derivatives at the {SCENE} trim ...")
+    d = derivatives(scenes.get(SCENE, craft))
     if list(d.controls) != list(OUTPUTS):
         raise RuntimeError(f"derivatives gave controls {d.controls}, expected {list(OUTPUTS)}")
     ref = d.reference
     a, b = augmented(d.A, d.B, ref["Phi_e"], ref["Theta_e"])
     k = lqr(a, b)
-    spec = _helicopter_spec(pybuild)
-    trim = _trim_inputs(spec, ref)
+    spec = _helicopter_spec(pybuild, craft)
+    trim = _trim_inputs(spec, ref, craft)
     gains = np.zeros((4, len(INPUTS)))
     for j, s in enumerate(STATES):
         gains[:, INPUTS.index(FROM_INPUT[s])] = k[:, j]
     scene = spec["scenes"][SCENE]
     controls = {c: float(scene["periodic"]["defaults"][c]) for c in OUTPUTS}
     ranges = {c: scene["ranges"][c] for c in OUTPUTS}
-    window = scene["revolution"] / BLADES  # the fuselage feels the rotor's harmonics at BLADES/rev and multiples
-    return {"gains": gains.tolist(), "trim_inputs": trim, "revolution": scene["revolution"], "window": window, "trim_controls": controls, "ranges": ranges,
+    blades = craft.data["main_rotor"]["n_blades"]
+    window = scene["revolution"] / blades  # the fuselage feels the rotor's harmonics at N_b/rev and multiples
+    return {"aircraft": craft.name, "gains": gains.tolist(), "trim_inputs": trim, "revolution": scene["revolution"], "window": window, "trim_controls": controls, "ranges": ranges,
             "heading": trim["fuselage.yaw"], "A": a.tolist(), "B": b.tolist(), "K_states": k.tolist(),
             "open_loop": _eigenvalues(a), "closed_loop": _eigenvalues(a - b @ k),
             "reference": {key: float(v) for key, v in ref.items()}, "states": list(STATES)}
@@ -132,19 +134,18 @@ def _eigenvalues(m: np.ndarray) -> list[list[float]]:
     return [[float(z.real), float(z.imag)] for z in sorted(lam, key=lambda z: (-z.real, z.imag))]
 
 
-def _helicopter_spec(pybuild) -> dict:
+def _helicopter_spec(pybuild, aircraft=None) -> dict:
     """The spec of the helicopter FMU (default family) from its build (the shipped spec.json)."""
-    fmu, _ = pybuild.ensure_fmu(pybuild.DEFAULT_SCENES)
-    return json.loads(zipfile.ZipFile(fmu).read("resources/heli_models/spec.json"))
+    return json.loads(zipfile.ZipFile(_pybuild_fmu(aircraft)).read("resources/heli_models/spec.json"))
 
 
-def _trim_inputs(spec: dict, ref: dict) -> dict:
+def _trim_inputs(spec: dict, ref: dict, aircraft=None) -> dict:
     """The controller's input values at the trim: position and heading of the periodic hover
     start, period-mean attitude, velocities and rates of the linearisation (m, rad, m/s, rad/s)."""
     from mbs._rotation import quat_to_euler
 
     scene = spec["scenes"][SCENE]
-    info = json.loads(zipfile.ZipFile(_pybuild_fmu()).read(f"resources/heli_models/{scene['group']}/info.json"))
+    info = json.loads(zipfile.ZipFile(_pybuild_fmu(aircraft)).read(f"resources/heli_models/{scene['group']}/info.json"))
     x0 = dict(zip(info["q_names"] + info["v_names"] + info.get("z_names", []), scene["periodic"]["x0"]))
     yaw = float(quat_to_euler([x0[f"fuselage.q{c}"] for c in "wxyz"])[2])
     return {"fuselage.x": x0["fuselage.x"], "fuselage.y": x0["fuselage.y"], "fuselage.z": x0["fuselage.z"],
@@ -153,10 +154,10 @@ def _trim_inputs(spec: dict, ref: dict) -> dict:
             "fuselage.p": ref["P_e"], "fuselage.q": ref["Q_e"], "fuselage.r": ref["R_e"]}
 
 
-def _pybuild_fmu() -> Path:
+def _pybuild_fmu(aircraft=None) -> Path:
     from fmu import build as pybuild
 
-    return pybuild.ensure_fmu(pybuild.DEFAULT_SCENES)[0]
+    return pybuild.ensure_fmu(pybuild.DEFAULT_SCENES, aircraft=aircraft)[0]
 
 
 # -- the FMU -------------------------------------------------------------------------------------
@@ -238,19 +239,20 @@ def _version() -> str:
         return "0"
 
 
-def default_step(spec: dict | None = None) -> float:
+def default_step(spec: dict | None = None, aircraft=None) -> float:
     """The co-simulation's communication step: 1/100 revolution in whole nanoseconds (s)."""
-    spec = spec or _helicopter_spec(__import__("fmu.build").build)
+    spec = spec or _helicopter_spec(__import__("fmu.build").build, aircraft)
     return round(spec["scenes"][SCENE]["revolution"] / spec["scenes"][SCENE]["steps_per_rev"] * 1e9) / 1e9
 
 
-def build_controller(dest: Path, log=None) -> dict:
-    """Design, generate, compile and zip the controller FMU into ``dest``; returns the design."""
+def build_controller(dest: Path, log=None, aircraft=None) -> dict:
+    """Design, generate, compile and zip the controller FMU of ``aircraft`` into ``dest``;
+    returns the design."""
     from mbs.backends.compiled import find_compiler
 
     from fmu.native.build import fmi_headers_dir
 
-    dsg = design(log)
+    dsg = design(log, aircraft)
     guid = "{" + str(uuid.UUID(bytes=hashlib.sha256(json.dumps(dsg, sort_keys=True).encode()).digest()[:16],
                                 version=5)) + "}"
     with tempfile.TemporaryDirectory(prefix="heli-controller-") as tmp:
@@ -267,7 +269,7 @@ def build_controller(dest: Path, log=None) -> dict:
                               capture_output=True, text=True)
         if proc.returncode:
             raise RuntimeError(f"compiling the controller FMU failed:\n{proc.stderr[-3000:]}")
-        (root / "modelDescription.xml").write_bytes(model_description(dsg, guid, default_step()))
+        (root / "modelDescription.xml").write_bytes(model_description(dsg, guid, default_step(aircraft=aircraft)))
         (root / "resources").mkdir()
         (root / "resources" / "design.json").write_text(json.dumps(dsg, indent=1))
         dest.parent.mkdir(parents=True, exist_ok=True)
@@ -277,32 +279,33 @@ def build_controller(dest: Path, log=None) -> dict:
     return dsg
 
 
-def cache_key() -> str:
-    """Hash of what the controller is designed and built from (the core, the FMU code)."""
+def cache_key(aircraft=None) -> str:
+    """Hash of what the controller is designed and built from (the core, the aircraft, the FMU code)."""
     from fmu import build as pybuild
 
-    h = hashlib.sha256(pybuild.cache_key(pybuild.DEFAULT_SCENES).encode())
+    h = hashlib.sha256(pybuild.cache_key(pybuild.DEFAULT_SCENES, aircraft).encode())
     for name in ("controller.py", SOURCE):
         h.update((HERE / name).read_bytes())
     h.update(os.environ.get("CC", "").encode())
     return h.hexdigest()[:20]
 
 
-def ensure_controller_fmu(force: bool = False, log=None) -> tuple[Path, float]:
-    """The cached controller FMU (built if absent or not intact); (path, build seconds)."""
+def ensure_controller_fmu(force: bool = False, log=None, aircraft=None) -> tuple[Path, float]:
+    """The cached controller FMU of ``aircraft`` (default the Bo105; built if absent or not
+    intact); (path, build seconds)."""
     from mbs.backends.cache import record, writable_dir
     from mbs.backends.compiled import cache_dir
 
     from fmu.build import fmu_problem
 
-    path = cache_dir() / "fmu-controller" / cache_key() / f"{IDENTIFIER}.fmu"
+    path = cache_dir() / "fmu-controller" / cache_key(aircraft) / f"{IDENTIFIER}.fmu"
     if not force and fmu_problem(path) is None:
         return path, 0.0
     writable_dir(path.parent, "FMU cache")
     start = time.perf_counter()
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     try:
-        build_controller(tmp, log)
+        build_controller(tmp, log, aircraft)
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise

@@ -160,7 +160,7 @@ def run_fmpy(ssp_file: Path, stop: float, step: float, workdir: Path, states: li
     return {**_table(rows), "wall_s": wall, "helicopter_dostep_s": in_heli, **extra}
 
 
-def viewer_page(res: dict, path: Path, scene: str = controller.SCENE) -> Path | None:
+def viewer_page(res: dict, path: Path, scene: str = controller.SCENE, aircraft=None) -> Path | None:
     """``viewer.html``: the first VIEWER_REVS revolutions of the closed loop in the browser viewer (the helicopter's states from
     the fmpy run, the pitch inputs row by row); None without the viewer package."""
     try:
@@ -170,7 +170,7 @@ def viewer_page(res: dict, path: Path, scene: str = controller.SCENE) -> Path | 
         return None
     from mbs import scenes
 
-    sc = scenes.get(scene)
+    sc = scenes.get(scene, aircraft)
     system = sc.system("vm")
     cols = dict(zip(res["state_names"], res["states"].T))
     x = np.column_stack([cols[n] for n in system.info.state_names])
@@ -307,17 +307,18 @@ def plot(closed: dict, open_: dict, trim: dict, path: Path) -> Path:
     return path
 
 
-def run(out: Path, stop: float = 60.0, log=None) -> dict:
+def run(out: Path, stop: float = 60.0, log=None, aircraft=None) -> dict:
     """``heli cosim``: build both FMUs, write the closed- and open-loop ``.ssp``, run the closed
     loop in libcosim and in the fmpy loop, the open loop in libcosim; compare, plot, write CSV."""
     from fmu import build as pybuild
     from fmu.native.build import ensure_native_fmu
 
     out.mkdir(parents=True, exist_ok=True)
-    heli, _ = ensure_native_fmu(pybuild.DEFAULT_SCENES, log=log)
-    ctrl, _ = controller.ensure_controller_fmu(log=log)
+    craft = pybuild.load_aircraft(aircraft)
+    heli, _ = ensure_native_fmu(pybuild.DEFAULT_SCENES, log=log, aircraft=craft)
+    ctrl, _ = controller.ensure_controller_fmu(log=log, aircraft=craft)
     dsg = controller.read_design(ctrl)
-    step = controller.default_step()
+    step = controller.default_step(aircraft=craft)
     closed_ssp = write(out / "hover_hold.ssp", heli, ctrl, stop, closed=True)
     open_ssp = write(out / "hover_open_loop.ssp", heli, ctrl, stop, closed=False)
     loops = algebraic_loops(closed_ssp)
@@ -327,7 +328,7 @@ def run(out: Path, stop: float = 60.0, log=None) -> dict:
     open_ = run_libcosim(open_ssp, stop, step)
     trim = dsg["trim_inputs"]
     figure = plot(closed, open_, trim, out / "hover_hold.png")
-    page = viewer_page(via_fmpy, out / "viewer.html")
+    page = viewer_page(via_fmpy, out / "viewer.html", aircraft=craft)
     csv = out / "hover_hold.csv"
     names = ["time", *RECORDED, *controller.OUTPUTS]
     np.savetxt(csv, np.column_stack([closed[m] for m in names]), delimiter=",", header=",".join(names), comments="",
