@@ -89,18 +89,14 @@ def _stepper(sc, method: str, backend: str):
     return TangentStepper(sc.model(), method, backend, **threads)
 
 
-def system_of(kind: str, built):
-    """The :class:`mbs.System` inside the evaluators returned by :func:`loaded`."""
-    return {"trim": lambda b: b[0], "simulate": lambda b: b, "floquet": lambda b: b.system}[kind](built)
-
-
-def check_axes(kind: str, scene: str, built, names: list[str]) -> None:
-    """Refuse axis names that are not inputs of ``kind`` (ValueError naming them and the known ones)."""
-    info = system_of(kind, built).info
-    params = list(info.param_names)
+def check_axes(kind: str, scene: str, options: dict, names: list[str]) -> None:
+    """Refuse axis names that are not inputs of ``kind`` (ValueError naming them and the known
+    ones), from the scene's symbolic model: nothing is compiled."""
+    model = scene_of(scene, options).model()
+    params = list(model.parameters)
     if kind == "trim":
-        controls = [p["name"] for p in info.parameters if p.get("control")]
-        free = any(b["joint"] == "FreeJoint" for b in info.bodies)  # a flight speed needs a free fuselage
+        controls = [n for n, p in model.parameters.items() if p.control]
+        free = any(type(b.joint).__name__ == "FreeJoint" for b in model.bodies.values())  # a flight speed needs one
         params = ["speed", "climb_rate"] * free + [p for p in params if p not in controls]
     bad = [n for n in names if n not in params]
     if bad:

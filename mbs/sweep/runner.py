@@ -42,8 +42,8 @@ def run(kind: str, scene: str, axes: dict[str, np.ndarray], options: dict | None
     old = table.read(out) if out else None
     if out:  # before anything is compiled: a resumed sweep must be the same sweep
         table.check_settings(old, settings, Path(out))
-    built = models.loaded(kind, scene, options)  # compiled here, once, before any task
-    models.check_axes(kind, scene, built, names)
+    models.check_axes(kind, scene, options, names)  # on the symbolic model: before anything is compiled
+    models.loaded(kind, scene, options)  # compiled here, once, before any task
     rows = table.finished(old, names)
     todo = [Task(kind, scene, p, options, _cache()) for p in grid.points(axes) if grid.key(p, names) not in rows]
     reused = len(rows)
