@@ -606,12 +606,16 @@ static int start_values_warned(heli_instance* c, const char* call) {
   return n;
 }
 
-/* Model exchange: the host integrates, so the settings of the FMU's own integrator do nothing. */
+/* Model exchange: the host integrates, so the settings of the FMU's own integrator do nothing; a
+   warning for each set to another value than its default (a master may apply every XML start). */
 static int integrator_settings_warned(heli_instance* c, const char* call) {
   const int vrs[2] = {M->vr_max_step, M->vr_integrator};
   int k, n = 0;
   for (k = 0; c->kind == HELI_MODEL_EXCHANGE && k < 2; ++k) {
-    if (vrs[k] < 0 || !c->s.set[vrs[k]]) continue;
+    if (vrs[k] < 0 || !accepted(c, vrs[k])) continue;
+    if (var(vrs[k])->type == HELI_REAL ? c->s.real[vrs[k]] == default_real(c, vrs[k])
+                                       : !strcmp(c->s.text[vrs[k]], var(vrs[k])->start_text))
+      continue;
     report(c, HELI_WARNING, "%s: parameter '%s' was set, but it sets the FMU's own integrator, which model exchange "
            "does not use (the host integrates the continuous states): it has no effect", call, var(vrs[k])->name);
     ++n;
@@ -737,8 +741,33 @@ int heli_get_real(heli_instance* c, const char* call, int slot, double* value) {
   return HELI_OK;
 }
 
+/* The continuous state that the variable `slot` is (model exchange), or -1. */
+static int me_state_of(const heli_instance* c, int slot) {
+  int k;
+  for (k = 0; c->kind == HELI_MODEL_EXCHANGE && k < M->n_states; ++k)
+    if (M->me_state[k] == slot) return k;
+  return -1;
+}
+
+/* Model exchange, after initialisation: a continuous state set by its value reference (as some hosts,
+   e.g. CasADi's FMU import, do instead of SetContinuousStates). */
+static int set_state_variable(heli_instance* c, const char* call, int k, double value) {
+  char a[32];
+  int i = state_index(c, k);
+  if (!isfinite(value)) {
+    report(c, HELI_ERROR, "%s: continuous state '%s' = %s is not finite", call, var(M->me_state[k])->name,
+           repr(value, a));
+    return HELI_ERROR;
+  }
+  if (i >= 0) c->s.x[i] = value; /* a state the model holds keeps its value */
+  invalidate(c);
+  return HELI_OK;
+}
+
 int heli_set_real(heli_instance* c, const char* call, int slot, double value) {
   char a[32], buf[TEXT_LEN];
+  int k = c->s.loaded && c->s.phase == STEPPING ? me_state_of(c, slot) : -1;
+  if (k >= 0) return set_state_variable(c, call, k, value);
   if (slot >= M->n_variables || var(slot)->position >= 0) {
     report(c, HELI_ERROR, "%s: %s '%s' (value reference %d) cannot be set (attempted %s)", call,
            slot >= M->n_variables ? "derivative" : causality_name(var(slot)), slot_name(slot, buf), slot,
