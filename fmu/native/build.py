@@ -51,7 +51,7 @@ FMI_HEADERS = ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h", 
 FUNCTIONS = ("incr_rk4", "incr_rk8", "project", "energy", "fmu_outputs", "rhs")
 AD_FUNCTIONS = ("ad_fwd", "ad_adj")
 METHODS = ("rk4", "rk8")
-CFLAGS = ["-O2", "-fno-math-errno", "-fvisibility=hidden", "-DHELI_LIBM_LINKED"]
+CFLAGS = ["-O2", "-fno-math-errno", "-ffp-contract=off", "-fvisibility=hidden", "-DHELI_LIBM_LINKED"]
 """The shipped binary links libm and calls it directly (``heli_libm.h``); a rebuild from ``sources/``
 without ``-DHELI_LIBM_LINKED`` (fmpy's, or a plain ``cc``) needs no ``-lm``."""
 AD_OPTIMIZATION = "-O0"
