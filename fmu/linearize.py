@@ -26,7 +26,8 @@ import numpy as np
 class Linearization:
     """The matrices (``A`` (nx, nx), ``B`` (nx, nu), ``C`` (ny, nx), ``D`` (ny, nu); SI units of
     the FMU's variables) with the names of their rows and columns, the point (``time`` s,
-    continuous states ``x``) and how they were read (FMI version, interface, calls)."""
+    continuous states ``x``, inputs ``u``) and how they were read (FMI version, interface,
+    number of directional-derivative calls)."""
 
     A: np.ndarray
     B: np.ndarray
@@ -37,6 +38,7 @@ class Linearization:
     outputs: list[str]
     time: float
     x: np.ndarray
+    u: np.ndarray
     fmi_version: str
     interface: str
     calls: int = 0
@@ -112,6 +114,12 @@ class _Session:
         return np.array(self.fmu.getDirectionalDerivative([u.valueReference for u in unknowns],
                                                            [known.valueReference], [1.0]))
 
+    def reals(self, variables: list) -> np.ndarray:
+        vrs = [v.valueReference for v in variables]
+        if self.v3:
+            return np.array(self.fmu.getFloat64(vrs, sum(_size(v) for v in variables)))
+        return np.array(self.fmu.getReal(vrs))
+
     def close(self) -> None:
         self.fmu.terminate()
         self.fmu.freeInstance()
@@ -186,4 +194,5 @@ def _matrices(s: _Session, md, ders, x_vars, u_vars, y_vars, states, interface) 
     rows = lambda vs: [e for v in vs for e in _elements(v)]  # noqa: E731
     return Linearization(A=full[:nx, :n_x], B=full[:nx, n_x:], C=full[nx:, :n_x], D=full[nx:, n_x:],
                          states=rows(x_vars), inputs=rows(u_vars), outputs=rows(y_vars), time=s.time, x=x,
+                         u=s.reals(u_vars) if u_vars else np.zeros(0),
                          fmi_version=md.fmiVersion, interface=interface, calls=s.calls)

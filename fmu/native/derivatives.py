@@ -7,10 +7,10 @@
   columns: ``x`` then the model parameters ``p``, the inputs among them). The FMU answers
   ``fmiXGetDirectionalDerivative`` with one ``ad_fwd`` and ``fmi3GetAdjointDerivative`` with one
   ``ad_adj``: exact to round-off, never differences.
-- ``ModelStructure`` of model exchange from the same functions' sparsity: outputs and
-  derivatives on the continuous states and inputs (``dependenciesKind`` ``constant`` where the
-  partial derivative is itself constant), the initial unknowns on the parameters that choose
-  the start (:mod:`fmu.structure`).
+- ``ModelStructure`` of model exchange from the same functions' symbolic Jacobians: outputs and
+  derivatives on the continuous states and inputs where the partial derivative is not the
+  constant 0 (``dependenciesKind`` ``constant`` where it is another constant), the initial
+  unknowns on the parameters that choose the start (:mod:`fmu.structure`).
 """
 from __future__ import annotations
 
@@ -53,8 +53,28 @@ def covers(vm, states: list[str]) -> bool:
 
 
 def _kinds(f) -> tuple[np.ndarray, np.ndarray]:
-    """(pattern, varies) of ``f(x, t, p)`` with respect to ``(x, p)``: which partial derivatives
-    are structurally non-zero, and which of those depend on x, t or p themselves."""
+    """(pattern, varies) of ``f(x, t, p)`` with respect to ``(x, p)``, from its symbolic Jacobian
+    (``f`` expanded to scalar expressions): an entry is a dependency unless it is the constant 0
+    (CasADi folds ``d/dx ((x + a) - x)`` to 0, which sparsity propagation would still count: the
+    fuselage position, on which nothing depends), and ``constant`` where it is a constant."""
+    import casadi as ca
+
+    try:
+        f = f if f.is_a("SXFunction") else f.expand()
+    except RuntimeError:  # a linear solve that has no scalar form: the propagated sparsity (a superset)
+        return _propagated_kinds(f)
+    x, t, p = f.sx_in()
+    jac = ca.jacobian(f(x, t, p), ca.vertcat(x, p))
+    pattern, varies = np.zeros(jac.shape, dtype=bool), np.zeros(jac.shape, dtype=bool)
+    rows, cols = jac.sparsity().get_triplet()
+    for r, c, entry in zip(rows, cols, jac.nonzeros()):
+        pattern[r, c] = not entry.is_zero()
+        varies[r, c] = not entry.is_constant()
+    return pattern, varies
+
+
+def _propagated_kinds(f) -> tuple[np.ndarray, np.ndarray]:
+    """(pattern, varies) by sparsity propagation through ``f`` and its Jacobian."""
     import casadi as ca
 
     x, t, p = f.mx_in()
