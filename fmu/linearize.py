@@ -72,26 +72,32 @@ def _pick(variables: list, names, what: str) -> list:
 class _Session:
     """One instance of the FMU, initialised, in continuous-time mode (model exchange)."""
 
-    def __init__(self, fmu: str, unzipdir: str, md, interface: str, start_values: dict, time: float | None):
+    def __init__(self, unzipdir: str, md, interface: str):
         from fmpy import instantiate_fmu
+
+        self.md, self.v3, self.messages = md, md.fmiVersion.startswith("3"), []
+        self.fmu = instantiate_fmu(unzipdir, md, fmi_type=interface, logger=self._log)
+        self.me, self.calls, self.time = interface == "ModelExchange", 0, 0.0
+
+    def initialise(self, start_values: dict, time: float | None) -> None:
         from fmpy.simulation import apply_start_values
 
-        self.md, self.v3 = md, md.fmiVersion.startswith("3")
-        self.fmu = instantiate_fmu(unzipdir, md, fmi_type=interface)
-        t0 = float(time if time is not None else (md.defaultExperiment.startTime if md.defaultExperiment
-                                                   and md.defaultExperiment.startTime else 0.0))
-        self.me = interface == "ModelExchange"
+        ex = self.md.defaultExperiment
+        self.time = float(time if time is not None else (ex.startTime if ex and ex.startTime else 0.0))
         if self.v3:
-            self.fmu.enterInitializationMode(startTime=t0)
+            self.fmu.enterInitializationMode(startTime=self.time)
         else:
-            self.fmu.setupExperiment(startTime=t0)
+            self.fmu.setupExperiment(startTime=self.time)
             self.fmu.enterInitializationMode()
-        apply_start_values(self.fmu, md, dict(start_values or {}))
+        apply_start_values(self.fmu, self.md, dict(start_values))
         self.fmu.exitInitializationMode()
         if self.me:
             (self.fmu.updateDiscreteStates if self.v3 else self.fmu.newDiscreteStates)()
             self.fmu.enterContinuousTimeMode()
-        self.time, self.calls = t0, 0
+
+    def _log(self, *args) -> None:
+        message = args[-1]
+        self.messages.append(message.decode(errors="replace") if isinstance(message, bytes) else str(message))
 
     def states(self, nx: int, x=None) -> np.ndarray:
         import ctypes
@@ -121,7 +127,10 @@ class _Session:
         return np.array(self.fmu.getReal(vrs))
 
     def close(self) -> None:
-        self.fmu.terminate()
+        try:
+            self.fmu.terminate()
+        except Exception:  # noqa: BLE001 (an instance that failed to initialise: freed all the same)
+            pass
         self.fmu.freeInstance()
 
 
@@ -167,14 +176,26 @@ def linearize(fmu: str | Path, start_values: dict | None = None, time: float | N
     me = interface == "ModelExchange"
     ders = [d.variable for d in md.derivatives] if me else []
     x_vars = [d.derivative for d in ders]
+    settable = {v.name for v in md.modelVariables if v.causality in ("parameter", "input")}
+    unknown = [n for n in start_values or {} if n not in settable]
+    if unknown:
+        raise ValueError(f"{unknown[0]!r} is not a parameter or input of the FMU; those are: {', '.join(sorted(settable))}")
     unzipdir = extract(str(fmu), unzipdir=tempfile.mkdtemp(prefix="heli-linearize-"))
+    s = None
     try:
-        s = _Session(str(fmu), unzipdir, md, interface, start_values or {}, time)
-        try:
-            return _matrices(s, md, ders, x_vars, u_vars, y_vars, states, interface)
-        finally:
-            s.close()
+        s = _Session(unzipdir, md, interface)
+        s.initialise(start_values or {}, time)
+        return _matrices(s, md, ders, x_vars, u_vars, y_vars, states, interface)
+    except Exception as exc:
+        from fmpy.fmi1 import FMICallException
+
+        if not isinstance(exc, FMICallException):
+            raise
+        said = s.messages[-1] if s and s.messages else "no message"
+        raise ValueError(f"the FMU refused: {exc} ({said})") from None
     finally:
+        if s is not None:
+            s.close()
         shutil.rmtree(unzipdir, ignore_errors=True)
 
 

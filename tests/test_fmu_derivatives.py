@@ -287,3 +287,24 @@ def test_casadi_fmu_import_uses_the_derivatives_and_its_jacobian_equals_ours(fmu
     for got, want in zip(res["jac"], ours):
         np.testing.assert_allclose(np.array(got).reshape(want.shape), want, rtol=1e-12, atol=1e-12 * np.abs(want).max())
     print(f"CasADi's FMU import: {len(calls)} fmi2GetDirectionalDerivative calls for its Jacobian")
+
+
+def test_heli_fmu_linearize_command(fmus, tmp_path):
+    """``heli fmu linearize``: the matrices of fmu.linearize as JSON and in a .mat file; a bad
+    start value or an unknown name is a one-line error naming it."""
+    from scipy.io import loadmat
+
+    from fmu.linearize import linearize
+
+    heli = [sys.executable, "-m", "mbs"]
+    out = tmp_path / "lin.mat"
+    proc = subprocess.run([*heli, "fmu", "linearize", str(fmus[3]), "--set", "scene=hover", "--out", str(out), "--json"],
+                          capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    res, lin = json.loads(proc.stdout), linearize(fmus[3], {"scene": "hover"})
+    assert res["states"] == lin.states and np.array_equal(np.array(res["A"]), lin.A)
+    assert np.array_equal(loadmat(out)["D"], lin.D)
+    for setting, words in (("scene=nope", "'scene' = 'nope' is not one of"), ("bogus=1", "'bogus' is not a parameter")):
+        bad = subprocess.run([*heli, "fmu", "linearize", str(fmus[2]), "--set", setting], capture_output=True,
+                             text=True, timeout=600)
+        assert bad.returncode != 0 and words in bad.stderr.strip().splitlines()[-1], bad.stderr[-500:]
