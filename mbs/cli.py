@@ -126,6 +126,10 @@ def main(argv: list[str] | None = None) -> int:
     try:
         with contextlib.redirect_stdout(sys.stderr) if as_json else contextlib.nullcontext():
             return int(args.fn(args) or 0)
+    except ModuleNotFoundError as exc:  # an optional package this command needs
+        print(f"{prog}: error: this needs the Python package {exc.name!r}, which is not installed "
+              f"(pip install {exc.name.split('.')[0]})", file=sys.stderr)
+        return 2
     except USER_ERRORS as exc:
         text = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
         print(f"{prog}: error: {text}", file=sys.stderr)

@@ -23,6 +23,16 @@ def _pyplot():
     return plt
 
 
+def save_figure(fig, plt, path: Path, title: str) -> Path:
+    """Title ``fig``, write it to ``path`` (folders made) and close it; returns the path."""
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
 def _revolutions_axis(ax, revolution: float) -> None:
     """Main-rotor revolutions on the top edge of ``ax`` (whose x is time in s)."""
     top = ax.secondary_xaxis("top", functions=(lambda t: t / revolution, lambda r: r * revolution))

@@ -80,11 +80,12 @@ class StepError:
 def estimate(system, x0, p, h: float, steps_per_rev: int, n_steps: int, method: str = "rk4",
              tolerance: float = DEFAULT_TOLERANCE, run=None) -> StepError:
     """Step-doubling estimate for a run of ``n_steps`` steps of ``h`` s from ``x0`` with
-    parameters ``p``: the window is ``min(steps_per_rev, n_steps)`` steps. ``run(h, n, every)``
+    parameters ``p``: the window is one revolution, ``steps_per_rev`` steps, even for a shorter
+    run (a window of a few steps sees too little motion to judge the step). ``run(h, n, every)``
     runs the window (default ``system.run``; a run with an input table passes its own) and
     returns a :class:`mbs.backends.system.Trajectory`."""
     run = run or (lambda hh, n, every: system.run(x0, 0.0, hh, n, every=every, p=p, method=method))
-    window = max(1, min(steps_per_rev, n_steps))
+    window = max(1, steps_per_rev)
     start = time.perf_counter()
     coarse = run(h, window, 1)
     step_s = (time.perf_counter() - start) / window

@@ -49,10 +49,11 @@ def test_bo105_from_its_file_equals_the_scenes_before_the_file():
     for name, ref in json.loads((DATA / "scenes_before_aircraft_files.json").read_text()).items():
         sim = simulate(name, 1.0, steps_per_rev=ref["steps"])
         info = sim.system.info
-        assert list(info.state_names) == ref["state_names"] and list(info.output_names) == ref["output_names"], name
+        assert list(info.state_names) == ref["state_names"], name
+        then = [info.output_names.index(n) for n in ref["output_names"]]  # the outputs of then (loads came later)
         np.testing.assert_array_equal(sim.params, ref["params"], err_msg=name)
         np.testing.assert_array_equal(sim.traj.x[0], ref["x0"], err_msg=name)
-        for got, want in ((sim.traj.x[-1], ref["x_1rev"]), (sim.outputs[-1], ref["y_1rev"])):
+        for got, want in ((sim.traj.x[-1], ref["x_1rev"]), (sim.outputs[-1][then], ref["y_1rev"])):
             assert np.all(np.abs(got - want) <= 1e-12 * (1 + np.abs(want))), name
 
 

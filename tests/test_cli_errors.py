@@ -108,7 +108,7 @@ CASES = [
     ("trim hover --write EMPTY", ["--write", "'' is empty"]),
     ("view DIR --html EMPTY", ["--html", "'' is empty"]),
     ("simulate structural --revs 0.001", ["--revs 0.001 is less than one step", "100 steps per revolution"]),
-    ("simulate elastic-rotor --revs 0.002", ["--revs 0.002 is less than one step", "300 steps per revolution"]),
+    ("simulate elastic-rotor --revs 0.001", ["--revs 0.001 is less than one step", "300 steps per revolution"]),
     ("trim ground-run --speed 20", ["--speed 20", "scene 'ground-run' has no free fuselage"]),
     ("floquet ground-run --speed 5", ["--speed 5", "scene 'ground-run' has no free fuselage"]),
     ("trim ground-run --climb-rate 5", ["--climb-rate 5", "scene 'ground-run' has no free fuselage"]),

@@ -40,6 +40,10 @@ ELSEWHERE = {  # command -> the test that parses its whole stdout as one JSON ob
     "heli bench fmu": "fresh-process FMU runs (slow); pipe-clean by test_a_command_that_prints_stays_pipe_clean",
     "heli fmu build": "an FMU build (slow); pipe-clean by test_a_command_that_prints_stays_pipe_clean",
     "heli demo": "tests/test_fmu.py (the demo run); pipe-clean by test_a_command_that_prints_stays_pipe_clean",
+    "heli loads": "tests/test_loads_rotor.py::test_heli_loads_reports_tables_and_writes_its_files",
+    "heli bench loads": "a loads sweep (slow); pipe-clean by test_a_command_that_prints_stays_pipe_clean",
+    "heli cosim": "the 60 s co-simulation (slow); pipe-clean by test_a_command_that_prints_stays_pipe_clean",
+    "heli bench cosim": "repeated co-simulations (slow); pipe-clean by test_a_command_that_prints_stays_pipe_clean",
 }
 
 

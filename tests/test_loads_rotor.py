@@ -183,9 +183,9 @@ def test_engine_power_is_the_shaft_power_over_the_efficiency_plus_the_accessorie
 
 def test_heli_loads_reports_tables_and_writes_its_files(tmp_path, capsys):
     assert main(["loads", "hover", "--quiet", "--json", "--out", str(tmp_path)]) == 0
-    out = capsys.readouterr().out
-    res = json.loads(out.strip().splitlines()[-1])
-    assert "main-rotor hub loads on the airframe" in out and "blade 1 root loads" in out
+    captured = capsys.readouterr()
+    res = json.loads(captured.out)  # stdout is the one JSON object; the tables go to stderr
+    assert "main-rotor hub loads on the airframe" in captured.err and "blade 1 root loads" in captured.err
     rows = {r["output"]: r for r in res["hub"]["main_rotor"]}
     assert set(rows) == {f"main_rotor.hub.{c}" for c in COMPONENTS}
     assert rows["main_rotor.hub.force_z"]["mean"] < -1.9e4  # the rotor lifts the airframe (z down)

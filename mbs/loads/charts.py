@@ -13,18 +13,9 @@ import numpy as np
 
 from mbs.loads.analysis import RotorLoads
 from mbs.loads.outputs import COMPONENTS
-from mbs.plots import _pyplot
+from mbs.plots import _pyplot, save_figure
 
 FORCES, MOMENTS = COMPONENTS[:3], COMPONENTS[3:]
-
-
-def _save(fig, plt, path: Path, title: str) -> Path:
-    fig.suptitle(title, fontsize=10)
-    fig.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
 
 
 def hub_harmonics(res: RotorLoads, path: Path, rotor: str = "main_rotor", highest: int = 12) -> Path:
@@ -43,7 +34,7 @@ def hub_harmonics(res: RotorLoads, path: Path, rotor: str = "main_rotor", highes
         ax.grid(alpha=0.3, which="both")
         ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5), frameon=False)
     axes[-1].set_xlabel("order (per main-rotor revolution); grey lines: multiples of the blade count")
-    return _save(fig, plt, path, f"{res.scene} at {res.speed:g} m/s: {rotor.replace('_', '-')} hub loads on the "
+    return save_figure(fig, plt, path, f"{res.scene} at {res.speed:g} m/s: {rotor.replace('_', '-')} hub loads on the "
                  "airframe (body axes), harmonics")
 
 
@@ -71,7 +62,7 @@ def vibratory(points: list[RotorLoads], path: Path, failed: list[float] = ()) ->
         ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5), frameon=False)
     axes[-1].set_xlabel("speed (m/s)")
     name = points[0].scene if points else "?"
-    return _save(fig, plt, path, f"{name}: vibratory main-rotor hub loads and power against speed")
+    return save_figure(fig, plt, path, f"{name}: vibratory main-rotor hub loads and power against speed")
 
 
 def spanwise(res: RotorLoads, path: Path, blade: str = "blade1") -> Path:
@@ -89,4 +80,4 @@ def spanwise(res: RotorLoads, path: Path, blade: str = "blade1") -> Path:
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)
-    return _save(fig, plt, path, f"{res.scene} at {res.speed:g} m/s: {blade} loads along the span (rotating frame)")
+    return save_figure(fig, plt, path, f"{res.scene} at {res.speed:g} m/s: {blade} loads along the span (rotating frame)")

@@ -14,6 +14,8 @@ from pathlib import Path
 import numpy as np
 import pyarrow as pa
 
+from mbs.plots import save_figure
+
 CONTROLS = ("collective", "lateral_cyclic", "longitudinal_cyclic", "tail_collective")
 
 
@@ -69,20 +71,11 @@ def _line_chart(rows, names, panels: dict[str, list[str]], scale: float, ylabel:
         if ax.get_legend_handles_labels()[1]:
             ax.legend(fontsize=7)
     axes[-1, 0].set_xlabel(_axis_label(names[0]))
-    return _save(fig, plt, path, title)
+    return save_figure(fig, plt, path, title)
 
 
 def _axis_label(name: str) -> str:
     return {"speed": "speed (m/s)", "omega": "rotor speed Ω (rad/s)", "climb_rate": "climb rate (m/s)"}.get(name, name)
-
-
-def _save(fig, plt, path: Path, title: str) -> Path:
-    fig.suptitle(title, fontsize=10)
-    fig.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
 
 
 POWER = ("main_rotor.power", "tail_rotor.power", "engine.power")
@@ -124,7 +117,7 @@ def _trim_summary(rows, names, controls, power, path: Path) -> Path:
         ax.set_xlabel(_axis_label(names[0]))
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.18), ncol=2, frameon=False)
-    return _save(fig, plt, path, "trim over speed: controls, attitude and power")
+    return save_figure(fig, plt, path, "trim over speed: controls, attitude and power")
 
 
 def _simulate(rows: list[dict], names: list[str], out: Path) -> list[Path]:
@@ -146,7 +139,7 @@ def _simulate(rows: list[dict], names: list[str], out: Path) -> list[Path]:
     if len(names) > 1 or any(r["status"] != "ok" for r in rows):
         axes[0, 0].legend(fontsize=7)
     axes[-1, 0].set_xlabel(_axis_label(names[0]))
-    return [_save(fig, plt, out / "simulate_envelopes.png", "simulation: min-max envelope and mean")]
+    return [save_figure(fig, plt, out / "simulate_envelopes.png", "simulation: min-max envelope and mean")]
 
 
 def _floquet(rows: list[dict], names: list[str], out: Path) -> list[Path]:
@@ -169,4 +162,4 @@ def _floquet(rows: list[dict], names: list[str], out: Path) -> list[Path]:
     top.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5), frameon=False)
     for ax in (top, bottom):
         ax.grid(alpha=0.3)
-    return [_save(fig, plt, out / "floquet_modes.png", "Floquet: frequency and damping of every mode")]
+    return [save_figure(fig, plt, out / "floquet_modes.png", "Floquet: frequency and damping of every mode")]
