@@ -44,7 +44,7 @@ from fmu.native import derivatives as me_derivatives
 from fmu.native import fmi3, platforms, units
 
 HERE = Path(__file__).resolve().parent
-HAND_WRITTEN = ("heli_core.c", "heli_core.h", "fmi2Functions.c", "fmi3Functions.c", "heli_model.h", "heli_libm.c",
+HAND_WRITTEN = ("heli_core.c", "heli_core.h", "heli_forward.h", "fmi2Functions.c", "fmi3Functions.c", "heli_model.h", "heli_libm.c",
                 "heli_libm.h")
 FMI_HEADERS = ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h", "fmi3Functions.h",
                "fmi3FunctionTypes.h", "fmi3PlatformTypes.h")

@@ -6,6 +6,7 @@
 
 #include "fmi2Functions.h"
 #include "heli_core.h"
+#include "heli_forward.h"
 
 /* The call's instance, or return fmi2Error (reported by the core). */
 #define INSTANCE(call)                                  \
@@ -18,7 +19,7 @@ typedef struct {
 } environment;
 
 /* The FMI 2.0 logger takes a printf format: every '%' doubled, so that the text arrives unchanged. */
-static void log2(void* e, const char* name, int status, const char* category, const char* message) {
+static void log_fmi2(void* e, const char* name, int status, const char* category, const char* message) {
   environment* w = (environment*) e;
   char escaped[8 * 4 * 512];
   size_t k = 0;
@@ -49,13 +50,13 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     w->env = functions->componentEnvironment;
   }
   if (fmuType != fmi2CoSimulation && fmuType != fmi2ModelExchange) {
-    heli_report_without(log2, w, instanceName, "fmi2Instantiate: fmuType %d is neither fmi2ModelExchange nor "
+    heli_report_without(log_fmi2, w, instanceName, "fmi2Instantiate: fmuType %d is neither fmi2ModelExchange nor "
                         "fmi2CoSimulation", (int) fmuType);
     free(w);
     return NULL;
   }
   c = w ? heli_instantiate("fmi2", instanceName, fmuType == fmi2ModelExchange ? HELI_MODEL_EXCHANGE : HELI_COSIMULATION,
-                           fmuGUID, log2, w, loggingOn != fmi2False) : NULL;
+                           fmuGUID, log_fmi2, w, loggingOn != fmi2False) : NULL;
   if (!c) free(w);
   return c;
 }
@@ -81,25 +82,13 @@ fmi2Status fmi2SetupExperiment(fmi2Component component, fmi2Boolean toleranceDef
   return (fmi2Status) heli_setup(c, "fmi2SetupExperiment", startTime);
 }
 
-fmi2Status fmi2EnterInitializationMode(fmi2Component component) {
-  INSTANCE("fmi2EnterInitializationMode");
-  return (fmi2Status) heli_enter_initialization(c, "fmi2EnterInitializationMode");
-}
+HELI_FORWARD0(fmi2Status, fmi2EnterInitializationMode, heli_enter_initialization, (fmi2Component instance))
 
-fmi2Status fmi2ExitInitializationMode(fmi2Component component) {
-  INSTANCE("fmi2ExitInitializationMode");
-  return (fmi2Status) heli_exit_initialization(c, "fmi2ExitInitializationMode");
-}
+HELI_FORWARD0(fmi2Status, fmi2ExitInitializationMode, heli_exit_initialization, (fmi2Component instance))
 
-fmi2Status fmi2Terminate(fmi2Component component) {
-  INSTANCE("fmi2Terminate");
-  return (fmi2Status) heli_terminate(c, "fmi2Terminate");
-}
+HELI_FORWARD0(fmi2Status, fmi2Terminate, heli_terminate, (fmi2Component instance))
 
-fmi2Status fmi2Reset(fmi2Component component) {
-  INSTANCE("fmi2Reset");
-  return (fmi2Status) heli_reset(c, "fmi2Reset");
-}
+HELI_FORWARD0(fmi2Status, fmi2Reset, heli_reset, (fmi2Component instance))
 
 /* -- values ------------------------------------------------------------------------------------- */
 
@@ -164,12 +153,8 @@ NO_SUCH_TYPE(SetBoolean, "Boolean", const fmi2Boolean)
 
 /* -- exact derivatives ------------------------------------------------------------------------------ */
 
-fmi2Status fmi2GetDirectionalDerivative(fmi2Component component, const fmi2ValueReference unknown[], size_t nu,
-                                        const fmi2ValueReference known[], size_t nk, const fmi2Real dv_known[],
-                                        fmi2Real dv_unknown[]) {
-  INSTANCE("fmi2GetDirectionalDerivative");
-  return (fmi2Status) heli_directional(c, "fmi2GetDirectionalDerivative", unknown, nu, known, nk, dv_known, dv_unknown);
-}
+HELI_FORWARD(fmi2Status, fmi2GetDirectionalDerivative, heli_directional, (fmi2Component instance, const fmi2ValueReference unknown[], size_t nu, const fmi2ValueReference known[], size_t nk, const fmi2Real dv_known[], fmi2Real dv_unknown[]),
+             unknown, nu, known, nk, dv_known, dv_unknown)
 
 /* -- co-simulation ------------------------------------------------------------------------------------ */
 
@@ -221,10 +206,7 @@ fmi2Status fmi2GetBooleanStatus(fmi2Component component, const fmi2StatusKind s,
 
 /* -- model exchange ------------------------------------------------------------------------------------ */
 
-fmi2Status fmi2EnterEventMode(fmi2Component component) {
-  INSTANCE("fmi2EnterEventMode");
-  return (fmi2Status) heli_event_mode(c, "fmi2EnterEventMode");
-}
+HELI_FORWARD0(fmi2Status, fmi2EnterEventMode, heli_event_mode, (fmi2Component instance))
 
 fmi2Status fmi2NewDiscreteStates(fmi2Component component, fmi2EventInfo* info) {
   INSTANCE("fmi2NewDiscreteStates");
@@ -233,10 +215,7 @@ fmi2Status fmi2NewDiscreteStates(fmi2Component component, fmi2EventInfo* info) {
   return (fmi2Status) heli_event_mode(c, "fmi2NewDiscreteStates");
 }
 
-fmi2Status fmi2EnterContinuousTimeMode(fmi2Component component) {
-  INSTANCE("fmi2EnterContinuousTimeMode");
-  return (fmi2Status) heli_event_mode(c, "fmi2EnterContinuousTimeMode");
-}
+HELI_FORWARD0(fmi2Status, fmi2EnterContinuousTimeMode, heli_event_mode, (fmi2Component instance))
 
 fmi2Status fmi2CompletedIntegratorStep(fmi2Component component, fmi2Boolean noSetFMUStatePriorToCurrentPoint,
                                        fmi2Boolean* enterEventMode, fmi2Boolean* terminateSimulation) {
@@ -249,30 +228,20 @@ fmi2Status fmi2CompletedIntegratorStep(fmi2Component component, fmi2Boolean noSe
   return (fmi2Status) st;
 }
 
-fmi2Status fmi2SetTime(fmi2Component component, fmi2Real time) {
-  INSTANCE("fmi2SetTime");
-  return (fmi2Status) heli_set_time(c, "fmi2SetTime", time);
-}
+HELI_FORWARD(fmi2Status, fmi2SetTime, heli_set_time, (fmi2Component instance, fmi2Real time),
+             time)
 
-fmi2Status fmi2SetContinuousStates(fmi2Component component, const fmi2Real x[], size_t nx) {
-  INSTANCE("fmi2SetContinuousStates");
-  return (fmi2Status) heli_set_states(c, "fmi2SetContinuousStates", x, nx);
-}
+HELI_FORWARD(fmi2Status, fmi2SetContinuousStates, heli_set_states, (fmi2Component instance, const fmi2Real x[], size_t nx),
+             x, nx)
 
-fmi2Status fmi2GetContinuousStates(fmi2Component component, fmi2Real x[], size_t nx) {
-  INSTANCE("fmi2GetContinuousStates");
-  return (fmi2Status) heli_get_states(c, "fmi2GetContinuousStates", x, nx);
-}
+HELI_FORWARD(fmi2Status, fmi2GetContinuousStates, heli_get_states, (fmi2Component instance, fmi2Real x[], size_t nx),
+             x, nx)
 
-fmi2Status fmi2GetDerivatives(fmi2Component component, fmi2Real derivatives[], size_t nx) {
-  INSTANCE("fmi2GetDerivatives");
-  return (fmi2Status) heli_get_derivatives(c, "fmi2GetDerivatives", derivatives, nx);
-}
+HELI_FORWARD(fmi2Status, fmi2GetDerivatives, heli_get_derivatives, (fmi2Component instance, fmi2Real derivatives[], size_t nx),
+             derivatives, nx)
 
-fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component component, fmi2Real x_nominal[], size_t nx) {
-  INSTANCE("fmi2GetNominalsOfContinuousStates");
-  return (fmi2Status) heli_get_nominals(c, "fmi2GetNominalsOfContinuousStates", x_nominal, nx);
-}
+HELI_FORWARD(fmi2Status, fmi2GetNominalsOfContinuousStates, heli_get_nominals, (fmi2Component instance, fmi2Real x_nominal[], size_t nx),
+             x_nominal, nx)
 
 fmi2Status fmi2GetEventIndicators(fmi2Component component, fmi2Real indicators[], size_t ni) {
   INSTANCE("fmi2GetEventIndicators");
@@ -282,32 +251,20 @@ fmi2Status fmi2GetEventIndicators(fmi2Component component, fmi2Real indicators[]
 
 /* -- FMU state -------------------------------------------------------------------------------------- */
 
-fmi2Status fmi2GetFMUstate(fmi2Component component, fmi2FMUstate* state) {
-  INSTANCE("fmi2GetFMUstate");
-  return (fmi2Status) heli_get_state(c, "fmi2GetFMUstate", state);
-}
+HELI_FORWARD(fmi2Status, fmi2GetFMUstate, heli_get_state, (fmi2Component instance, fmi2FMUstate* state),
+             state)
 
-fmi2Status fmi2SetFMUstate(fmi2Component component, fmi2FMUstate state) {
-  INSTANCE("fmi2SetFMUstate");
-  return (fmi2Status) heli_set_state(c, "fmi2SetFMUstate", state);
-}
+HELI_FORWARD(fmi2Status, fmi2SetFMUstate, heli_set_state, (fmi2Component instance, fmi2FMUstate state),
+             state)
 
-fmi2Status fmi2FreeFMUstate(fmi2Component component, fmi2FMUstate* state) {
-  INSTANCE("fmi2FreeFMUstate");
-  return (fmi2Status) heli_free_state(c, "fmi2FreeFMUstate", state);
-}
+HELI_FORWARD(fmi2Status, fmi2FreeFMUstate, heli_free_state, (fmi2Component instance, fmi2FMUstate* state),
+             state)
 
-fmi2Status fmi2SerializedFMUstateSize(fmi2Component component, fmi2FMUstate state, size_t* size) {
-  INSTANCE("fmi2SerializedFMUstateSize");
-  return (fmi2Status) heli_serialized_size(c, "fmi2SerializedFMUstateSize", state, size);
-}
+HELI_FORWARD(fmi2Status, fmi2SerializedFMUstateSize, heli_serialized_size, (fmi2Component instance, fmi2FMUstate state, size_t* size),
+             state, size)
 
-fmi2Status fmi2SerializeFMUstate(fmi2Component component, fmi2FMUstate state, fmi2Byte bytes[], size_t size) {
-  INSTANCE("fmi2SerializeFMUstate");
-  return (fmi2Status) heli_serialize(c, "fmi2SerializeFMUstate", state, (unsigned char*) bytes, size);
-}
+HELI_FORWARD(fmi2Status, fmi2SerializeFMUstate, heli_serialize, (fmi2Component instance, fmi2FMUstate state, fmi2Byte bytes[], size_t size),
+             state, (unsigned char*) bytes, size)
 
-fmi2Status fmi2DeSerializeFMUstate(fmi2Component component, const fmi2Byte bytes[], size_t size, fmi2FMUstate* state) {
-  INSTANCE("fmi2DeSerializeFMUstate");
-  return (fmi2Status) heli_deserialize(c, "fmi2DeSerializeFMUstate", (const unsigned char*) bytes, size, state);
-}
+HELI_FORWARD(fmi2Status, fmi2DeSerializeFMUstate, heli_deserialize, (fmi2Component instance, const fmi2Byte bytes[], size_t size, fmi2FMUstate* state),
+             (const unsigned char*) bytes, size, state)

@@ -8,6 +8,7 @@
 
 #include "fmi3Functions.h"
 #include "heli_core.h"
+#include "heli_forward.h"
 
 #define M (&heli_model_data)
 #define MAX_SLOTS (HELI_NV + HELI_NX)
@@ -22,7 +23,7 @@ typedef struct {
   fmi3InstanceEnvironment env;
 } environment;
 
-static void log3(void* e, const char* name, int status, const char* category, const char* message) {
+static void log_fmi3(void* e, const char* name, int status, const char* category, const char* message) {
   environment* w = (environment*) e;
   (void) name;
   if (w && w->log) w->log(w->env, (fmi3Status) status, category, message);
@@ -79,7 +80,7 @@ static fmi3Instance instantiate(const char* call, fmi3String name, fmi3String to
   w->log = log;
   w->env = env;
   (void) call;
-  c = heli_instantiate("fmi3", name, kind, token, log3, w, logging != fmi3False);
+  c = heli_instantiate("fmi3", name, kind, token, log_fmi3, w, logging != fmi3False);
   if (!c) free(w);
   return c;
 }
@@ -104,7 +105,7 @@ fmi3Instance fmi3InstantiateCoSimulation(fmi3String instanceName, fmi3String ins
   (void) resourcePath, (void) visible, (void) earlyReturnAllowed, (void) requiredIntermediateVariables;
   (void) nRequiredIntermediateVariables, (void) intermediateUpdate; /* no intermediate updates, no early return */
   if (eventModeUsed) {
-    heli_report_without(log3, NULL, instanceName, "fmi3InstantiateCoSimulation: eventModeUsed = true, but this FMU "
+    heli_report_without(log_fmi3, NULL, instanceName, "fmi3InstantiateCoSimulation: eventModeUsed = true, but this FMU "
                         "has no events (hasEventMode = false)");
     if (logMessage) logMessage(instanceEnvironment, fmi3Error, "logStatusError", "fmi3InstantiateCoSimulation: "
                                "eventModeUsed = true, but this FMU has no events (hasEventMode = false)");
@@ -152,12 +153,8 @@ fmi3Status fmi3EnterInitializationMode(fmi3Instance instance, fmi3Boolean tolera
   return (fmi3Status) heli_enter_initialization(c, "fmi3EnterInitializationMode");
 }
 
-/* The forwarding shape of the life-cycle calls: instance check, then the core. */
-#define FORWARD(name, core)                          \
-  fmi3Status fmi3##name(fmi3Instance instance) {     \
-    INSTANCE("fmi3" #name);                          \
-    return (fmi3Status) core(c, "fmi3" #name);       \
-  }
+/* The life-cycle calls: the one forwarding shape of heli_forward.h. */
+#define FORWARD(name, core) HELI_FORWARD0(fmi3Status, fmi3##name, core, (fmi3Instance instance))
 FORWARD(ExitInitializationMode, heli_exit_initialization)
 FORWARD(Terminate, heli_terminate)
 FORWARD(Reset, heli_reset)
@@ -405,10 +402,8 @@ fmi3Status fmi3CompletedIntegratorStep(fmi3Instance instance, fmi3Boolean noSetF
   return (fmi3Status) st;
 }
 
-fmi3Status fmi3SetTime(fmi3Instance instance, fmi3Float64 time) {
-  INSTANCE("fmi3SetTime");
-  return (fmi3Status) heli_set_time(c, "fmi3SetTime", time);
-}
+HELI_FORWARD(fmi3Status, fmi3SetTime, heli_set_time, (fmi3Instance instance, fmi3Float64 time),
+             time)
 
 typedef int (*states_fn)(heli_instance*, const char*, double[], size_t);
 
@@ -466,32 +461,20 @@ fmi3Status fmi3GetEventIndicators(fmi3Instance instance, fmi3Float64 indicators[
 
 /* -- FMU state ---------------------------------------------------------------------------------------- */
 
-fmi3Status fmi3GetFMUState(fmi3Instance instance, fmi3FMUState* state) {
-  INSTANCE("fmi3GetFMUState");
-  return (fmi3Status) heli_get_state(c, "fmi3GetFMUState", state);
-}
+HELI_FORWARD(fmi3Status, fmi3GetFMUState, heli_get_state, (fmi3Instance instance, fmi3FMUState* state),
+             state)
 
-fmi3Status fmi3SetFMUState(fmi3Instance instance, fmi3FMUState state) {
-  INSTANCE("fmi3SetFMUState");
-  return (fmi3Status) heli_set_state(c, "fmi3SetFMUState", state);
-}
+HELI_FORWARD(fmi3Status, fmi3SetFMUState, heli_set_state, (fmi3Instance instance, fmi3FMUState state),
+             state)
 
-fmi3Status fmi3FreeFMUState(fmi3Instance instance, fmi3FMUState* state) {
-  INSTANCE("fmi3FreeFMUState");
-  return (fmi3Status) heli_free_state(c, "fmi3FreeFMUState", state);
-}
+HELI_FORWARD(fmi3Status, fmi3FreeFMUState, heli_free_state, (fmi3Instance instance, fmi3FMUState* state),
+             state)
 
-fmi3Status fmi3SerializedFMUStateSize(fmi3Instance instance, fmi3FMUState state, size_t* size) {
-  INSTANCE("fmi3SerializedFMUStateSize");
-  return (fmi3Status) heli_serialized_size(c, "fmi3SerializedFMUStateSize", state, size);
-}
+HELI_FORWARD(fmi3Status, fmi3SerializedFMUStateSize, heli_serialized_size, (fmi3Instance instance, fmi3FMUState state, size_t* size),
+             state, size)
 
-fmi3Status fmi3SerializeFMUState(fmi3Instance instance, fmi3FMUState state, fmi3Byte bytes[], size_t size) {
-  INSTANCE("fmi3SerializeFMUState");
-  return (fmi3Status) heli_serialize(c, "fmi3SerializeFMUState", state, bytes, size);
-}
+HELI_FORWARD(fmi3Status, fmi3SerializeFMUState, heli_serialize, (fmi3Instance instance, fmi3FMUState state, fmi3Byte bytes[], size_t size),
+             state, bytes, size)
 
-fmi3Status fmi3DeserializeFMUState(fmi3Instance instance, const fmi3Byte bytes[], size_t size, fmi3FMUState* state) {
-  INSTANCE("fmi3DeserializeFMUState");
-  return (fmi3Status) heli_deserialize(c, "fmi3DeserializeFMUState", bytes, size, state);
-}
+HELI_FORWARD(fmi3Status, fmi3DeserializeFMUState, heli_deserialize, (fmi3Instance instance, const fmi3Byte bytes[], size_t size, fmi3FMUState* state),
+             bytes, size, state)
