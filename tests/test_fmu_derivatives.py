@@ -308,3 +308,38 @@ def test_heli_fmu_linearize_command(fmus, tmp_path):
         bad = subprocess.run([*heli, "fmu", "linearize", str(fmus[2]), "--set", setting], capture_output=True,
                              text=True, timeout=600)
         assert bad.returncode != 0 and words in bad.stderr.strip().splitlines()[-1], bad.stderr[-500:]
+
+
+def _structure(fmu, v3: bool) -> tuple[dict, dict]:
+    """(unknown -> set of known names) of Outputs and state derivatives, and name -> FMI 3.0 array
+    name (FMI 2.0: identity) from a model description."""
+    root = ElementTree.fromstring(zipfile.ZipFile(fmu).read("modelDescription.xml"))
+    svs = list(root.find("ModelVariables"))
+    names = [sv.get("name") for sv in svs]
+    if v3:
+        by_vr = {sv.get("valueReference"): sv.get("name") for sv in svs}
+        tags, key, ref = ("Output", "ContinuousStateDerivative"), "valueReference", by_vr.__getitem__
+    else:
+        tags, key, ref = ("Outputs/Unknown", "Derivatives/Unknown"), "index", lambda i: names[int(i) - 1]
+    return {ref(u.get(key)): {ref(d) for d in u.get("dependencies").split()}
+            for tag in tags for u in root.find("ModelStructure").findall(tag)}
+
+
+def test_fmi3_dependencies_are_the_fmi2_ones_over_arrays(fmus):
+    """Every FMI 3.0 output and state derivative depends on exactly the (array) variables that hold
+    the FMI 2.0 dependencies of its elements."""
+    from fmu.native.fmi3 import ELEMENT
+
+    def array(name: str) -> str:
+        m = ELEMENT.match(name)
+        return f"{'der(' if m[1] else ''}{m[2]}.{m[4]}{')' if m[1] else ''}" if m else name
+
+    two, three = _structure(fmus[2], False), _structure(fmus[3], True)
+    root = ElementTree.fromstring(zipfile.ZipFile(fmus[3]).read("modelDescription.xml"))
+    names3 = {v.get("name") for v in root.find("ModelVariables")}
+    to3 = lambda n: array(n) if array(n) in names3 else n  # noqa: E731
+    merged: dict = {}
+    for name, deps in two.items():
+        merged.setdefault(to3(name), set()).update(map(to3, deps))
+    assert set(merged) == set(three)
+    assert all(merged[n] == three[n] for n in three), [n for n in three if merged[n] != three[n]][:3]
