@@ -343,3 +343,16 @@ def test_fmi3_dependencies_are_the_fmi2_ones_over_arrays(fmus):
         merged.setdefault(to3(name), set()).update(map(to3, deps))
     assert set(merged) == set(three)
     assert all(merged[n] == three[n] for n in three), [n for n in three if merged[n] != three[n]][:3]
+
+
+def test_heli_bench_fmu_me_reports_exact_and_differenced_jacobians(fmus):
+    """``heli bench fmu-me --json`` (a short run): the exact Jacobian repeats to the bit, central
+    differences are closer to it than forward ones, and both runs reach the end."""
+    proc = subprocess.run([sys.executable, "-m", "mbs", "bench", "fmu-me", "--revs", "0.2", "--repeats", "1", "--json"],
+                          capture_output=True, text=True, timeout=900)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    res = json.loads(proc.stdout)
+    j, s = res["jacobian"], res["simulation"]
+    assert j["shape"] == [126, 39] and j["repeat_error"] == 0.0
+    assert 0 < j["central_error"] < j["forward_error"] < 1e-6
+    assert s["cvode_steps"] > 0 and s["cs_steps"] == 20 and s["largest_flap_difference_rad"] < 1e-6
