@@ -16,6 +16,9 @@ def _log(message: str) -> None:
 def cmd_fmu_build(args) -> int:
     from fmu import build
 
+    if args.fmi and not args.native:
+        raise ValueError(f"--fmi {args.fmi} needs --native: the pythonfmu FMU (and the controller FMU) is FMI 2.0 "
+                         "co-simulation only")
     scenes = tuple(args.scenes.split(",")) if args.scenes else build.DEFAULT_SCENES
     if args.controller:
         from fmu.controller import NAME, ensure_controller_fmu
@@ -25,7 +28,7 @@ def cmd_fmu_build(args) -> int:
     elif args.native:
         from fmu.native.build import ensure_native_fmu
 
-        path, seconds = ensure_native_fmu(scenes, force=args.force, log=_log, aircraft=args.aircraft)
+        path, seconds = ensure_native_fmu(scenes, force=args.force, log=_log, aircraft=args.aircraft, fmi=args.fmi or 2)
     else:
         path, seconds = build.ensure_fmu(scenes, force=args.force, log=_log, aircraft=args.aircraft)
     dest = args.out / path.name if args.out.suffix != ".fmu" else args.out
@@ -140,7 +143,7 @@ def demo_revs(text: str) -> float:
 
 
 def register(sub, bench) -> None:
-    p = sub.add_parser("fmu", help="the FMI 2.0 co-simulation FMU")
+    p = sub.add_parser("fmu", help="the FMUs: FMI 2.0 co-simulation (pythonfmu), native FMI 2.0/3.0 CS and ME")
     fsub = p.add_subparsers(dest="fmu_command", required=True, metavar="ACTION")
     b = fsub.add_parser("build", help="build the .fmu (cached; in a fresh interpreter from a staged copy)")
     b.add_argument("--out", type=fmu_destination, default="out/fmu",
@@ -150,13 +153,21 @@ def register(sub, bench) -> None:
                         "(default forward-flight,hover,ground-run)")
     b.add_argument("--force", action="store_true", help="rebuild even if a cached FMU exists")
     b.add_argument("--native", action="store_true",
-                   help="the native FMU (HeliRotorNative_<scene>.fmu): C only, no Python at run time")
+                   help="the native FMU (HeliRotorNative_<scene>.fmu): C only, no Python at run time; co-simulation "
+                        "and model exchange, exact directional derivatives; Linux, Windows and ARM binaries")
+    b.add_argument("--fmi", type=int, choices=[2, 3], default=None,
+                   help="with --native: FMI version 2 (default) or 3 (HeliRotorNative_<scene>_fmi3.fmu: arrays, "
+                        "adjoint derivatives); one build makes both")
     A.add_aircraft(b)
     b.add_argument("--controller", choices=["hover-hold"], default=None,
                    help="instead, the controller FMU hover-hold (HoverHold.fmu): LQR at the hover trim from the "
                         "model's own derivatives, for a closed loop with the helicopter FMU (see heli cosim)")
     add_json(b)
     b.set_defaults(fn=cmd_fmu_build)
+
+    from fmu.derivative_commands import register as register_derivatives
+
+    register_derivatives(fsub, bench)
 
     p = sub.add_parser("demo", help="the main job: build the FMU, run forward flight through fmpy, write "
                        "results.csv, hinge_angles.png, viewer.html")

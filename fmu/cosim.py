@@ -221,7 +221,9 @@ def algebraic_loops(ssp_file: Path, declared: bool = True) -> list[list[str]]:
             md = read_model_description(z.open(c.source))
             inputs = [v.name for v in md.modelVariables if v.causality == "input"]
             for u in md.outputs:
-                deps = inputs if not declared or u.dependencies is None else [d.name for d in u.dependencies]
+                # direct feedthrough is on inputs only (model exchange also lists the continuous states)
+                deps = inputs if not declared or u.dependencies is None else \
+                    [d.name for d in u.dependencies if d.name in inputs]
                 for d in deps:
                     edges.setdefault(f"{c.name}.{d}", set()).add(f"{c.name}.{u.variable.name}")
     for con in ssd.system.connections:

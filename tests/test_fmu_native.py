@@ -22,7 +22,7 @@ import pytest
 
 from fmu import build, hosts
 from fmu.native import build as native_build
-from fmu.native import run
+from fmu.native import platforms, run
 
 FAMILY = build.DEFAULT_SCENES
 REVS = 10
@@ -100,7 +100,7 @@ def test_library_needs_no_python_and_exports_only_fmi(unzipped, facts):
     defined = subprocess.run(["nm", "-D", "--defined-only", str(so)], capture_output=True, text=True, check=True)
     exported = {line.split()[-1] for line in defined.stdout.splitlines() if " T " in line}
     assert {"fmi2Instantiate", "fmi2DoStep", "fmi2SerializeFMUstate"} <= exported
-    assert all(n.startswith("fmi2") for n in exported), sorted(exported)
+    assert all(n.startswith(("fmi2", "fmi3")) for n in exported), sorted(exported)  # one library serves both
 
 
 def _scalar_variables(fmu: Path) -> list[dict]:
@@ -123,6 +123,9 @@ def _comparable(v: dict) -> dict:
 
 def test_model_description_has_the_pythonfmu_variables(native_fmu, python_fmu, spec):
     native, python = _scalar_variables(native_fmu), _scalar_variables(python_fmu)
+    derivatives = native[len(python):]  # model exchange: the state derivatives follow the pythonfmu FMU's variables
+    assert [v["name"] for v in derivatives] == [f"der({s})" for s in spec["me"]["states"]]
+    native = native[:len(python)]
     same = lambda v: {**_comparable(v), "description": None} if v["name"] == "evaluator" else _comparable(v)  # noqa: E731
     assert [same(v) for v in native] == [same(v) for v in python]  # the native evaluator offers no vm
     assert [v["name"] for v in native] == [v["name"] for v in spec["variables"]]
@@ -134,18 +137,26 @@ def test_model_description_has_the_pythonfmu_variables(native_fmu, python_fmu, s
 def test_model_description_declares_cosimulation_sources_and_structure(native_fmu, facts):
     z = zipfile.ZipFile(native_fmu)
     root = ElementTree.fromstring(z.read("modelDescription.xml"))
-    cs = root.find("CoSimulation")
-    assert cs.get("modelIdentifier") == facts["identifier"] == "HeliRotorNative_forward_flight"
+    cs, me = root.find("CoSimulation"), root.find("ModelExchange")
+    assert cs.get("modelIdentifier") == me.get("modelIdentifier") == facts["identifier"] == "HeliRotorNative_forward_flight"
     assert cs.get("needsExecutionTool") == "false"
-    assert cs.get("canGetAndSetFMUstate") == "true" and cs.get("canSerializeFMUstate") == "true"
+    for kind in (cs, me):
+        assert kind.get("canGetAndSetFMUstate") == "true" and kind.get("canSerializeFMUstate") == "true"
+        assert kind.get("providesDirectionalDerivative") == "true"
     sources = [f.get("name") for f in cs.find("SourceFiles")]
-    assert "heli_fmi2.c" in sources and all(f"sources/{s}" in z.namelist() for s in sources)
-    assert {n.split("/")[1] for n in z.namelist() if n.startswith("binaries/")} == {"linux64"}
+    assert sources == [f.get("name") for f in me.find("SourceFiles")]
+    assert {"heli_core.c", "fmi2Functions.c"} <= set(sources) and all(f"sources/{s}" in z.namelist() for s in sources)
+    built = {p.fmi2 for p in platforms.available() if p.fmi2}  # win64 where mingw is installed (CI: always)
+    assert {n.split("/")[1] for n in z.namelist() if n.startswith("binaries/")} == built
     assert not [n for n in z.namelist() if n.startswith("resources/")]
     svs = list(root.find("ModelVariables"))
     outputs = [str(i + 1) for i, sv in enumerate(svs) if sv.get("causality") == "output"]
-    for tag in ("Outputs", "InitialUnknowns"):
-        assert [u.get("index") for u in root.find(f"ModelStructure/{tag}")] == outputs
+    derivatives = [str(i + 1) for i, sv in enumerate(svs) if sv[0].get("derivative")]
+    states = {sv[0].get("derivative") for sv in svs if sv[0].get("derivative")}
+    assert [u.get("index") for u in root.find("ModelStructure/Outputs")] == outputs
+    assert [u.get("index") for u in root.find("ModelStructure/Derivatives")] == derivatives
+    initial = [u.get("index") for u in root.find("ModelStructure/InitialUnknowns")]
+    assert initial == sorted(set(outputs) | set(derivatives) | states, key=int)
     assert root.find("UnitDefinitions") is not None and root.find("DefaultExperiment") is not None
 
 
@@ -242,7 +253,7 @@ def _plain_cc(unzipdir: Path, so: Path) -> None:
     from mbs.backends.compiled import find_compiler
 
     root = ElementTree.fromstring((unzipdir / "modelDescription.xml").read_bytes())
-    files = [str(unzipdir / "sources" / f.get("name")) for f in root.iter("File")]
+    files = [str(unzipdir / "sources" / f.get("name")) for f in root.find("CoSimulation").iter("File")]
     subprocess.run([find_compiler(), "-shared", "-fPIC", "-O2", "-I", str(unzipdir / "sources"), *files, "-o",
                     str(so)], check=True, capture_output=True)
 

@@ -38,14 +38,21 @@ def fmu_path(request) -> Path:
 def declared(fmu: Path) -> tuple[list[str], dict, dict]:
     """(variable names by index - 1, outputs {name: {dependency: kind}}, initial unknowns likewise)."""
     root = ElementTree.fromstring(zipfile.ZipFile(fmu).read("modelDescription.xml"))
-    names = [sv.get("name") for sv in root.find("ModelVariables")]
+    svs = list(root.find("ModelVariables"))
+    names = [sv.get("name") for sv in svs]
+    outputs = {sv.get("name") for sv in svs if sv.get("causality") == "output"}
+    # the native FMU's model exchange also declares dependencies on the continuous states
+    # (tests/test_fmu_me.py checks those): here, the outputs on inputs and parameters
+    states = {names[int(sv[0].get("derivative")) - 1] for sv in svs if sv[0].get("derivative")}
 
     def read(tag: str) -> dict:
         out = {}
         for u in root.find("ModelStructure").find(tag):
             deps, kinds = u.get("dependencies").split(), u.get("dependenciesKind").split()
             assert len(deps) == len(kinds), u.attrib
-            out[names[int(u.get("index")) - 1]] = {names[int(d) - 1]: k for d, k in zip(deps, kinds)}
+            if names[int(u.get("index")) - 1] in outputs:
+                out[names[int(u.get("index")) - 1]] = {names[int(d) - 1]: k for d, k in zip(deps, kinds)
+                                                       if names[int(d) - 1] not in states}
         return out
 
     return names, read("Outputs"), read("InitialUnknowns")

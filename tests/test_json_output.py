@@ -39,6 +39,8 @@ ELSEWHERE = {  # command -> the test that parses its whole stdout as one JSON ob
     "heli bench scaling": "slow; pipe-clean by test_a_command_that_prints_stays_pipe_clean",
     "heli bench fmu": "fresh-process FMU runs (slow); pipe-clean by test_a_command_that_prints_stays_pipe_clean",
     "heli fmu build": "an FMU build (slow); pipe-clean by test_a_command_that_prints_stays_pipe_clean",
+    "heli fmu linearize": "tests/test_fmu_derivatives.py::test_heli_fmu_linearize_command",
+    "heli bench fmu-me": "tests/test_fmu_derivatives.py::test_heli_bench_fmu_me_reports_exact_and_differenced_jacobians",
     "heli demo": "tests/test_fmu.py (the demo run); pipe-clean by test_a_command_that_prints_stays_pipe_clean",
     "heli loads": "tests/test_loads_rotor.py::test_heli_loads_reports_tables_and_writes_its_files",
     "heli bench loads": "a loads sweep (slow); pipe-clean by test_a_command_that_prints_stays_pipe_clean",

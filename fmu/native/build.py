@@ -1,19 +1,24 @@
-"""Build the native FMU of a scene family: C sources generated from ``fmu.build.plan``, our
-FMI 2.0 wrapper (``heli_fmi2.c``), one shared library compiled with the machine's C
-compiler, and ``modelDescription.xml`` with the pythonfmu FMU's variables.
+"""Build the native FMU of a scene family, for FMI 2.0 and FMI 3.0 from one build: C sources
+generated from ``fmu.build.plan``, the model core and its FMI wrappers (``heli_core.c``,
+``fmi2Functions.c``, ``fmi3Functions.c``), one shared library per platform (:mod:`fmu.native.platforms`:
+the machine's own and the cross compilers found), and the model descriptions.
 
-Layout of the ``.fmu``::
+Layout of the FMI 2.0 ``.fmu`` (co-simulation and model exchange)::
 
     modelDescription.xml
-    binaries/linux64/<identifier>.so
-    sources/heli_fmi2.c heli_model.h          (hand-written, from this folder)
+    binaries/linux64/<identifier>.so  binaries/win64/<identifier>.dll
+    sources/heli_core.c heli_core.h fmi2Functions.c fmi3Functions.c heli_model.h heli_libm.[ch]
     sources/heli_config.h heli_data.c         (generated: sizes and tables from the spec)
     sources/heli_model_<group>.c              (generated: per model group, CasADi code + driver)
-    sources/fmi2*.h                           (the FMI 2.0 headers of the installed fmpy)
+    sources/heli_ad_<group>.c                 (generated: its forward and reverse derivatives)
+    sources/fmi2*.h fmi3*.h                   (the FMI headers of the installed fmpy)
 
-Each group's file has its exported names prefixed ``heli_<group>_`` (the CasADi API and the
-driver by renaming, CasADi's internal helpers through its ``CODEGEN_PREFIX``) and hidden, so
-several groups link into one library that exports only the ``fmi2*`` functions.
+The FMI 3.0 ``.fmu`` (``<identifier>.fmi3.fmu``) holds the same library under
+``binaries/x86_64-linux``, ``x86_64-windows`` and ``aarch64-linux`` and ``sources/`` with
+``buildDescription.xml``. Each group's files have their exported names prefixed ``heli_<group>_``
+(the CasADi API and the driver by renaming, CasADi's internal helpers through its
+``CODEGEN_PREFIX``) and hidden, so several groups link into one library that exports only the
+``fmi2*`` and ``fmi3*`` functions.
 """
 from __future__ import annotations
 
@@ -35,18 +40,26 @@ from pathlib import Path
 from xml.etree import ElementTree as ET
 
 from fmu import build as pybuild
+from fmu.native import derivatives as me_derivatives
+from fmu.native import fmi3, platforms, units
 
 HERE = Path(__file__).resolve().parent
-HAND_WRITTEN = ("heli_fmi2.c", "heli_model.h", "heli_libm.c", "heli_libm.h")
-FMI_HEADERS = ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h")
-FUNCTIONS = ("incr_rk4", "incr_rk8", "project", "energy", "fmu_outputs")
+HAND_WRITTEN = ("heli_core.c", "heli_core.h", "heli_forward.h", "fmi2Functions.c", "fmi3Functions.c", "heli_model.h", "heli_libm.c",
+                "heli_libm.h")
+FMI_HEADERS = ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h", "fmi3Functions.h",
+               "fmi3FunctionTypes.h", "fmi3PlatformTypes.h")
+FUNCTIONS = ("incr_rk4", "incr_rk8", "project", "energy", "fmu_outputs", "rhs")
+AD_FUNCTIONS = ("ad_fwd", "ad_adj")
 METHODS = ("rk4", "rk8")
-CFLAGS = ["-O2", "-fPIC", "-fno-math-errno", "-fvisibility=hidden", "-DHELI_LIBM_LINKED"]
+CFLAGS = ["-O2", "-fno-math-errno", "-ffp-contract=off", "-fvisibility=hidden", "-DHELI_LIBM_LINKED"]
 """The shipped binary links libm and calls it directly (``heli_libm.h``); a rebuild from ``sources/``
 without ``-DHELI_LIBM_LINKED`` (fmpy's, or a plain ``cc``) needs no ``-lm``."""
+AD_OPTIMIZATION = {"x86_64-linux": "-O1"}
+"""The derivative files (megabytes of straight-line code) compile at this level for the machine's
+own platform (-O2 takes minutes); the cross builds at -O0 (seconds). The level changes no result
+(no fused multiply-adds, no reassociation): only the derivatives' speed."""
 HINGE = re.compile(r"\.(flap|lag|teeter)$")
 _EXPORT = re.compile(r"^CASADI_SYMBOL_EXPORT\s+[\w\s\*]*?\b(\w+)\s*\(", re.MULTILINE)
-PLATFORM = "linux64"
 DEFAULT_LIMITS = {"max_substeps": 1_000_000, "hinge_angle": math.pi / 2}  # when the spec has no "limits"
 
 
@@ -122,42 +135,47 @@ def start_text(spec: dict, v: dict) -> str:
 
 # -- generated C: the models -----------------------------------------------------------------
 
-def model_source(group: str, functions: dict, nx: int) -> str:
-    """C source of one model group: CasADi's code of :data:`FUNCTIONS` and the core's
-    fixed-step driver per method, every exported name prefixed ``heli_<group>_``."""
+def model_source(group: str, functions: dict, nx: int, names=FUNCTIONS, driver: bool = True,
+                 prefix: str | None = None) -> str:
+    """C source of one model group: CasADi's code of ``names`` (by default :data:`FUNCTIONS`) and,
+    with ``driver``, the core's fixed-step driver per method; every exported name prefixed
+    ``prefix`` (default ``heli_<group>_``; each file of a group needs its own)."""
+    prefix = prefix or f"heli_{group}_"
     import casadi as ca
 
     from mbs.backends.compiled import DRIVER, _REALS
 
     gen = ca.CodeGenerator("model.c", {"casadi_real": _REALS["float64"][0], "with_header": False})
-    for name in FUNCTIONS:
+    for name in names:
         gen.add(functions[name])
-    body = gen.dump() + "".join(DRIVER.format(m=m, nx=nx) for m in METHODS)
-    names = sorted(set(_EXPORT.findall(body)), key=len, reverse=True)
-    body = re.sub(r"\b(" + "|".join(map(re.escape, names)) + r")\b", rf"heli_{group}_\1", body)
+    body = gen.dump() + ("".join(DRIVER.format(m=m, nx=nx) for m in METHODS) if driver else "")
+    exported = sorted(set(_EXPORT.findall(body)), key=len, reverse=True)
+    body = re.sub(r"\b(" + "|".join(map(re.escape, exported)) + r")\b", rf"{prefix}\1", body)
     prologue = (f"/* Model group {group} of the native heli rotor FMU (generated at build time). */\n"
                 "#include <math.h>\n#include <stdlib.h>\n#include <string.h>\n#include \"heli_libm.h\"\n"
-                f"#define CASADI_CODEGEN_PREFIX\n#define CODEGEN_PREFIX heli_{group}_\n"
-                "#define CASADI_SYMBOL_EXPORT\n#if defined(__GNUC__)\n#pragma GCC visibility push(hidden)\n#endif\n")
-    return prologue + body + "#if defined(__GNUC__)\n#pragma GCC visibility pop\n#endif\n"
+                f"#define CASADI_CODEGEN_PREFIX\n#define CODEGEN_PREFIX {prefix}\n"
+                "#define CASADI_SYMBOL_EXPORT\n#if defined(__GNUC__) && !defined(_WIN32)\n"
+                "#pragma GCC visibility push(hidden)\n#endif\n")
+    return prologue + body + "#if defined(__GNUC__) && !defined(_WIN32)\n#pragma GCC visibility pop\n#endif\n"
 
 
 def _group_declarations(group: str) -> str:
     g = f"heli_{group}_"
     lines = [f"int {g}mbs_run_{m}(const double*, double, double, long long, long long, long long, const double*, "
              "double*, double*, int, long long*);" for m in METHODS]
-    for f in ("incr_rk4", "incr_rk8", "energy", "fmu_outputs"):
+    for f in ("incr_rk4", "incr_rk8", "energy", "fmu_outputs", "rhs", *(f"d_{a}" for a in AD_FUNCTIONS)):
         lines += [f"int {g}{f}(const double**, double**, long long*, double*, int);",
                   f"int {g}{f}_work(long long*, long long*, long long*, long long*);"]
     return "\n".join(lines) + "\n"
 
 
-def _group_entry(group: str, vm, functions: dict) -> str:
+def _group_entry(group: str, vm, functions: dict, states: list[str]) -> str:
     g = f"heli_{group}_"
     return (f"  {{{c_string(group)}, {vm.info.nx}, {{{g}mbs_run_rk4, {g}mbs_run_rk8}}, "
             f"{{{g}incr_rk4, {g}incr_rk8}}, {{{g}incr_rk4_work, {g}incr_rk8_work}}, "
             f"{g}fmu_outputs, {g}fmu_outputs_work, {g}energy, {g}energy_work, {functions['energy'].numel_out(0)}, "
-            f"states_{group}, state_of_{group}}}")
+            f"{g}rhs, {g}rhs_work, {g}d_ad_fwd, {g}d_ad_fwd_work, {g}d_ad_adj, {g}d_ad_adj_work, "
+            f"{int(me_derivatives.covers(vm, states))}, states_{group}, state_of_{group}}}")
 
 
 def _state_of(variables: list[dict], vm) -> list[str]:
@@ -228,8 +246,9 @@ def _scene_entry(spec: dict, name: str, k: int, group_index: dict) -> str:
 
 
 def data_source(spec: dict, groups: dict, guid: str) -> str:
-    """``heli_data.c``: the variables, scenes and model groups of the family."""
-    variables, names = spec["variables"], list(spec["scenes"])
+    """``heli_data.c``: the variables, scenes and model groups of the family, the continuous
+    states and the FMI 3.0 variables."""
+    variables, names, states = spec["variables"], list(spec["scenes"]), spec["me"]["states"]
     group_index = {g: i for i, g in enumerate(groups)}
     vr = {v["name"]: i for i, v in enumerate(variables)}
     out = ["/* Tables of the native heli rotor FMU (generated at build time from the spec). */\n",
@@ -248,14 +267,19 @@ def data_source(spec: dict, groups: dict, guid: str) -> str:
     out.append("static const heli_scene scenes[] = {\n"
                + ",\n".join(_scene_entry(spec, n, k, group_index) for k, n in enumerate(names)) + "\n};\n")
     out.append("static const heli_group groups[] = {\n"
-               + ",\n".join(_group_entry(g, vm, f) for g, (vm, f) in groups.items()) + "\n};\n")
+               + ",\n".join(_group_entry(g, vm, f, states) for g, (vm, f) in groups.items()) + "\n};\n")
+    state_slots = [vr[n] for n in states]
+    scalars = all_variables(spec)
+    vars3 = fmi3.variables3(scalars)
+    out.append(c_array("int", "me_state", [str(k) for k in state_slots]))
+    out.append(fmi3.c_tables(vars3, fmi3.me_order(vars3, state_slots, len(variables))))
     limits = {**DEFAULT_LIMITS, **spec.get("limits", {})}
     special = [vr.get(n, -1) for n in ("scene", "evaluator", "integrator", "max_step", "omega", "initial_forward_speed",
                                            "total_energy", "initial_state")]
     out.append(f"const heli_model heli_model_data = {{{c_string(spec['model_identifier'])}, {c_string(guid)}, "
                f"{names.index(spec['primary'])}, {len(variables)}, variables, {len(names)}, scenes, {len(groups)}, "
                f"groups, {spec['n_computed']}, {c_real(limits['max_substeps'])}, {c_real(limits['hinge_angle'])}, "
-               f"{', '.join(map(str, special))}}};\n")
+               f"{', '.join(map(str, special))}, {len(states)}, me_state, {len(vars3)}, variables3, me_order3}};\n")
     out.append("#if defined(__GNUC__)\n#pragma GCC visibility pop\n#endif\n")
     return "".join(out)
 
@@ -277,7 +301,17 @@ def _fmt16(x: float) -> str:
     return f"{x:.16g}"
 
 
-def _scalar_variable(spec: dict, k: int, v: dict) -> ET.Element:
+def all_variables(spec: dict) -> list[dict]:
+    """The FMI 2.0 variables in value-reference order: the spec's, then the derivative of each
+    continuous state (``der(<state>)``, value reference ``len(spec["variables"]) + k``)."""
+    by_name = {v["name"]: v for v in spec["variables"]}
+    ders = [{"name": me_derivatives.derivative_name(s), "causality": "local", "variability": "continuous",
+             "type": "Real", "unit": units.per_second(by_name[s].get("unit")), "derivative_of": s,
+             "description": f"time derivative of {s} (model exchange)"} for s in spec["me"]["states"]]
+    return spec["variables"] + ders
+
+
+def _scalar_variable(spec: dict, k: int, v: dict, index: dict) -> ET.Element:
     sv = ET.Element("ScalarVariable", name=v["name"], valueReference=str(k), description=v["description"],
                     causality=v["causality"], variability=v["variability"])
     settable = v["causality"] in ("input", "parameter")
@@ -286,6 +320,8 @@ def _scalar_variable(spec: dict, k: int, v: dict) -> ET.Element:
     child = ET.SubElement(sv, v["type"])
     if settable:
         child.set("start", start_text(spec, v))
+    if v.get("derivative_of"):
+        child.set("derivative", index[v["derivative_of"]])
     if v["type"] == "Real":
         for key in ("unit", "min", "max"):
             if v.get(key) is not None:
@@ -293,45 +329,54 @@ def _scalar_variable(spec: dict, k: int, v: dict) -> ET.Element:
     return sv
 
 
-def _unit_definitions(spec: dict) -> ET.Element:
-    from fmu.heli_bo105_slave import BASE_UNITS
-
-    defs = ET.Element("UnitDefinitions")
-    for u in sorted({v.get("unit") for v in spec["variables"]} - {None}):
-        unit = ET.SubElement(defs, "Unit", name=u)
-        if u in BASE_UNITS:
-            ET.SubElement(unit, "BaseUnit", {k: str(e) for k, e in BASE_UNITS[u].items()})
-    return defs
-
-
-def _co_simulation(identifier_: str, sources: list[str]) -> ET.Element:
-    cs = ET.Element("CoSimulation", modelIdentifier=identifier_, needsExecutionTool="false",
-                    canHandleVariableCommunicationStepSize="true", canInterpolateInputs="false",
-                    maxOutputDerivativeOrder="0", canRunAsynchronuously="false",
-                    canBeInstantiatedOnlyOncePerProcess="false", canNotUseMemoryManagementFunctions="true",
-                    canGetAndSetFMUstate="true", canSerializeFMUstate="true",
-                    providesDirectionalDerivative="false")
-    files = ET.SubElement(cs, "SourceFiles")
-    for name in sources:
-        ET.SubElement(files, "File", name=name)
-    return cs
+def _interfaces(identifier_: str, sources: list[str]) -> list[ET.Element]:
+    common = {"modelIdentifier": identifier_, "needsExecutionTool": "false",
+              "canBeInstantiatedOnlyOncePerProcess": "false", "canNotUseMemoryManagementFunctions": "true",
+              "canGetAndSetFMUstate": "true", "canSerializeFMUstate": "true", "providesDirectionalDerivative": "true"}
+    me = ET.Element("ModelExchange", {"modelIdentifier": identifier_, "needsExecutionTool": "false",
+                                      "completedIntegratorStepNotNeeded": "false",
+                                      **{k: v for k, v in common.items() if k not in ("modelIdentifier",
+                                                                                      "needsExecutionTool")}})
+    cs = ET.Element("CoSimulation", {**common, "canHandleVariableCommunicationStepSize": "true",
+                                     "canInterpolateInputs": "false", "maxOutputDerivativeOrder": "0",
+                                     "canRunAsynchronuously": "false"})
+    for el in (me, cs):
+        files = ET.SubElement(el, "SourceFiles")
+        for name in sources:
+            ET.SubElement(files, "File", name=name)
+    return [me, cs]
 
 
-def _model_structure(spec: dict) -> ET.Element:
-    """``<ModelStructure>`` from the generated functions' sparsity (:mod:`fmu.structure`)."""
-    from fmu.structure import model_structure_xml
+def _unknowns(parent: ET.Element, tag: str, table: dict, index: dict) -> None:
+    group = ET.SubElement(parent, tag)
+    for name in sorted(table, key=lambda n: int(index[n])):
+        deps = table[name]
+        ET.SubElement(group, "Unknown", index=index[name], dependencies=" ".join(index[n] for n, _ in deps),
+                      dependenciesKind=" ".join(kind for _, kind in deps))
 
-    return model_structure_xml(spec)
+
+def _model_structure(spec: dict, index: dict) -> ET.Element:
+    """``<ModelStructure>`` from the generated functions' sparsity (:mod:`fmu.structure`,
+    :mod:`fmu.native.derivatives`): outputs and derivatives on the continuous states and inputs."""
+    me = spec["me"]
+    root = ET.Element("ModelStructure")
+    _unknowns(root, "Outputs", me["outputs"], index)
+    _unknowns(root, "Derivatives", {me_derivatives.derivative_name(s): d for s, d in me["derivatives"].items()}, index)
+    _unknowns(root, "InitialUnknowns", {**spec["structure"]["initial"], **me["initial_states"]}, index)
+    return root
 
 
 def model_description(spec: dict, guid: str, sources: list[str]) -> bytes:
-    """``modelDescription.xml`` (UTF-8): the pythonfmu FMU's variables in its order."""
+    """FMI 2.0 ``modelDescription.xml`` (UTF-8): model exchange and co-simulation, the pythonfmu
+    FMU's variables in its order, then the state derivatives."""
+    variables_ = all_variables(spec)
+    index = {v["name"]: str(k + 1) for k, v in enumerate(variables_)}
     root = ET.Element("fmiModelDescription", fmiVersion="2.0", modelName=spec["model_identifier"], guid=guid,
                       description=spec["description"], author="rotor-mbs", version=spec["version"],
                       license="MIT", generationTool="rotor-mbs fmu.native", variableNamingConvention="structured",
                       numberOfEventIndicators="0")
-    root.append(_co_simulation(spec["model_identifier"], sources))
-    root.append(_unit_definitions(spec))
+    root.extend(_interfaces(spec["model_identifier"], sources))
+    root.append(units.unit_definitions(v.get("unit") for v in variables_))
     cats = ET.SubElement(root, "LogCategories")
     for name, what in (("logStatusWarning", "fmi2Warning"), ("logStatusDiscard", "fmi2Discard"),
                        ("logStatusError", "fmi2Error"), ("logStatusFatal", "fmi2Fatal"), ("logAll", "all")):
@@ -340,23 +385,33 @@ def model_description(spec: dict, guid: str, sources: list[str]) -> bytes:
     ex = spec["default_experiment"]
     ET.SubElement(root, "DefaultExperiment", startTime=repr(float(ex["start"])), stopTime=repr(float(ex["stop"])),
                   stepSize=repr(float(ex["step"])))
-    variables = ET.SubElement(root, "ModelVariables")
-    variables.extend(_scalar_variable(spec, k, v) for k, v in enumerate(spec["variables"]))
-    root.append(_model_structure(spec))
+    listed = ET.SubElement(root, "ModelVariables")
+    listed.extend(_scalar_variable(spec, k, v, index) for k, v in enumerate(variables_))
+    root.append(_model_structure(spec, index))
     ET.indent(root, "\t")
     return b'<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, encoding="utf-8") + b"\n"
+
+
+def model_description3(spec: dict, guid: str) -> bytes:
+    """FMI 3.0 ``modelDescription.xml`` (:mod:`fmu.native.fmi3`)."""
+    scalars = all_variables(spec)
+    vars3 = fmi3.variables3(scalars)
+    starts = {v["name"]: start_text(spec, v) for v in spec["variables"] if v["causality"] in ("input", "parameter")}
+    return fmi3.model_description(spec, guid, scalars, vars3, spec["me"], starts)
 
 
 # -- sources, library, archive -----------------------------------------------------------------
 
 def native_spec(scene_names, aircraft=None) -> tuple[dict, dict]:
-    """``fmu.build.plan`` with this FMU's identifier."""
+    """``fmu.build.plan`` with this FMU's identifier and its model exchange (``spec["me"]``:
+    :func:`fmu.native.derivatives.me_structure`)."""
     spec, groups = pybuild.plan(list(scene_names), aircraft)
     variables = [_native_variable(v) for v in spec["variables"]]
     spec = {**spec, "model_identifier": identifier(scene_names, aircraft), "variables": variables}
     for name, sc in spec["scenes"].items():
         if sc["group"] not in groups:
             raise ValueError(f"scene {name!r}: model group {sc['group']!r} was not planned")
+    spec["me"] = me_derivatives.me_structure(spec, groups)
     return spec, groups
 
 
@@ -377,29 +432,42 @@ def write_sources(folder: Path, spec: dict, groups: dict, guid: str) -> list[str
         shutil.copy2(fmi_headers_dir() / name, folder / name)
     (folder / "heli_config.h").write_text(config_header(spec, groups))
     (folder / "heli_data.c").write_text(data_source(spec, groups, guid))
-    files = ["heli_fmi2.c", "heli_libm.c", "heli_data.c"]
+    files = ["heli_core.c", "fmi2Functions.c", "fmi3Functions.c", "heli_libm.c", "heli_data.c"]
     for g, (vm, functions) in groups.items():
         (folder / f"heli_model_{g}.c").write_text(model_source(g, functions, vm.info.nx))
-        files.append(f"heli_model_{g}.c")
+        ad = me_derivatives.ad_functions(vm.functions["rhs"], functions["fmu_outputs"])
+        (folder / f"heli_ad_{g}.c").write_text(model_source(g, ad, vm.info.nx, AD_FUNCTIONS, False, f"heli_{g}_d_"))
+        files += [f"heli_model_{g}.c", f"heli_ad_{g}.c"]
     return files
 
 
-def compile_library(folder: Path, files: list[str], out: Path) -> None:
-    """Compile ``files`` (in ``folder``) in parallel and link them into ``out``."""
-    from mbs.backends.compiled import find_compiler
+def _flags(platform, name: str) -> list[str]:
+    flags = [*CFLAGS, *platform.cflags]
+    level = AD_OPTIMIZATION.get(platform.fmi3, "-O0")
+    return [level if f == "-O2" and name.startswith("heli_ad_") else f for f in flags]
 
-    cc = find_compiler()
-    procs = [(f, subprocess.Popen([cc, *CFLAGS, "-I", str(folder), "-c", str(folder / f), "-o", str(folder / (f + ".o"))],
-                                  stderr=subprocess.PIPE, text=True)) for f in files]
-    errors = [f"{f}:\n{p.communicate()[1][-2000:]}" for f, p in procs if p.wait()]
+
+def compile_libraries(folder: Path, files: list[str], outs: dict) -> None:
+    """Compile ``files`` (in ``folder``) for every platform of ``outs`` (platform -> library path),
+    all files of all platforms in parallel, and link each library."""
+    procs = []
+    for p in outs:
+        cc = platforms.compiler(p)
+        for f in files:
+            obj = folder / f"{f}.{p.fmi3}.o"
+            procs.append((p, f, obj, subprocess.Popen([cc, *_flags(p, f), "-I", str(folder), "-c", str(folder / f), "-o",
+                                                       str(obj)], stderr=subprocess.PIPE, text=True)))
+    errors = [f"{f} ({p.fmi3}):\n{proc.communicate()[1][-2000:]}" for p, f, _, proc in procs if proc.wait()]
     if errors:
         raise RuntimeError("compiling the native FMU failed:\n" + "\n".join(errors))
-    objects = [str(folder / (f + ".o")) for f in files]
-    proc = subprocess.run([cc, "-shared", "-o", str(out), *objects, "-lm"], capture_output=True, text=True)
-    for o in objects:
-        os.unlink(o)
-    if proc.returncode:
-        raise RuntimeError(f"linking the native FMU failed:\n{proc.stderr[-2000:]}")
+    for p, out in outs.items():
+        objects = [str(obj) for q, _, obj, _ in procs if q is p]
+        proc = subprocess.run([platforms.compiler(p), "-shared", "-o", str(out), *objects, *p.ldflags],
+                              capture_output=True, text=True)
+        for o in objects:
+            os.unlink(o)
+        if proc.returncode:
+            raise RuntimeError(f"linking the native FMU for {p.fmi3} failed:\n{proc.stderr[-2000:]}")
 
 
 def guid_of(key: str) -> str:
@@ -407,19 +475,39 @@ def guid_of(key: str) -> str:
     return "{" + str(uuid.uuid5(uuid.NAMESPACE_URL, "rotor-mbs/native-fmu/" + key)) + "}"
 
 
-def build_native(scene_names, dest: Path, key: str | None = None, aircraft=None) -> Path:
-    """Generate, compile and zip the native FMU of ``scene_names`` of ``aircraft`` into ``dest`` (.fmu)."""
+def fmi3_path(fmu2: Path) -> Path:
+    """Where the FMI 3.0 FMU built with the FMI 2.0 FMU ``fmu2`` goes: ``<name>_fmi3.fmu`` beside it."""
+    fmu2 = Path(fmu2)
+    return fmu2.with_name(fmu2.name[:-len(".fmu")] + "_fmi3.fmu")
+
+
+def build_native(scene_names, dest: Path, key: str | None = None, aircraft=None, log=None) -> tuple[Path, Path]:
+    """Generate, compile and zip the native FMU of ``scene_names`` of ``aircraft``: FMI 2.0 into
+    ``dest`` (.fmu), FMI 3.0 into :func:`fmi3_path` of it, one library per available platform
+    (``log`` says which are missing). Returns both paths."""
     spec, groups = native_spec(scene_names, aircraft)
     guid = guid_of(key or cache_key(scene_names, aircraft))
     ident = spec["model_identifier"]
+    if log and platforms.missing():
+        log("no binaries for " + ", ".join(f"{p.fmi3} ({p.compiler} not found)" for p in platforms.missing()))
     with tempfile.TemporaryDirectory(prefix="heli-native-fmu-") as tmp:
-        root = Path(tmp)
-        files = write_sources(root / "sources", spec, groups, guid)
-        (root / "binaries" / PLATFORM).mkdir(parents=True)
-        compile_library(root / "sources", files, root / "binaries" / PLATFORM / f"{ident}.so")
-        (root / "modelDescription.xml").write_bytes(model_description(spec, guid, files))
-        _zip(root, Path(dest))
-    return Path(dest)
+        root2, root3 = Path(tmp) / "fmi2", Path(tmp) / "fmi3"
+        files = write_sources(root2 / "sources", spec, groups, guid)
+        libraries = {p: root3 / "binaries" / p.fmi3 / f"{ident}{p.suffix}" for p in platforms.available()}
+        for lib in libraries.values():
+            lib.parent.mkdir(parents=True)
+        compile_libraries(root2 / "sources", files, libraries)
+        for p, lib in libraries.items():
+            if p.fmi2:
+                (root2 / "binaries" / p.fmi2).mkdir(parents=True)
+                shutil.copy2(lib, root2 / "binaries" / p.fmi2 / lib.name)
+        shutil.copytree(root2 / "sources", root3 / "sources")
+        (root3 / "sources" / "buildDescription.xml").write_bytes(fmi3.build_description(ident, files))
+        (root2 / "modelDescription.xml").write_bytes(model_description(spec, guid, files))
+        (root3 / "modelDescription.xml").write_bytes(model_description3(spec, guid))
+        _zip(root2, Path(dest))
+        _zip(root3, fmi3_path(dest))
+    return Path(dest), fmi3_path(dest)
 
 
 def _zip(root: Path, dest: Path) -> None:
@@ -441,58 +529,70 @@ def cache_key(scene_names, aircraft=None) -> str:
     files += [(f"fmu/{p.name}", p) for p in (HERE.parent / "build.py", HERE.parent / "heli_bo105_slave.py",
                                              HERE.parent / "periodic.py", HERE.parent / "periodic_starts.json")
               if p.exists()]
-    files += [(f"fmu/native/{name}", HERE / name) for name in ("build.py", *HAND_WRITTEN)]
+    files += [(f"fmu/native/{name}", HERE / name) for name in ("build.py", "derivatives.py", "fmi3.py", "units.py",
+                                                                 "platforms.py", *HAND_WRITTEN)]
+    files += [("fmu/structure.py", HERE.parent / "structure.py")]
     for rel, path in files:
         h.update(rel.encode() + b"\0" + path.read_bytes())
     for name in FMI_HEADERS:
         h.update((fmi_headers_dir() / name).read_bytes())
     h.update(json.dumps([list(scene_names), pybuild.load_aircraft(aircraft).digest, importlib.metadata.version("casadi"),
-                         os.environ.get("CC") or "", CFLAGS, sys.platform]).encode())
+                         os.environ.get("CC") or "", CFLAGS, AD_OPTIMIZATION, platforms.key(), sys.platform]).encode())
     return h.hexdigest()[:20]
 
 
-def cached_path(scene_names, aircraft=None) -> Path:
+def cached_path(scene_names, aircraft=None, fmi: int = 2) -> Path:
+    """The cached FMI 2.0 FMU (``fmi=3``: the FMI 3.0 one built with it)."""
     from mbs.backends.compiled import cache_dir
 
-    return cache_dir() / "fmu-native" / cache_key(scene_names, aircraft) / f"{identifier(scene_names, aircraft)}.fmu"
+    path = cache_dir() / "fmu-native" / cache_key(scene_names, aircraft) / f"{identifier(scene_names, aircraft)}.fmu"
+    return fmi3_path(path) if fmi == 3 else path
 
 
 def ensure_native_fmu(scene_names=pybuild.DEFAULT_SCENES, force: bool = False, log=None,
-                      aircraft=None) -> tuple[Path, float]:
-    """The cached native FMU of ``scene_names`` (built here if absent or not intact); returns
-    (path, build seconds, 0 if it came from the cache). Verified like the pythonfmu FMU
-    (:func:`fmu.build.fmu_problem`): a truncated or changed cached FMU is rebuilt."""
+                      aircraft=None, fmi: int = 2) -> tuple[Path, float]:
+    """The cached native FMU of ``scene_names`` for FMI ``fmi`` (2 or 3; both are built at once
+    if either is absent or not intact); returns (path, build seconds, 0 if it came from the
+    cache). Verified like the pythonfmu FMU (:func:`fmu.build.fmu_problem`): a truncated or
+    changed cached FMU is rebuilt."""
     from mbs.backends.cache import record, writable_dir
 
+    if fmi not in (2, 3):
+        raise ValueError(f"FMI version {fmi!r} is not one of 2, 3")
     key, path = cache_key(scene_names, aircraft), cached_path(scene_names, aircraft)
+    wanted = fmi3_path(path) if fmi == 3 else path
     if not force:
-        reason = pybuild.fmu_problem(path)
+        reason = pybuild.fmu_problem(path) or pybuild.fmu_problem(fmi3_path(path))
         if reason is None:
-            return path, 0.0
-        if log and path.exists():
+            return wanted, 0.0
+        if log and (path.exists() or fmi3_path(path).exists()):
             log(f"rebuilding the cached native FMU: {reason}")
     writable_dir(path.parent, "FMU cache")
     if log:
-        log(f"building the native FMU for {', '.join(scene_names)} (compiles the models once; cached) ...")
+        log(f"building the native FMU (FMI 2.0 and 3.0) for {', '.join(scene_names)} (compiles the models once; "
+            "cached) ...")
     start = time.perf_counter()
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    tmp = path.with_name(f".{os.getpid()}.tmp.fmu")
     try:
-        build_native(scene_names, tmp, key, aircraft)
+        build_native(scene_names, tmp, key, aircraft, log)
     except BaseException:
         tmp.unlink(missing_ok=True)
+        fmi3_path(tmp).unlink(missing_ok=True)
         raise
-    tmp.replace(path)
-    record(path)
-    return path, time.perf_counter() - start
+    for built, final in ((tmp, path), (fmi3_path(tmp), fmi3_path(path))):
+        built.replace(final)
+        record(final)
+    return wanted, time.perf_counter() - start
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description="build the native heli rotor FMU")
+    ap = argparse.ArgumentParser(description="build the native heli rotor FMU (FMI 2.0 at --dest, FMI 3.0 beside it)")
     ap.add_argument("--scenes", default=",".join(pybuild.DEFAULT_SCENES))
     ap.add_argument("--aircraft", default=None, help="aircraft file (default: the Bo105)")
     ap.add_argument("--dest", required=True)
     args = ap.parse_args(argv)
-    build_native(args.scenes.split(","), Path(args.dest), aircraft=args.aircraft)
+    build_native(args.scenes.split(","), Path(args.dest), aircraft=args.aircraft,
+                 log=lambda m: print(m, file=sys.stderr))
     return 0
 
 

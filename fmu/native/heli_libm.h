@@ -9,6 +9,10 @@
 #ifndef HELI_LIBM_H
 #define HELI_LIBM_H
 
+#if (defined(_WIN32) || defined(__APPLE__)) && !defined(HELI_LIBM_LINKED)
+#define HELI_LIBM_LINKED /* the C runtime (Windows) or libSystem (macOS) has the math functions */
+#endif
+
 int heli_libm_ready(void); /* 1 when the math functions can be called */
 const char* heli_libm_problem(void); /* why not (NULL when ready) */
 

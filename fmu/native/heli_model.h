@@ -1,6 +1,6 @@
 /* Tables that describe the heli rotor FMU's variables, scenes and compiled model groups.
-   heli_data.c (generated at build time from the spec) defines heli_model_data;
-   heli_fmi2.c implements FMI 2.0 co-simulation on top of it. */
+   heli_data.c (generated at build time from the spec) defines heli_model_data; heli_core.c
+   runs the model on top of it, fmi2Functions.c and fmi3Functions.c are its FMI interfaces. */
 #ifndef HELI_MODEL_H
 #define HELI_MODEL_H
 
@@ -46,6 +46,13 @@ typedef struct {
   heli_eval_fn energy;        /* energy(x, t, p): its parts, the total last */
   heli_work_fn energy_work;
   int n_energy;
+  heli_eval_fn rhs;           /* rhs(x, t, p): x' (model exchange) */
+  heli_work_fn rhs_work;
+  heli_eval_fn ad_fwd;        /* ad_fwd(x, t, p, dx, dp): (dx', dy), CasADi's forward mode of (rhs, fmu_outputs) */
+  heli_work_fn ad_fwd_work;
+  heli_eval_fn ad_adj;        /* ad_adj(x, t, p, b): (bx, bp), its reverse mode: the transposed Jacobian times b */
+  heli_work_fn ad_adj_work;
+  int me_ok;                  /* every state of this model is one of the FMU's continuous states */
   const char* const* state_names;
   const int* state_of;        /* by value reference: the index in x of a computed variable that
                                  is a state of this model, else -1 */
@@ -72,6 +79,12 @@ typedef struct {
   double periodic_fs_default; /* the trim's initial forward speed (m/s) */
 } heli_scene;
 
+/* An FMI 3.0 variable: a scalar or an array of slots (FMI 2.0 value references; -1 is time). */
+typedef struct {
+  int n;
+  const int* slots;
+} heli_variable3;
+
 typedef struct {
   const char* identifier;
   const char* guid;
@@ -87,6 +100,11 @@ typedef struct {
   double hinge_angle;         /* largest hinge angle (rad) a step may reach */
   int vr_scene, vr_evaluator, vr_integrator, vr_max_step, vr_omega, vr_forward_speed, vr_energy,
       vr_initial_state; /* -1 if absent */
+  int n_states;               /* continuous states (model exchange): the primary scene's states */
+  const int* me_state;        /* the slot of each, in the FMI 2.0 order (the primary model's x) */
+  int n_variables3;
+  const heli_variable3* variables3; /* by FMI 3.0 value reference */
+  const int* me_order3;       /* FMI 3.0 continuous state k is FMI 2.0 state me_order3[k] */
 } heli_model;
 
 extern const heli_model heli_model_data;

@@ -1,5 +1,6 @@
 /* A minimal FMI 2.0 co-simulation master for the tests and the benchmark: loads an FMU's
-   shared library with dlopen and drives it through the standard functions only.
+   shared library (dlopen; LoadLibrary on Windows) and drives it through the standard functions
+   only. It builds for Linux (x86_64, aarch64) and, with mingw, for Windows.
 
    host run SO GUID SCENE DT STEPS IN_VRS IN_VALUES OUT_VRS [quiet]
        (SCENE is VR=NAME, the scene parameter's value reference and value) instantiate, set the scene and the inputs (held constant), initialise, then STEPS
@@ -9,12 +10,16 @@
        N instantiate / initialise / step / free cycles; prints "rss_kb BEFORE AFTER".
 
    Value-reference and value lists are comma-separated. Exit status 0 on success. */
-#include <dlfcn.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#ifdef _WIN32
+#include <windows.h>
+#else
+#include <dlfcn.h>
+#endif
 
 #include "fmi2Functions.h"
 
@@ -44,8 +49,19 @@ static void logger(fmi2ComponentEnvironment env, fmi2String name, fmi2Status sta
   fprintf(stderr, "[%s %d %s] %s\n", name, (int) status, category, text);
 }
 
+/* The shared library (a DLL on Windows) and its symbols. */
+#ifdef _WIN32
+static void* open_library(const char* path) { return (void*) LoadLibraryA(path); }
+static void* find_symbol(void* lib, const char* name) { return (void*) GetProcAddress((HMODULE) lib, name); }
+static const char* library_error(void) { return "LoadLibrary failed"; }
+#else
+static void* open_library(const char* path) { return dlopen(path, RTLD_NOW | RTLD_LOCAL); }
+static void* find_symbol(void* lib, const char* name) { return dlsym(lib, name); }
+static const char* library_error(void) { return dlerror(); }
+#endif
+
 static void* symbol(void* lib, const char* name) {
-  void* f = dlsym(lib, name);
+  void* f = find_symbol(lib, name);
   if (!f) {
     fprintf(stderr, "missing %s\n", name);
     exit(2);
@@ -54,9 +70,9 @@ static void* symbol(void* lib, const char* name) {
 }
 
 static void load(const char* path, api* a) {
-  void* lib = dlopen(path, RTLD_NOW | RTLD_LOCAL);
+  void* lib = open_library(path);
   if (!lib) {
-    fprintf(stderr, "dlopen failed: %s\n", dlerror());
+    fprintf(stderr, "loading %s failed: %s\n", path, library_error());
     exit(2);
   }
   a->instantiate = (fmi2InstantiateTYPE*) symbol(lib, "fmi2Instantiate");
@@ -102,9 +118,16 @@ static fmi2Component start(const api* a, const char* guid, const char* scene, co
 }
 
 static double now(void) {
+#ifdef _WIN32
+  LARGE_INTEGER f, t;
+  QueryPerformanceFrequency(&f);
+  QueryPerformanceCounter(&t);
+  return (double) t.QuadPart / (double) f.QuadPart;
+#else
   struct timespec ts;
   clock_gettime(CLOCK_MONOTONIC, &ts);
   return (double) ts.tv_sec + 1e-9 * (double) ts.tv_nsec;
+#endif
 }
 
 static int run(const api* a, char** argv, int quiet) {

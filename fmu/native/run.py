@@ -24,17 +24,23 @@ def facts(fmu: str | Path) -> dict:
             "step": float(md.defaultExperiment.stepSize)}
 
 
-def compile_host(dest: Path) -> Path:
-    """Compile ``host.c`` into the executable ``dest`` (FMI headers from the installed fmpy);
-    it does not link the C math library, so an FMU library that needs libm must bring it."""
-    from mbs.backends.compiled import find_compiler
-
+def compile_host(dest: Path, platform=None) -> Path:
+    """Compile ``host.c`` into the executable ``dest`` for ``platform`` (default this machine; a
+    :class:`fmu.native.platforms.Platform` for a cross build: mingw for Windows, gcc for ARM),
+    FMI headers from the installed fmpy; it does not link the C math library, so an FMU library
+    that needs libm must bring it."""
+    from fmu.native import platforms
     from fmu.native.build import fmi_headers_dir
 
-    proc = subprocess.run([find_compiler(), "-O2", "-I", str(fmi_headers_dir()), str(HERE / "host.c"), "-o",
-                           str(dest), "-ldl"], capture_output=True, text=True)
+    platform = platform or platforms.LINUX
+    cc = platforms.compiler(platform)
+    if cc is None:
+        raise RuntimeError(f"no C compiler for {platform.fmi3}: install {platform.compiler}")
+    static = ["-static"] if platform is platforms.WINDOWS else []  # the DLL then needs only the C runtime
+    proc = subprocess.run([cc, "-O2", "-I", str(fmi_headers_dir()), str(HERE / "host.c"), "-o", str(dest), *static,
+                           *platforms.HOST_LIBS[platform.fmi3]], capture_output=True, text=True)
     if proc.returncode:
-        raise RuntimeError(f"compiling the C host failed:\n{proc.stderr[-3000:]}")
+        raise RuntimeError(f"compiling the C host for {platform.fmi3} failed:\n{proc.stderr[-3000:]}")
     return dest
 
 
@@ -45,8 +51,9 @@ def extract(fmu: str | Path, folder: Path) -> Path:
     return folder
 
 
-def library(unzipdir: Path, identifier: str) -> Path:
-    return Path(unzipdir) / "binaries" / "linux64" / f"{identifier}.so"
+def library(unzipdir: Path, identifier: str, folder: str = "linux64", suffix: str = ".so") -> Path:
+    """The shared library of an unzipped FMU in ``binaries/<folder>``."""
+    return Path(unzipdir) / "binaries" / folder / f"{identifier}{suffix}"
 
 
 def _join(values) -> str:
@@ -61,11 +68,12 @@ def host_command(host: Path, so: Path, f: dict, scene: str, dt: float, steps: in
 
 
 def run_host(host: Path, so: Path, f: dict, scene: str, dt: float, steps: int, inputs: dict,
-             outputs: list[str]) -> dict:
+             outputs: list[str], runner: list[str] = ()) -> dict:
     """``steps`` communication steps of ``dt`` (s) of ``scene`` with ``inputs`` (name -> rad)
-    held; returns ``{"time": [...], name: [...]}`` after each step."""
-    proc = subprocess.run(host_command(host, so, f, scene, dt, steps, inputs, outputs), capture_output=True,
-                          text=True, timeout=600)
+    held; returns ``{"time": [...], name: [...]}`` after each step. ``runner`` goes before the
+    host's command (e.g. ``["wine"]``, ``["qemu-aarch64", "-L", sysroot]``)."""
+    proc = subprocess.run([*runner, *host_command(host, so, f, scene, dt, steps, inputs, outputs)],
+                          capture_output=True, text=True, timeout=600)
     if proc.returncode:
         raise RuntimeError(f"the C host failed ({proc.returncode}):\n{proc.stderr[-3000:]}")
     rows = [[float(x) for x in line.split()] for line in proc.stdout.splitlines()]
