@@ -326,3 +326,56 @@ def test_the_fmu_of_forward_flight_actuators_takes_the_actuators_and_equals_the_
     pitch = np.asarray(run["blade1.pitch"])
     assert run["actuator1.displacement"][-1] == pytest.approx(start["actuator1"] + 0.005, abs=1e-12)
     assert np.abs(np.diff(pitch)).max() > 0.01  # the actuator's step moved the blades
+
+
+# -- the elastic pitch link ----------------------------------------------------------------------
+
+def _stiffness(tmp_path, factor: float):
+    raw = entries("bo105")
+    raw["swashplate"]["link_stiffness"]["value"] *= factor
+    return aircraft.load(write(raw, tmp_path / f"bo105_link{factor:g}.toml"))
+
+
+def test_elastic_links_tend_to_the_rigid_loop_as_their_stiffness_grows(tmp_path):
+    """One blade in hover with its pitch a state and its link a spring (``pitch_link="elastic"``,
+    starting unstretched), against the rigid loop: over one revolution (RK4, 400 steps) the flap
+    and lag differ by 1.2e-3 rad at the file's 2e6 N/m and by a quarter of that at 4x (measured
+    4.0x less), the pitch likewise (3.8x), and the link force averaged over the revolution is the
+    rigid link's to 2 % (the unstretched start rings at the link's 9/rev and 18/rev)."""
+    def run(craft, link):
+        system, traj, p = _steps(build(replace(HOVER_BLADE, pitch_link=link), craft))
+        y, names = system.history("outputs", traj, p), system.info.output_names
+        return traj, y[:, names.index("blade1.pitch")], y[:, names.index("blade1.pitch_link.force")]
+
+    rigid = run(aircraft.load(), "rigid")
+    hinges = {}
+    for factor in (1.0, 4.0):
+        traj, pitch, force = run(_stiffness(tmp_path, factor), "elastic")
+        assert traj.info.state_names[:3] == ["blade1.flap", "blade1.lag", "blade1.pitch"]
+        hinges[factor] = (np.abs(traj.x[-1, :2] - rigid[0].x[-1, :2]).max(), np.abs(pitch - rigid[1]).max())
+        assert force.mean() == pytest.approx(rigid[2].mean(), rel=0.02)
+    assert 1e-4 < hinges[1.0][0] < 3e-3 and 3.3 < hinges[1.0][0] / hinges[4.0][0] < 4.7
+    assert 3.3 < hinges[1.0][1] / hinges[4.0][1] < 4.7
+
+
+def _steps(model, steps: int = 400):
+    system = mbs.build(model, "compiled")
+    p = system.params()
+    traj = system.run(system.x0(), 0.0, 2 * np.pi / 44.4 / steps, steps, p=p)
+    assert traj.ok, traj.message
+    return system, traj, p
+
+
+def test_the_swashplate_is_refused_where_it_cannot_work():
+    """One line each: an aircraft without [swashplate], free rotors, elastic blades, options that
+    would do nothing without the swashplate, an unknown mode."""
+    cases = [(lambda: build(HOVER_BLADE, aircraft.load("lynx")), "has no \\[swashplate\\] section"),
+             (lambda: replace(HOVER_BLADE, rotors="free"), "needs rotors = 'driven'"),
+             (lambda: replace(HOVER_BLADE, blade_segments=4), "needs blade_segments = 0"),
+             (lambda: Config(loop_solver="newton"), "loop_solver applies to the swashplate"),
+             (lambda: Config(pitch_link="elastic"), "pitch_link applies to the swashplate"),
+             (lambda: replace(HOVER_BLADE, pitch_link="elastic", loop_solver="newton"), "no loop to solve"),
+             (lambda: Config(swashplate="yes"), "swashplate = 'yes'")]
+    for make, words in cases:
+        with pytest.raises(ValueError, match=words):
+            make()

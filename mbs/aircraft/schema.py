@@ -204,6 +204,8 @@ ENTRIES: dict[str, dict[str, Entry]] = {
                                    "tail, counted in the sense of rotation)", "vector", -2 * math.pi, 2 * math.pi,
                                    length=3),
         "actuator_stroke": positive("m", "each actuator's travel either side of its neutral position"),
+        "link_stiffness": positive("N/m", "axial stiffness of a pitch link with the control system behind it (scenes "
+                                   "with elastic pitch links)"),
     },
 }
 

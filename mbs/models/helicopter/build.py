@@ -13,7 +13,7 @@ from mbs.models.helicopter.aero import add_airframe_aero, add_rotor_aero
 from mbs.models.helicopter.config import Config
 from mbs.models.helicopter.estimate import TrimEstimate, estimate_trim
 from mbs.models.helicopter.outputs import add_outputs
-from mbs.models.helicopter.swashplate import add_actuator_inputs, add_swashplate_outputs
+from mbs.models.helicopter.swashplate import add_actuator_inputs, add_elastic_links, add_swashplate_outputs
 from mbs.models.helicopter.tree import add_fuselage, add_main_rotor, add_tail_rotor
 from mbs.tree import Model
 
@@ -47,6 +47,8 @@ def build(cfg: Config = Config(), aircraft=None, name: str | None = None) -> Mod
     if cfg.swashplate:
         add_swashplate_outputs(m, d, cfg)
     _set_initial(m, d, cfg, trim, stored)
+    if cfg.pitch_link == "elastic":
+        add_elastic_links(m, d, cfg)
     return m
 
 

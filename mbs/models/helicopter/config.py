@@ -24,7 +24,9 @@ class Config:
     blade pitch driven by the pitch inputs), "pitch" (the swashplate and pitch links of the
     aircraft's ``[swashplate]`` set the pitch, the pilot pitch inputs mixed into the plate) or
     "actuators" (the same, the three actuator displacements the controls); loop_solver: how the
-    pitch links' loops are solved, "closed-form" or "newton" (:mod:`mbs.models.helicopter.swashplate`).
+    pitch links' loops are solved, "closed-form" or "newton"; pitch_link: "rigid" (the pitch solved
+    from each link's loop) or "elastic" (the pitch a state, each link a spring of the aircraft's
+    link_stiffness) (:mod:`mbs.models.helicopter.swashplate`).
     """
 
     fuselage: str = "free"
@@ -48,6 +50,7 @@ class Config:
     blade_segments: int = 0
     swashplate: str | None = None
     loop_solver: str = "closed-form"
+    pitch_link: str = "rigid"
 
     def __post_init__(self):
         from mbs.models.helicopter.swashplate import check

@@ -29,7 +29,8 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from mbs.joints import Hinge
+from mbs.forces import ForceElement
+from mbs.joints import Hinge, Serial
 from mbs.loops import Assembly, LinkLoop, LoopJoint, Newton, add_loop_outputs
 from mbs.loops.outputs import joint_coordinates
 from mbs.tree import Model
@@ -118,10 +119,16 @@ def check(cfg) -> None:
                          "through the mechanism) or 'actuators' (actuator displacements as the controls)")
     if cfg.loop_solver not in ("closed-form", "newton"):
         raise ValueError(f"loop_solver = {cfg.loop_solver!r}: choose 'closed-form' or 'newton'")
+    if cfg.pitch_link not in ("rigid", "elastic"):
+        raise ValueError(f"pitch_link = {cfg.pitch_link!r}: choose 'rigid' (the links close their loops) or "
+                         "'elastic' (the pitch a state, each link a spring of the file's link_stiffness)")
     if cfg.swashplate is None:
-        if cfg.loop_solver != "closed-form":
-            raise ValueError("loop_solver applies to the swashplate's loops: turn the swashplate on")
+        for name, default in (("loop_solver", "closed-form"), ("pitch_link", "rigid")):
+            if getattr(cfg, name) != default:
+                raise ValueError(f"{name} applies to the swashplate's pitch links: turn the swashplate on")
         return
+    if cfg.pitch_link == "elastic" and cfg.loop_solver != "closed-form":
+        raise ValueError("loop_solver: elastic pitch links have no loop to solve (the pitch is a state)")
     needs = [("rotors", "driven", "the pitch links follow the hub's prescribed azimuth"),
              ("pitch_hinge", True, "the links turn the blades' pitch hinges"), ("blade_segments", 0, "rigid blades")]
     for name, value, why in needs:
@@ -141,7 +148,15 @@ def _pitch_guess(sp: Swashplate, plate, psi, sense: int):
     return guess
 
 
-def blade_joint(d, cfg, k: int, psi0: float, sense: int) -> LoopJoint:
+def blade_joint(d, cfg, k: int, psi0: float, sense: int) -> LoopJoint | Serial:
+    """Blade ``k`` (from 1)'s joint: flap, lag and pitch hinges, the pitch solved by its rigid
+    pitch link (a :class:`LoopJoint`) or, with an elastic link, a free hinge (the link is then a
+    spring, :class:`ElasticLink`)."""
+    joint = link_joint(d, cfg, k, psi0, sense)
+    return joint if cfg.pitch_link == "rigid" else Serial(*joint.parts)
+
+
+def link_joint(d, cfg, k: int, psi0: float, sense: int) -> LoopJoint:
     """Blade ``k`` (from 1)'s flap, lag and pitch hinges, its pitch solved by its pitch link."""
     mr, sp = d["main_rotor"], Swashplate.of(d)
     plate = plate_of(d, cfg)
@@ -191,51 +206,121 @@ def add_actuator_inputs(m: Model, d, pitch: dict) -> None:
                         "shaft, up", control=True, low=-sp.stroke, high=sp.stroke)
 
 
+# -- the links: rigid (a loop) or elastic (a spring) ---------------------------------------------
+
+@dataclass
+class PitchLink:
+    """Blade ``blade``'s link: ``joint`` its geometry (the :class:`LoopJoint` of the rigid link),
+    ``stiffness`` (N/m) when elastic (None: rigid)."""
+
+    blade: str
+    joint: LoopJoint
+    stiffness: float | None = None
+
+    @property
+    def link(self) -> LinkLoop:
+        loop = self.joint.loop
+        return loop if isinstance(loop, LinkLoop) else loop.loop
+
+    def q(self, state) -> ca.SX:
+        return joint_coordinates(state, self.blade, self.joint)
+
+    def pitch(self, state) -> ca.SX:
+        """The blade's pitch (rad): the loop's solution, or the state of an elastic link's blade."""
+        if self.stiffness is None:
+            return self.joint.loop.solve(self.joint, self.q(state), state.t, state.p)
+        return state.q(f"{self.blade}.pitch")
+
+    def along(self, state) -> ca.SX:
+        """From the lower to the upper ball (3,), m, in the blade's joint frame."""
+        q_all = self.joint.merge(self.q(state), self.pitch(state))
+        return self.link.point_in_joint(self.joint, q_all, state.t, state.p) - self.link.anchor(state.t, state.p)
+
+    def arm(self, state) -> ca.SX:
+        return self.link.arm(self.joint, self.q(state), self.pitch(state), state.t, state.p)
+
+    def force(self, state) -> ca.SX:
+        """Axial force (N), tension positive: the moment the blade needs about its feathering axis
+        over the arm (rigid), the spring's ``k (ℓ - L)`` (elastic)."""
+        if self.stiffness is None:
+            return state.reactions.about_axis(self.blade, "pitch") / self.arm(state)
+        return self.stiffness * (ca.norm_2(self.along(state)) - self.link.length)
+
+
+@dataclass
+class ElasticLink(ForceElement):
+    """An elastic pitch link: the potential ``½ k (ℓ - L)²`` of its stretch, its generalized forces
+    on the blade's flap, lag and pitch ``-∂V/∂q`` by AD."""
+
+    link: PitchLink
+
+    def __post_init__(self):
+        self.name = f"{self.link.blade} elastic pitch link"
+
+    def apply(self, state, loads):
+        names = [f"{self.link.blade}.{n}" for n in ("flap", "lag", "pitch")]
+        q = ca.vertcat(*[state.q(n) for n in names])
+        gradient = ca.jacobian(self.potential(state), q)
+        for k, name in enumerate(names):
+            loads.add_generalized(f"{name}_rate", -gradient[k])
+
+    def potential(self, state):
+        return 0.5 * self.link.stiffness * (ca.norm_2(self.link.along(state)) - self.link.link.length) ** 2
+
+
+def pitch_links(m: Model, d, cfg) -> list[PitchLink]:
+    """The main rotor's links: the tree's loop joints (rigid) or rebuilt ones (elastic)."""
+    from mbs.models.helicopter.frames import blade_azimuths, main_sense
+
+    blades = [b for b in m.bodies if b.startswith("blade") and b[5:].isdigit()]
+    if cfg.pitch_link == "rigid":
+        return [PitchLink(b, m.bodies[b].joint) for b in blades]
+    sense, stiffness = main_sense(d), d["swashplate"]["link_stiffness"]
+    return [PitchLink(b, link_joint(d, cfg, k + 1, psi0, sense), stiffness)
+            for k, (b, psi0) in enumerate(zip(blades, blade_azimuths(d["main_rotor"]["n_blades"])))]
+
+
+def add_elastic_links(m: Model, d, cfg) -> None:
+    """With elastic links: each link's spring, and each blade's pitch starting where its link is
+    unstretched (the rigid loop's pitch at the initial state, time 0 and the default inputs)."""
+    from mbs.joints import Params
+
+    p = Params(list(m.parameters), ca.DM([q.default for q in m.parameters.values()]))
+    for link in pitch_links(m, d, cfg):
+        m.add_force(ElasticLink(link))
+        q = ca.DM([m.initial.get(f"{link.blade}.{n}", 0.0) for n in ("flap", "lag")])
+        m.set_initial(**{f"{link.blade}.pitch": float(link.joint.loop.solve(link.joint, q, 0.0, p))})
+
+
 # -- outputs ------------------------------------------------------------------------------------
 
 def add_swashplate_outputs(m: Model, d, cfg) -> list[str]:
-    """Blade pitch, pitch-link closure, force and arm, actuator displacements and forces."""
-    sp, plate = Swashplate.of(d), plate_of(d, cfg)
+    """Blade pitch, pitch-link closure (rigid) or stretch (elastic), force and arm, actuator
+    displacements and forces."""
+    sp, plate, links = Swashplate.of(d), plate_of(d, cfg), pitch_links(m, d, cfg)
     names = add_loop_outputs(m)
-    blades = [b for b in m.bodies if isinstance(m.bodies[b].joint, LoopJoint)]
-    for blade in blades:
-        joint = m.bodies[blade].joint
-        m.add_output(f"{blade}.pitch", lambda s, b=blade, j=joint: _solved(s, b, j), "rad",
-                     f"{blade} pitch angle set by its pitch link, nose up")
-        m.add_output(f"{blade}.pitch_link.arm", lambda s, b=blade, j=joint: _arm(s, b, j), "m",
+    for link in links:
+        blade = link.blade
+        if link.stiffness is not None:
+            m.add_output(f"{blade}.pitch_link.length_error", lambda s, k=link: ca.norm_2(k.along(s)) - k.link.length,
+                         "m", f"{blade} elastic pitch link's stretch")
+        m.add_output(f"{blade}.pitch", link.pitch, "rad", f"{blade} pitch angle set by its pitch link, nose up")
+        m.add_output(f"{blade}.pitch_link.arm", link.arm, "m",
                      f"{blade} pitch link's moment arm about the feathering axis (nose-up moment per newton of tension)")
-        m.add_output(f"{blade}.pitch_link.force", lambda s, b=blade, j=joint: _link_force(s, b, j), "N",
-                     f"{blade} pitch link's axial force, tension positive")
+        m.add_output(f"{blade}.pitch_link.force", link.force, "N", f"{blade} pitch link's axial force, tension positive")
         names += [f"{blade}.pitch", f"{blade}.pitch_link.arm", f"{blade}.pitch_link.force"]
     mix = sp.mixing()
     for i, azimuth in enumerate(sp.azimuths):
         where = f"swashplate actuator at azimuth {np.degrees(azimuth):.0f} deg"
         m.add_output(f"actuator{i + 1}.displacement", lambda s, i=i: sum(mix[i, j] * plate(s.p)[j] for j in range(3)),
                      "m", f"displacement of the {where} along the shaft, up")
-        m.add_output(f"actuator{i + 1}.force", lambda s, i=i: _actuator_forces(m, s, sp, plate, blades, d)[i], "N",
+        m.add_output(f"actuator{i + 1}.force", lambda s, i=i: _actuator_forces(s, sp, plate, links, d)[i], "N",
                      f"force of the {where} on the plate along the shaft, up (compression positive)")
         names += [f"actuator{i + 1}.displacement", f"actuator{i + 1}.force"]
     return names
 
 
-def _solved(state, blade: str, joint) -> ca.SX:
-    return joint.loop.solve(joint, joint_coordinates(state, blade, joint), state.t, state.p)
-
-
-def _link(joint) -> LinkLoop:
-    return joint.loop if isinstance(joint.loop, LinkLoop) else joint.loop.loop
-
-
-def _arm(state, blade: str, joint) -> ca.SX:
-    q = joint_coordinates(state, blade, joint)
-    return _link(joint).arm(joint, q, _solved(state, blade, joint), state.t, state.p)
-
-
-def _link_force(state, blade: str, joint) -> ca.SX:
-    return state.reactions.about_axis(blade, "pitch") / _arm(state, blade, joint)
-
-
-def _actuator_forces(m: Model, state, sp: Swashplate, plate, blades, d) -> ca.SX:
+def _actuator_forces(state, sp: Swashplate, plate, links: list[PitchLink], d) -> ca.SX:
     """(3,) N: the actuators' forces on the massless plate (along the shaft) that balance the
     links' pull along the shaft and their tilting moments about the plate's centre."""
     from mbs.models.helicopter.frames import blade_azimuths, main_sense
@@ -243,15 +328,12 @@ def _actuator_forces(m: Model, state, sp: Swashplate, plate, blades, d) -> ca.SX
     sense, z = main_sense(d), plate(state.p)
     centre = ca.vertcat(0, 0, sp.plate_height + z[0])
     force, moment = ca.SX.zeros(3), ca.SX.zeros(3)
-    for blade, psi0 in zip(blades, blade_azimuths(d["main_rotor"]["n_blades"])):
-        joint, link = m.bodies[blade].joint, _link(m.bodies[blade].joint)
-        q = joint_coordinates(state, blade, joint)
-        q_all = joint.merge(q, _solved(state, blade, joint))
-        along = link.point_in_joint(joint, q_all, state.t, state.p) - link.anchor(state.t, state.p)
+    for link, psi0 in zip(links, blade_azimuths(d["main_rotor"]["n_blades"])):
+        along = link.along(state)
         u, psi = along / ca.norm_2(along), state.p["omega"] * state.t + psi0
         u_az = ca.vertcat(ca.cos(psi) * u[0] - ca.sin(psi) * sense * u[1], ca.sin(psi) * u[0]
                           + ca.cos(psi) * sense * u[1], u[2])
-        pull = _link_force(state, blade, joint) * u_az
+        pull = link.force(state) * u_az
         ball = sp.on_plate(z, sp.radius, psi + sp.phase)
         force, moment = force + pull, moment + ca.cross(ball - centre, pull)
     arms = [sp.on_plate(z, sp.actuator_radius, a) - centre for a in sp.azimuths]
