@@ -379,3 +379,39 @@ def test_the_swashplate_is_refused_where_it_cannot_work():
     for make, words in cases:
         with pytest.raises(ValueError, match=words):
             make()
+
+
+def test_a_clockwise_rotor_s_mechanism_is_the_mirror_image(tmp_path):
+    """The Bo105 with its horn on the blade (δ3 = 15°, lean 3°: every coupling on) mirrored in its
+    x-z plane (clockwise, tail rotor on the other side; the [swashplate] entries read the same,
+    azimuths counted in the sense of rotation): one revolution of forward-flight-swashplate from the
+    mirrored state is the mirror of the counter-clockwise one, and the blade pitch, link and actuator
+    loads are the same, to 1e-10."""
+    from aircraft_files import mirrored, tomllib
+    from test_aircraft import MIRROR
+
+    raw, mirror_raw = entries("bo105"), tomllib.loads(mirrored(tmp_path / "mirror_base.toml").read_text())
+    for rr in (raw, mirror_raw):
+        sp = rr["swashplate"]
+        sp.pop("ball_radius")
+        sp["horn"]["value"] = "blade"
+        sp["delta3"] = {"value": 15.0, "unit": "deg", "source": "EST"}
+        sp["link_lean"] = {"value": 3.0, "unit": "deg", "source": "EST"}
+    plain = aircraft.load(write(raw, tmp_path / "ccw.toml"))
+    mirror = aircraft.load(write(mirror_raw, tmp_path / "cw.toml"))
+    assert mirror.data["main_rotor"]["rotation"] == "clockwise"
+    cfg = SCENE_CONFIGS["forward-flight-swashplate"][0]
+    sys_a, sys_b = mbs.build(build(cfg, plain), "compiled"), mbs.build(build(cfg, mirror), "compiled")
+    names = sys_a.info.state_names
+    assert list(sys_b.info.state_names) == names
+    flip = np.array([MIRROR.get(n, 1) for n in names])
+    x0, p, h = sys_a.x0(), sys_a.params(), 2 * np.pi / 44.4 / 100
+    a, b = sys_a.run(x0, 0.0, h, 100, p=p), sys_b.run(flip * x0, 0.0, h, 100, p=p)
+    np.testing.assert_allclose(flip * b.x[-1], a.x[-1], rtol=1e-10, atol=1e-10)
+    out = sys_a.info.output_names
+    keep = [i for i, n in enumerate(out) if n.endswith((".pitch", ".pitch_link.force", ".pitch_link.arm"))
+            or n.startswith("actuator")]
+    assert len(keep) == 18
+    ya, yb = sys_a.history("outputs", a, p)[:, keep], sys_b.history("outputs", b, p)[:, keep]
+    scale = np.maximum(1.0, np.abs(ya).max(axis=0))
+    np.testing.assert_allclose(yb / scale, ya / scale, rtol=0, atol=1e-10)
