@@ -415,3 +415,25 @@ def test_a_clockwise_rotor_s_mechanism_is_the_mirror_image(tmp_path):
     ya, yb = sys_a.history("outputs", a, p)[:, keep], sys_b.history("outputs", b, p)[:, keep]
     scale = np.maximum(1.0, np.abs(ya).max(axis=0))
     np.testing.assert_allclose(yb / scale, ya / scale, rtol=0, atol=1e-10)
+
+
+def test_the_fmu_names_a_pitch_link_that_cannot_close(tmp_path):
+    """An aircraft whose actuators can raise the plate beyond its short horns' reach (0.05 m arm,
+    0.08 m stroke): with every actuator set to the top of its stroke the FMU discards the step with
+    one message naming the link and the time, keeps its state, and steps on once the actuators
+    are back."""
+    from fmu import build as fmu_build
+    from test_fmu import host
+
+    raw = entries("bo105")
+    raw["swashplate"]["horn_arm"]["value"] = 0.05
+    path, _ = fmu_build.ensure_fmu(("forward-flight-actuators",), aircraft=str(write(raw, tmp_path / "short.toml")))
+    dt = 2 * np.pi / 44.4 / 100
+    case = {"name": "beyond reach", "set": {f"actuator{i}": 0.08 for i in (1, 2, 3)}, "step": 0.2,
+            "fix": {f"actuator{i}": 0.0 for i in (1, 2, 3)}}
+    res = host("errors", {"fmu": str(path), "dt": dt, "cases": [case]}, tmp_path)["beyond reach"]
+    assert res["init_status"] == 0 and res["first_step"] == 0 and res["step_status"] == 2, res
+    text = [m for _, m in res["messages"] if "cannot close" in m]
+    assert len(text) == 1 and "loop blade" in text[0] and ".pitch_link cannot close at t = " in text[0], text
+    assert "closure margin -" in text[0] and "the step was discarded" in text[0]
+    assert res["recovered_status"] == 0
