@@ -136,14 +136,14 @@ def check(cfg) -> None:
             raise ValueError(f"the swashplate needs {name} = {value!r} ({why}), not {getattr(cfg, name)!r}")
 
 
-def _pitch_guess(sp: Swashplate, plate, psi, sense: int):
+def _pitch_guess(sp: Swashplate, plate, psi):
     """Newton's predictor: the small-angle mechanism (the linearised plate law, minus δ3 and
     lean couplings for a horn on the blade)."""
     def guess(joint, q, t, p):
         c0, c1c, c1s = sp.pitch_from_plate(*plate(p))
         theta = c0 + c1c * ca.cos(psi(t, p)) + c1s * ca.sin(psi(t, p))
         if sp.horn == "blade":
-            theta = theta - sp.offset / sp.arm * q[0] - sense * np.tan(sp.lean) * q[1]
+            theta = theta - sp.offset / sp.arm * q[0] - np.tan(sp.lean) * q[1]
         return theta
     return guess
 
@@ -170,7 +170,7 @@ def link_joint(d, cfg, k: int, psi0: float, sense: int) -> LoopJoint:
 
     link = LinkLoop(f"blade{k}.pitch_link", "pitch", tuple(sp.ball(sense)), sp.length, anchor,
                     Assembly(0.0, tuple(sp.neutral_anchor(sense))), inboard=sp.horn == "housing")
-    loop = link if cfg.loop_solver == "closed-form" else Newton(link, _pitch_guess(sp, plate, psi, sense),
+    loop = link if cfg.loop_solver == "closed-form" else Newton(link, _pitch_guess(sp, plate, psi),
                                                                 iterations=NEWTON_ITERATIONS)
     return LoopJoint(Hinge((0, -1, 0), name="flap", stiffness=mr["flap_stiffness"]),
                      Hinge((0, 0, -sense), name="lag", stiffness=mr["lag_stiffness"],
