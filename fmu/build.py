@@ -33,8 +33,8 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 DEFAULT_SCENES = ("forward-flight", "hover", "ground-run")
 SLAVE = "heli_bo105_slave"
-RUNTIME = ["backends/__init__.py", "backends/info.py", "backends/system.py", "backends/compiled.py",
-           "backends/vm.py", "backends/cache.py", "integrators/*.py"]
+RUNTIME = ["backends/__init__.py", "backends/info.py", "backends/system.py", "backends/closure.py",
+           "backends/compiled.py", "backends/vm.py", "backends/cache.py", "integrators/*.py"]
 VM_FUNCTIONS = ("incr_rk4", "incr_rk8", "project", "fmu_outputs")
 _IMPORT = re.compile(r"^(\s*)(from|import)\s+mbs(?=[\s.])", re.MULTILINE)
 # Ranges shared by every scene (and by the native FMU, which reads spec.json).

@@ -56,6 +56,7 @@ import numpy as np
 from pythonfmu import Boolean, DefaultExperiment, Fmi2Slave, Integer, Real, String
 from pythonfmu.enums import Fmi2Causality, Fmi2Initial, Fmi2Status, Fmi2Variability
 
+from mbs.backends import closure as _closure
 from mbs.backends import compiled as _compiled
 from mbs.backends.compiled import CompiledSystem
 from mbs.backends.info import ModelInfo
@@ -777,6 +778,10 @@ class HeliRotorSlave(Fmi2Slave):
         where = f"at t = {tk!r} s (sub-step {done + 1} of {n}, h = {h!r} s)"
         if status != 1:
             return f"doStep at t = {t!r} s: the model evaluation failed {where}; the step was discarded"
+        loop = _closure_failure(st, x, tk, h)
+        if loop:
+            return (f"doStep at t = {t!r} s: {loop} ({where.partition('(')[2]}; the step was discarded (the state "
+                    f"stays at t = {t!r} s)")
         bad = x + st.system._eval(f"incr_{st.method}", x, tk, h, st.p)[0]
         i = int(np.flatnonzero(~np.isfinite(bad))[0]) if not np.all(np.isfinite(bad)) else 0
         return (f"doStep at t = {t!r} s: the simulation diverged {where}: state "
@@ -862,5 +867,15 @@ def _settle_rerun(scope: dict, module: dict) -> None:
     scope["HeliRotorSlave"] = module["HeliRotorSlave"]
 
 
+def _closure_failure(stepper, x, t: float, h: float) -> str | None:
+    """The local loop (mbs.loops) that could not close in the failed sub-step from ``(x, t)``, or
+    None (no loop failed, or the evaluator has no generated right-hand side and outputs)."""
+    try:
+        return _closure.explain(stepper.system, stepper.method, x, t, h, 1, stepper.p)
+    except Exception:
+        return None
+
+
 _PINNED: list = []  # the module's dict, once per re-run (pythonfmu releases one reference each time)
 _settle_rerun(locals(), globals())
+

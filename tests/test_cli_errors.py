@@ -22,7 +22,8 @@ HELI = Path(sys.executable).with_name("heli")
 PACKAGE_TRIMS = Path(mbs.__file__).resolve().parent / "aircraft" / "data" / "bo105_trim.toml"
 PACKAGE_TRIMS_TEXT = PACKAGE_TRIMS.read_text()
 NOT_TRIMMABLE = ("demo-rotor", "demo-driven", "structural", "single-blade", "ground-resonance")
-TRIMMABLE = "trimmable scenes: elastic-rotor, forward-flight, ground-run, hover, single-blade-aero"
+TRIMMABLE = ("trimmable scenes: elastic-rotor, forward-flight, forward-flight-actuators, forward-flight-swashplate, "
+             "ground-run, hover, single-blade-aero")
 
 # (command line; words the message must contain). FILE is an existing file, DIR an existing
 # folder with a results.csv in it, PKG the trims file inside the installed package.
@@ -56,7 +57,8 @@ CASES = [
     ("floquet hover --sweep omega=20:60", ["--sweep", "'omega=20:60'", "NAME=LO:HI:N"]),
     ("floquet structural", ["scene 'structural' has no periodic solution"]),
     ("floquet hover --out /dev/null/x", ["--out", "'/dev/null/x'"]),
-    ("derivatives ground-run", ["scene 'ground-run' has no free fuselage", "forward-flight, hover"]),
+    ("derivatives ground-run", ["scene 'ground-run' has no free fuselage",
+                                "forward-flight, forward-flight-actuators, forward-flight-swashplate, hover"]),
     ("derivatives hover --mat A.txt", ["--mat", "'A.txt' must be a file name ending in .mat or .npz"]),
     ("derivatives hover --mat /dev/null/A.mat", ["--mat", "'/dev/null/A.mat'"]),
     ("figures --out FILE", ["--out", "FILE", "exists and is not a folder"]),

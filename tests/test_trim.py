@@ -122,7 +122,8 @@ def test_heli_trim_exits_non_zero_when_not_converged(capsys):
 def test_heli_trim_names_the_trimmable_scenes(capsys):
     assert main(["trim", "single-blade"]) == 2
     err = capsys.readouterr().err
-    assert "cannot be trimmed" in err and "forward-flight, ground-run, hover" in err
+    assert "cannot be trimmed" in err and "forward-flight, forward-flight-actuators, forward-flight-swashplate, " \
+        "ground-run, hover" in err
 
 
 def test_clamped_ground_run_trims_its_periodic_rotor_response():

@@ -80,6 +80,8 @@ def complete(values: dict) -> list[str]:
     _set(values.setdefault("wake", {}), "core", lambda: mr["root_cutout"])
     if "elastic_blade" in values and values["elastic_blade"]:
         _elastic(values)
+    if values.get("swashplate"):
+        _swashplate(values["swashplate"], mr["flap_hinge_offset"])
     return _problems(values)
 
 
@@ -98,6 +100,18 @@ def _elastic(values: dict) -> None:
 
         trial = blade_from_data(values, flap=1.0, lag=1.0, torsion=1.0)
         eb.update({f"{k}_stiffness": v for k, v in calibrate(trial, mr["omega"], todo).items()})
+
+
+def _swashplate(sp: dict, hinge_offset: float) -> None:
+    """The pitch link's geometry at neutral (zero pitch, flap, lag and actuator travel)."""
+    if sp["horn"] == "blade":
+        _set(sp, "ball_offset", lambda: sp["horn_arm"] * math.tan(sp["delta3"]))
+    else:
+        _set(sp, "ball_offset", lambda: sp["ball_radius"] - hinge_offset)
+    inward = hinge_offset + sp["ball_offset"] - sp["link_length"] * math.sin(sp["link_lean"])
+    _set(sp, "plate_radius", lambda: math.hypot(inward, sp["horn_arm"]))
+    _set(sp, "phase", lambda: math.atan2(sp["horn_arm"], inward))
+    _set(sp, "plate_height", lambda: sp["horn_height"] - sp["link_length"] * math.cos(sp["link_lean"]))
 
 
 def _problems(values: dict) -> list[str]:

@@ -184,10 +184,34 @@ ENTRIES: dict[str, dict[str, Entry]] = {
         "torsion_frequency": positive("1/rev", "first rotating torsion frequency of the blade"),
         "structural_damping": ratio("structural damping ratio of each direction's first mode", 0.0, 0.5),
     },
+    "swashplate": {
+        "horn": choice("where the pitch horn sits: on the blade outboard of the flap and lag hinges (articulated "
+                       "rotors: pitch-flap and pitch-lag coupling from the geometry) or on the feathering housing "
+                       "inboard of the flexure (hingeless rotors: no kinematic coupling)", "blade", "housing"),
+        "horn_arm": positive("m", "chordwise distance of the pitch link's upper ball from the feathering axis, on the "
+                             "leading-edge side"),
+        "horn_height": num("m", "height of the upper ball above the hinge plane at zero pitch"),
+        "delta3": angle("pitch-flap coupling angle: the upper ball lies horn_arm tan(delta3) outboard of the flap "
+                        "hinge line, so that flapping up by beta pitches the blade down by about tan(delta3) beta",
+                        60, only_if=("horn", "blade")),
+        "ball_radius": positive("m", "distance of the upper ball from the rotor axis (a horn on the housing)",
+                                only_if=("horn", "housing")),
+        "link_length": positive("m", "pitch link length between its balls"),
+        "link_lean": angle("spanwise lean of the pitch link at neutral: its lower ball lies link_length sin(lean) "
+                           "inboard of the upper one (pitch-lag coupling, about -tan(lean))", 45),
+        "actuator_radius": positive("m", "distance of the actuators' balls on the non-rotating plate from the shaft"),
+        "actuator_azimuths": Entry("rad", "azimuths of the three actuators in the rotor's azimuth frame (0 over the "
+                                   "tail, counted in the sense of rotation)", "vector", -2 * math.pi, 2 * math.pi,
+                                   length=3),
+        "actuator_stroke": positive("m", "each actuator's travel either side of its neutral position"),
+        "link_stiffness": positive("N/m", "axial stiffness of a pitch link with the control system behind it (scenes "
+                                   "with elastic pitch links)"),
+    },
 }
 
-OPTIONAL_SECTIONS = ("environment", "geometry", "elastic_blade")
-"""Sections a file may leave out: ISA, display sizes scaled from the rotor, no elastic blades."""
+OPTIONAL_SECTIONS = ("environment", "geometry", "elastic_blade", "swashplate")
+"""Sections a file may leave out: ISA, display sizes scaled from the rotor, no elastic blades, no
+swashplate mechanism (the blade pitch then only driven)."""
 
 
 @dataclass(frozen=True)
@@ -212,6 +236,16 @@ DERIVED: dict[str, dict[str, Derived]] = {
                             "main rotor's hover torque)"),
     },
     "wake": {"core": Derived("-", "swirl core radius per R: the root cut-out (no torque inboard of it)")},
+    "swashplate": {
+        "ball_offset": Derived("m", "the upper ball's distance outboard of the flap hinge: horn_arm tan(delta3) on the "
+                               "blade, ball_radius - flap_hinge_offset on the housing"),
+        "plate_radius": Derived("m", "radius of the lower balls on the rotating plate: the upper ball's distance from "
+                                "the axis in the plane, moved link_length sin(link_lean) inboard"),
+        "phase": Derived("rad", "azimuth lead of a blade's lower ball over its feathering axis: "
+                         "atan2(horn_arm, upper ball radius - link_length sin(link_lean))"),
+        "plate_height": Derived("m", "height of the plate's lower balls at neutral above the hinge plane: "
+                                "horn_height - link_length cos(link_lean)"),
+    },
     "elastic_blade": {
         "flap_frequency": Derived("1/rev", "the rigid blade's first flap frequency, "
                                   "sqrt(1 + 3 e / (2 (R - e)) + K_beta / (I_flap Omega^2))"),

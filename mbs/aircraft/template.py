@@ -21,6 +21,9 @@ HEADER = """\
 # gravity, x forward, y starboard, z down. Check the file with:  heli aircraft check FILE
 """
 
+COMMENTED = ("elastic_blade", "swashplate")
+"""Optional sections written commented out (their entries are required once the section is there)."""
+
 
 def template(name: str, source: str = "TEMPLATE") -> str:
     """The text of a new aircraft file called ``name``."""
@@ -30,12 +33,12 @@ def template(name: str, source: str = "TEMPLATE") -> str:
     out = [HEADER.format(name=name, source=source)]
     for section, entries in ENTRIES.items():
         optional = section in OPTIONAL_SECTIONS
-        out.append(f"{'# ' if section == 'elastic_blade' else ''}[{section}]"
+        out.append(f"{'# ' if section in COMMENTED else ''}[{section}]"
                    + ("  # optional: leave the section out for the defaults" if optional else ""))
         for key, spec in entries.items():
             value = name if key == "name" else base.get(section, {}).get(key, spec.default)
             line = f"{key} = {{ value = {_toml(value)}, unit = \"{spec.unit}\", source = \"{source}\" }}"
-            commented = section == "elastic_blade" or spec.default is not None
+            commented = section in COMMENTED or spec.default is not None
             if spec.only_if:
                 line += f"  # only with {spec.only_if[0]} = \"{spec.only_if[1]}\""
             out += [f"# {spec.text} ({spec.unit}" + (f"; default {spec.default})" if spec.default is not None else ")"),

@@ -238,7 +238,8 @@ def _aircraft_estimate(system, lay: TrimLayout, speed: float, d) -> tuple[np.nda
         if name in names:
             x[names.index(name)] = value
     ranges = {q["name"]: (q.get("low", -np.inf), q.get("high", np.inf)) for q in system.info.parameters}
-    p = system.params({c: float(np.clip(getattr(e, c), *ranges[c])) for c in lay.control_names})
+    p = system.params({c: float(np.clip(getattr(e, c), *ranges[c])) for c in lay.control_names
+                       if hasattr(e, c)})  # other controls (swashplate actuators) start at their defaults
     return x, p
 
 

@@ -20,6 +20,7 @@ from typing import Callable
 
 import numpy as np
 
+from mbs.backends import closure
 from mbs.backends.info import ModelInfo
 
 
@@ -217,7 +218,10 @@ class System:
             x = rows[-1][-1] if len(rows[-1]) else x
             if progress:
                 progress(k, n_steps)
-        return self._trajectory(rows, t0, h, k, n_steps, every, status, start)
+        traj = self._trajectory(rows, t0, h, k, n_steps, every, status, start)
+        if status == 1:  # a local loop that cannot close turns the state non-finite: name it
+            traj.message = closure.reworded(self, traj, method, t0, h, k, p)
+        return traj
 
     def _trajectory(self, rows, t0, h, k, n_steps, every, status, start) -> Trajectory:
         x = np.concatenate(rows).astype(float)

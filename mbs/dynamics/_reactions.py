@@ -97,6 +97,8 @@ class Reactions:
         self._check(body)
         b = self._bodies[body]
         q, v = self._s[self.lay.q_slices[body]], self._u[self.lay.v_slices[body]]
+        if hasattr(b.joint, "full"):  # a loop joint (mbs.loops): its dependent coordinates too
+            q, v = b.joint.full(q, v, self._t, self._p)
         z = ca.SX.zeros(3)
         parent = self.motions.get(b.parent, Relative(z, ca.SX.eye(3), z, z))
         frame = compose(parent, Relative(ca.DM(b.at), ca.DM(b.frame), z, z))

@@ -13,6 +13,7 @@ from mbs.models.helicopter.aero import add_airframe_aero, add_rotor_aero
 from mbs.models.helicopter.config import Config
 from mbs.models.helicopter.estimate import TrimEstimate, estimate_trim
 from mbs.models.helicopter.outputs import add_outputs
+from mbs.models.helicopter.swashplate import add_actuator_inputs, add_elastic_links, add_swashplate_outputs
 from mbs.models.helicopter.tree import add_fuselage, add_main_rotor, add_tail_rotor
 from mbs.tree import Model
 
@@ -43,7 +44,11 @@ def build(cfg: Config = Config(), aircraft=None, name: str | None = None) -> Mod
         _add_parameters(m, d, cfg, trim, stored)
     add_outputs(m, d, cfg)
     add_load_outputs(m, d, cfg)
+    if cfg.swashplate:
+        add_swashplate_outputs(m, d, cfg)
     _set_initial(m, d, cfg, trim, stored)
+    if cfg.pitch_link == "elastic":
+        add_elastic_links(m, d, cfg)
     return m
 
 
@@ -64,7 +69,9 @@ def _add_parameters(m: Model, d, cfg: Config, trim: TrimEstimate, stored: dict |
                     low=mr["omega_min"], high=mr["omega_max"])
     if not cfg.pitch_hinge:
         return
-    for name, what in CONTROLS:
+    if cfg.swashplate == "actuators":
+        add_actuator_inputs(m, d, {name: getattr(trim, name) for name, _ in CONTROLS})
+    for name, what in CONTROLS if cfg.swashplate != "actuators" else ():
         low, high = mr[f"{name}_min"], mr[f"{name}_max"]  # the estimate beyond the controls' reach: clipped
         m.add_parameter(name, float(np.clip(getattr(trim, name), low, high)), "rad", what, control=True,
                         low=low, high=high)

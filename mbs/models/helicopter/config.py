@@ -20,7 +20,13 @@ class Config:
     both rotors); tail_wake (the main rotor's wake on the horizontal tail and fin); download
     (the wake's vertical drag on the fuselage); hub_drag (drag of the main-rotor hub). All off:
     the model of the paper's scenes. blade_segments: main-rotor blades as elastic chains of
-    that many segments (:mod:`mbs.models.elastic_blade`); 0: rigid blades.
+    that many segments (:mod:`mbs.models.elastic_blade`); 0: rigid blades. swashplate: None (the
+    blade pitch driven by the pitch inputs), "pitch" (the swashplate and pitch links of the
+    aircraft's ``[swashplate]`` set the pitch, the pilot pitch inputs mixed into the plate) or
+    "actuators" (the same, the three actuator displacements the controls); loop_solver: how the
+    pitch links' loops are solved, "closed-form" or "newton"; pitch_link: "rigid" (the pitch solved
+    from each link's loop) or "elastic" (the pitch a state, each link a spring of the aircraft's
+    link_stiffness) (:mod:`mbs.models.helicopter.swashplate`).
     """
 
     fuselage: str = "free"
@@ -42,8 +48,13 @@ class Config:
     download: bool = False
     hub_drag: bool = False
     blade_segments: int = 0
+    swashplate: str | None = None
+    loop_solver: str = "closed-form"
+    pitch_link: str = "rigid"
 
     def __post_init__(self):
+        from mbs.models.helicopter.swashplate import check
+        check(self)
         needs_rotor = [n for n in ("tail_wake", "download", "tip_loss", "compressibility") if getattr(self, n)]
         needs_rotor += ["inflow"] if self.inflow != "uniform" else []
         if needs_rotor and not self.rotor_aero:

@@ -58,6 +58,13 @@ SCENE_CONFIGS = {
                             dampers=False, shaft_tilt=False, pitch_hinge=False),
                      "hub clamped and driven (vertical shaft), one blade on flap and lag hinges with springs, "
                      "no aerodynamics: for frequency checks", False),
+    "forward-flight-swashplate": (Config(speed=10.0, trim="forward-flight", swashplate="pitch", **FULL),
+                                  "as forward-flight, the blade pitch set by the swashplate and pitch links (local "
+                                  "loops solved in the generated code) from the pilot pitch inputs; pitch-link and "
+                                  "actuator loads as outputs", False),
+    "forward-flight-actuators": (Config(speed=10.0, trim="forward-flight", swashplate="actuators", **FULL),
+                                 "as forward-flight-swashplate, the three swashplate actuator displacements (m) "
+                                 "the controls", False),
     "single-blade-aero": (Config(fuselage="none", blades=1, tail_rotor=False, airframe_aero=False, dampers=False,
                                  shaft_tilt=False, speed=0.0),
                           "hub clamped and driven (vertical shaft), one blade on flap, lag and driven pitch "

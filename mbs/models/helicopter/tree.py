@@ -17,6 +17,7 @@ from mbs.aircraft.checks import rotor_masses
 from mbs.joints import DrivenHinge, Fixed, FreeJoint, Hinge, Serial
 from mbs.models.elastic_blade import add_elastic_blade
 from mbs.models.helicopter import frames as fr
+from mbs.models.helicopter.swashplate import blade_joint
 from mbs.tree import Model
 
 BLADE_COLORS = ["#d62728", "#1f77b4", "#2ca02c", "#ff7f0e"]
@@ -102,7 +103,8 @@ def add_main_rotor(m: Model, d, cfg, parent: str) -> None:
         if cfg.blade_segments:  # elastic, after the pitch bearing (the rigid blade joint's last part)
             add_elastic_blade(m, d, cfg, k, frame, _blade_joint(d, cfg, psi0, sense).parts[2:], sense)
             continue
-        m.add_body(f"blade{k + 1}", "main_hub", _blade_joint(d, cfg, psi0, sense), mass=mr["blade_mass"],
+        joint = blade_joint(d, cfg, k + 1, psi0, sense) if cfg.swashplate else _blade_joint(d, cfg, psi0, sense)
+        m.add_body(f"blade{k + 1}", "main_hub", joint, mass=mr["blade_mass"],
                    com=((big_r - e) / 2, 0, 0), inertia=box_inertia(mr["blade_mass"], big_r - e, c, t),
                    at=e * frame[:, 0], frame=frame,
                    shape={"kind": "box", "size": [big_r - e, c, t], "offset": [(big_r - e) / 2, 0, 0],
