@@ -56,7 +56,8 @@ def position_rates(lay, s, u) -> ca.SX:
 @dataclass
 class Kinematics:
     """The tree's motion at a symbolic state: body-frame ``motions``, ``V`` (6 nb,), ``H``
-    (6 nb,), ``own`` per moving body its columns of ``J_u`` (6, nk) and ``sdot`` (nq,)."""
+    (6 nb,), ``own`` per moving body its columns of ``J_u`` (6, nk) (a section of a flexible
+    body: those of its body's modal rates) and ``sdot`` (nq,)."""
 
     motions: dict[str, Relative]
     V: ca.SX
@@ -69,12 +70,19 @@ class Kinematics:
         return slice(6 * i, 6 * i + 6)
 
 
+def _rates(lay, b) -> int:
+    """The rates moving body ``b`` relative to its parent: its joint's, or a flexible body's
+    modal rates for one of its sections."""
+    v = lay.v_slices[b.name]
+    return v.stop - v.start
+
+
 def kinematics(lay, s, u, t, p: Params) -> Kinematics:
     """Traverse the tree and differentiate: one direction along ``(F, 1)`` for ``H`` and, per
     moving body, one per rate of its own joint for its columns of ``J_u``."""
     motions = traverse(lay, s, u, t, p)
     V, sdot = body_states(lay, motions), position_rates(lay, s, u)
     H = ca.jtimes(V, ca.vertcat(s, t), ca.vertcat(sdot, 1))
-    own = {b.name: ca.jtimes(V[6 * i:6 * i + 6], u[lay.v_slices[b.name]], ca.SX.eye(b.joint.nv))
-           for i, b in enumerate(lay.bodies) if b.joint.nv}
+    own = {b.name: ca.jtimes(V[6 * i:6 * i + 6], u[lay.v_slices[b.name]], ca.SX.eye(_rates(lay, b)))
+           for i, b in enumerate(lay.bodies) if _rates(lay, b)}
     return Kinematics(motions, V, H, own, sdot)

@@ -102,21 +102,49 @@ def symbolic(model: _tree.Model, path: str | None = None) -> Symbolic:
     args, names = [x, t, p], ["x", "t", "p"]
     mt, jtg = composite(lay, spatial)
     parts = ca.Function("parts", args, [kin.sdot, mt, jtg + q, zdot], names, ["sdot", "Mt", "ht", "zdot"])
-    udot = articulated(lay, spatial, q)
-    recursion = ca.Function("rhs", args, [ca.vertcat(kin.sdot, udot, zdot)], names, ["xdot"])
-    operations = {"composite": int(parts.n_instructions()) + ldl_operations(mt.sparsity()),
-                  "articulated": int(recursion.n_instructions())}
-    path = choose(operations, path)
+    operations = {"composite": int(parts.n_instructions()) + ldl_operations(mt.sparsity())}
+    flexible = bool(lay.sections())  # their sections share rates, which the recursion does not take
+    if flexible:
+        udot = ca.SX.sym("udot", lay.nv)
+        path = choose(operations, _rigid_only(path, model))
+    else:
+        udot = articulated(lay, spatial, q)
+        recursion = ca.Function("rhs", args, [ca.vertcat(kin.sdot, udot, zdot)], names, ["xdot"])
+        operations["articulated"] = int(recursion.n_instructions())
+        path = choose(operations, path)
+    rhs = recursion if path == "articulated" else solve(parts, lay.nx, len(model.parameters))
     project = ca.vertcat(*[b.joint.project(s[lay.q_slices[b.name]]) for b in lay.bodies], ca.SX(0, 1), u, z)
     state.reactions = Reactions(lay, spatial, udot, kin.motions, r0, s, u, t, params)
     outputs = ca.vertcat(*[o.fn(state) for o in model.outputs.values()], ca.SX(0, 1))
     fns = {
         "parts": parts,
-        "kin": _kin(lay, args, names, kin, spatial),
+        "kin": _kin_ad(args, names, kin, u) if flexible else _kin(lay, args, names, kin, spatial),
         "energy": ca.Function("energy", args, [state.energy], names, ["energy"]),
-        "outputs": ca.Function("outputs", args, [outputs], names, ["y"]),
+        "outputs": _outputs(args, names, outputs, udot, rhs, lay) if flexible else
+        ca.Function("outputs", args, [outputs], names, ["y"]),
         "poses": ca.Function("poses", args, [poses(lay, kin.motions)], names, ["poses"]),
         "project": ca.Function("project", [x], [project], ["x"], ["x_projected"]),
-        "rhs": recursion if path == "articulated" else solve(parts, lay.nx, len(model.parameters)),
+        "rhs": rhs,
     }
     return Symbolic(model, lay, fns, path, operations)
+
+
+def _rigid_only(path: str | None, model) -> str | None:
+    if path == "articulated":
+        raise ValueError(f"model {model.name!r} has flexible bodies, whose sections share their modal rates: "
+                         "the articulated path takes rigid bodies only; use the composite path")
+    return path
+
+
+def _kin_ad(args, names, kin: Kinematics, u) -> ca.Function:
+    """``kin`` of a model with flexible bodies: ``J_u`` by AD of ``V`` (sections included)."""
+    return ca.Function("kin", args, [kin.V, ca.densify(ca.jacobian(kin.V, u)), kin.H], names, ["V", "Ju", "H"])
+
+
+def _outputs(args, names, outputs: ca.SX, udot: ca.SX, rhs: ca.Function, lay) -> ca.Function:
+    """``outputs(x, t, p)`` whose joint reactions read the accelerations ``udot`` (a symbol)
+    from the right-hand side (code-generatable)."""
+    inner = ca.Function("outputs_at", args + [udot], [outputs])
+    mx = [ca.MX.sym(n, a.sparsity()) for n, a in zip(names, args)]
+    accelerations = rhs(*mx)[lay.nq:lay.nq + lay.nv]
+    return ca.Function("outputs", mx, [inner(*mx, accelerations)], names, ["y"])
