@@ -80,15 +80,22 @@ class Shapes:
         return v.T @ k @ v
 
 
+LINEAR_REFINEMENT = 4
+"""Torsion and extension take this many times the elements of bending: linear elements
+converge as h² (the third torsion frequency 0.2 % high with 48 of them, 0.014 % with 192)."""
+
+
 def mode_shapes(blade: Blade, direction: str, count: int, omega: float = 0.0,
                 elements: int = BEAM_ELEMENTS) -> Shapes:
     """The first ``count`` modes of ``direction`` of ``blade`` clamped at its root and turning
-    at ``omega`` (rad/s), normalised at the tip (see the module)."""
+    at ``omega`` (rad/s), normalised at the tip (see the module), from ``elements`` finite
+    elements (:data:`LINEAR_REFINEMENT` times as many in torsion and extension)."""
     if direction not in DIRECTIONS:
         raise ValueError(f"unknown mode direction {direction!r}; choose one of {', '.join(DIRECTIONS)}")
     if direction == "axial" and not np.isfinite(blade.axial_stiffness):
         raise ValueError("axial modes need the blade's axial stiffness EA (N); the blade is inextensible")
     per_node = element_shapes(direction)[1]
+    elements *= LINEAR_REFINEMENT if per_node == 1 else 1
     if not 1 <= count <= per_node * elements:
         raise ValueError(f"{count} {direction} modes: choose 1 to {per_node * elements}")
     k, m = beam_matrices(blade, omega, direction, elements)

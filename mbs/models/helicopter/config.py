@@ -20,7 +20,9 @@ class Config:
     both rotors); tail_wake (the main rotor's wake on the horizontal tail and fin); download
     (the wake's vertical drag on the fuselage); hub_drag (drag of the main-rotor hub). All off:
     the model of the paper's scenes. blade_segments: main-rotor blades as elastic chains of
-    that many segments (:mod:`mbs.models.elastic_blade`); 0: rigid blades.
+    that many segments (:mod:`mbs.models.elastic_blade`); blade_modes: main-rotor blades as
+    flexible bodies with that many modes per direction (one count, or flap, lag, torsion
+    counts; :mod:`mbs.models.modal_blade`); both 0: rigid blades.
     """
 
     fuselage: str = "free"
@@ -42,8 +44,12 @@ class Config:
     download: bool = False
     hub_drag: bool = False
     blade_segments: int = 0
+    blade_modes: int | tuple = 0
 
     def __post_init__(self):
+        if self.blade_segments and self.blade_modes:
+            raise ValueError(f"blade_segments = {self.blade_segments} and blade_modes = {self.blade_modes!r}: an "
+                             "elastic blade is either a chain of segments or a modal blade; give one of them")
         needs_rotor = [n for n in ("tail_wake", "download", "tip_loss", "compressibility") if getattr(self, n)]
         needs_rotor += ["inflow"] if self.inflow != "uniform" else []
         if needs_rotor and not self.rotor_aero:
