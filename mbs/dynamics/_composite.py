@@ -8,8 +8,9 @@ rigid bodies): the same sums as the plain product, in O(n²) operations for a ch
 the product takes O(n³). The LDL costs O(n³) on a chain, little on a shallow tree.
 
 A flexible body's modal rates move its sections (:mod:`mbs.flexible`), each with its own
-twist ``ψ_s`` (its AD columns of ``J_u``), and nothing else: the body's columns gain the
-sections' momentum ``Γ = Σ_s I_s ψ_s`` (``f = Ic ξ + Γ`` in place of ``Ic ξ``), its own block
+twist ``ψ_s`` (its AD columns of ``J_u``), and nothing else. The body's :class:`Spatial` holds
+its sections (:mod:`mbs.dynamics._flexible`: the subtree sums skip them) and their momentum
+``Γ = Σ_s I_s ψ_s``: its columns take ``f = Ic ξ + Γ`` in place of ``Ic ξ``, its own block gains
 ``Γᵀ ξ + Σ_s ψ_sᵀ I_s ψ_s`` and its generalized force ``Σ_s ψ_sᵀ W_s``: the same sum
 ``Σ J_iᵀ M_i J_i`` over the sections.
 """
@@ -18,47 +19,33 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
-from mbs.dynamics._spatial import symmetric
-
 
 def composite(lay, spatial: dict) -> tuple[ca.SX, ca.SX]:
     """``Mt`` (nv, nv, sparse) and ``J_uᵀ g`` (nv,) from each body's :class:`Spatial`."""
     inertia = {n: s.inertia for n, s in spatial.items()}
     wrench = {n: s.wrench for n, s in spatial.items()}
     for b in reversed(lay.bodies):
-        if b.parent in inertia:
+        if b.parent in inertia and not getattr(b.joint, "shares", 0):  # sections: inside their body's
             inertia[b.parent] = inertia[b.parent] + inertia[b.name]
             wrench[b.parent] = wrench[b.parent] + wrench[b.name]
     parent = {b.name: b.parent for b in lay.bodies}
     moving = [b.name for b in lay.moving()]
-    flexible = {k: _sections(spatial[k].twist.shape[1], [spatial[n.name] for n in nodes])
-                for k, nodes in lay.sections().items()}
     blocks = {}
     for k in moving:
-        f, a = ca.mtimes(inertia[k], spatial[k].twist), k
-        f = f + flexible[k][0] if k in flexible else f
+        sp = spatial[k]
+        f, a = ca.mtimes(inertia[k], sp.twist), k
+        f = f + sp.momentum if sp.momentum is not None else f
         while a in parent:  # b_k and its ancestors
             if a in moving:
                 blocks[(a, k)] = ca.mtimes(spatial[a].twist.T, f)
             a = parent[a]
-        if k in flexible:
-            blocks[(k, k)] = blocks[(k, k)] + ca.mtimes(flexible[k][0].T, spatial[k].twist) + flexible[k][1]
+        if sp.momentum is not None:
+            blocks[(k, k)] = blocks[(k, k)] + ca.mtimes(sp.momentum.T, sp.twist) + sp.own_block
     rows = [[blocks[(a, k)] if (a, k) in blocks else blocks[(k, a)].T if (k, a) in blocks
              else ca.SX(spatial[a].twist.shape[1], spatial[k].twist.shape[1]) for k in moving] for a in moving]
-    jtg = ca.vertcat(*[ca.mtimes(spatial[k].twist.T, wrench[k]) + (flexible[k][2] if k in flexible else 0)
-                       for k in moving], ca.SX(0, 1))
+    jtg = ca.vertcat(*[ca.mtimes(spatial[k].twist.T, wrench[k])
+                       + (spatial[k].own_force if spatial[k].own_force is not None else 0) for k in moving], ca.SX(0, 1))
     return ca.sparsify(ca.blockcat(rows)) if moving else ca.SX(0, 0), jtg
-
-
-def _sections(nk: int, sections: list) -> tuple[ca.SX, ca.SX, ca.SX]:
-    """A flexible body's momentum ``Γ`` (6, nk), own block (nk, nk) and generalized force
-    (nk,) from its sections' :class:`Spatial` (twists over its last modal columns)."""
-    momentum, mass, force = ca.SX(6, nk), ca.SX(nk, nk), ca.SX(nk, 1)
-    for sp in sections:
-        psi = ca.horzcat(ca.SX(6, nk - sp.twist.shape[1]), sp.twist)
-        p = ca.mtimes(sp.inertia, psi)
-        momentum, mass, force = momentum + p, mass + ca.mtimes(psi.T, p), force + ca.mtimes(psi.T, sp.wrench)
-    return momentum, symmetric(mass), force
 
 
 def solve(parts: ca.Function, nx: int, np_: int) -> ca.Function:

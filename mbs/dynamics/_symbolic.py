@@ -9,6 +9,7 @@ import numpy as np
 from mbs import tree as _tree
 from mbs.dynamics._articulated import articulated
 from mbs.dynamics._composite import composite, ldl_operations, solve
+from mbs.dynamics._flexible import flexible_spatials
 from mbs.dynamics._kinematics import Kinematics, kinematics, poses
 from mbs.dynamics._layout import Layout
 from mbs.dynamics._loads import applied, energy, mass_times, state_view
@@ -67,7 +68,7 @@ def _kin(lay, args, names, kin: Kinematics, spatial: dict) -> ca.Function:
     block ``(i, k)`` is body ``i``'s state map times ``ξ_k`` when ``b_k`` is ``b_i`` or one of
     its ancestors, formed by sparse products (compact code for any depth)."""
     maps = ca.diagcat(*[spatial[b.name].to_body_state for b in lay.bodies])
-    twists = ca.diagcat(*[spatial[b.name].twist for b in lay.bodies])
+    twists = _placed(lay, spatial) if lay.sections() else ca.diagcat(*[spatial[b.name].twist for b in lay.bodies])
     blocks = ca.Function("kin_blocks", args, [kin.V, kin.H, maps, twists], names, ["V", "H", "maps", "twists"])
     mx = [ca.MX.sym(n, a.sparsity()) for n, a in zip(names, args)]
     v, h, m, xi = blocks(*mx)
@@ -100,7 +101,7 @@ def symbolic(model: _tree.Model, path: str | None = None) -> Symbolic:
     spatial = {b.name: body_spatial(b, kin.motions[b.name], kin.own.get(b.name, ca.SX(6, 0)), g[kin.rows(i)], r0)
                for i, b in enumerate(lay.bodies)}
     args, names = [x, t, p], ["x", "t", "p"]
-    mt, jtg = composite(lay, spatial)
+    mt, jtg = composite(lay, {**spatial, **flexible_spatials(lay, kin, spatial, g, u, r0)})
     parts = ca.Function("parts", args, [kin.sdot, mt, jtg + q, zdot], names, ["sdot", "Mt", "ht", "zdot"])
     operations = {"composite": int(parts.n_instructions()) + ldl_operations(mt.sparsity())}
     flexible = bool(lay.sections())  # their sections share rates, which the recursion does not take
@@ -118,7 +119,7 @@ def symbolic(model: _tree.Model, path: str | None = None) -> Symbolic:
     outputs = ca.vertcat(*[o.fn(state) for o in model.outputs.values()], ca.SX(0, 1))
     fns = {
         "parts": parts,
-        "kin": _kin_ad(args, names, kin, u) if flexible else _kin(lay, args, names, kin, spatial),
+        "kin": _kin(lay, args, names, kin, spatial),
         "energy": ca.Function("energy", args, [state.energy], names, ["energy"]),
         "outputs": _outputs(args, names, outputs, udot, rhs, lay) if flexible else
         ca.Function("outputs", args, [outputs], names, ["y"]),
@@ -136,9 +137,14 @@ def _rigid_only(path: str | None, model) -> str | None:
     return path
 
 
-def _kin_ad(args, names, kin: Kinematics, u) -> ca.Function:
-    """``kin`` of a model with flexible bodies: ``J_u`` by AD of ``V`` (sections included)."""
-    return ca.Function("kin", args, [kin.V, ca.densify(ca.jacobian(kin.V, u)), kin.H], names, ["V", "Ju", "H"])
+def _placed(lay, spatial: dict) -> ca.SX:
+    """Each body's twist (6, nk) in its rows and in the columns of the rates that move it
+    (6 nb, nv): a section's in its flexible body's modal columns."""
+    out = ca.SX(6 * len(lay.bodies), lay.nv)
+    for i, b in enumerate(lay.bodies):
+        if spatial[b.name].twist.shape[1]:
+            out[6 * i:6 * i + 6, lay.v_slices[b.name]] = spatial[b.name].twist
+    return out
 
 
 def _outputs(args, names, outputs: ca.SX, udot: ca.SX, rhs: ca.Function, lay) -> ca.Function:
