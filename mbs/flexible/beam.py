@@ -122,18 +122,58 @@ class ModalBlade:
                               deflection("flap", 0))
         return position, ca.vertcat(deflection("flap", 1), deflection("lag", 1), deflection("torsion", 0))
 
+    @property
+    def axes(self) -> tuple[tuple[float, float, float], ...]:
+        """The axes of the flap slope, lag slope and twist turns (blade frame)."""
+        return (0.0, -1.0, 0.0), (0.0, 0.0, -self.sense * 1.0), (self.sense * 1.0, 0.0, 0.0)
+
+    def _turned(self, position, velocity, angles, rates) -> Relative:
+        """The section frame turned by ``angles`` (flap slope, lag slope, twist) about
+        :attr:`axes` in turn, its rate of turn from the angles' ``rates`` (section axes)."""
+        motion = Relative(position, ca.SX.eye(3), velocity, ca.SX.zeros(3))
+        for k, axis in enumerate(self.axes):
+            turn = Relative(ca.SX.zeros(3), rot.axis_angle(axis, angles[k]), ca.SX.zeros(3),
+                            ca.DM(axis) * rates[k])
+            motion = compose(motion, turn)
+        return motion
+
     def relative(self, q, v, x: float) -> Relative:
         """Motion of the section frame at ``x`` in the blade frame (a joint's relative
         kinematics): velocity and angular velocity by forward-mode AD along ``v``."""
         position, angles = self.section(q, x)
         rates = ca.jtimes(ca.vertcat(position, angles), q, v)
-        axes = ((0.0, -1.0, 0.0), (0.0, 0.0, -self.sense * 1.0), (self.sense * 1.0, 0.0, 0.0))
-        motion = Relative(position, ca.SX.eye(3), rates[:3], ca.SX.zeros(3))
-        for k, axis in enumerate(axes):
-            turn = Relative(ca.SX.zeros(3), rot.axis_angle(axis, angles[k]), ca.SX.zeros(3),
-                            ca.DM(axis) * rates[3 + k])
-            motion = compose(motion, turn)
-        return motion
+        return self._turned(position, rates[:3], angles, rates[3:])
+
+    def curvature(self, q, x: float) -> ca.SX:
+        """Curvature and twist rate of the bent blade at ``x`` (1/m, section axes: x twist, y
+        flap, z lag bending): the rate of turn of the section frame along the span, from the
+        same turns as :meth:`relative` with the angles' span derivatives in place of their
+        time rates. In the section's own axes, so its bending stiffnesses turn with the
+        twist (as the segmented blade's hinges after its torsion hinges)."""
+        ahead = {k: self.shapes[k].values(x) if self.counts[k] else None for k in DIRECTIONS}
+        parts, zero = self._split(q), ca.SX(0)
+
+        def along(k, d):
+            return ca.dot(ca.DM(ahead[k][d]), parts[k]) if self.counts[k] else zero
+
+        angles = ca.vertcat(along("flap", 1), along("lag", 1), along("torsion", 0))
+        spans = ca.vertcat(along("flap", 2), along("lag", 2), along("torsion", 1))
+        return self._turned(ca.SX.zeros(3), ca.SX.zeros(3), angles, spans).omega
+
+    def strain_energy(self, q) -> ca.SX:
+        """Strain energy (J) beyond the quadratic ``q·K·q / 2`` (:meth:`stiffness`, exact from
+        the section data): ``½ ∫ (GJ κ_x² + EI_flap κ_y² + EI_lag κ_z²)`` of the section-axes
+        curvature less its part quadratic in ``q``, by Gauss–Legendre quadrature over the
+        mass nodes; zero to second order in ``q``."""
+        b = self.blade
+        stiff = ca.DM([b.torsion_stiffness, b.flap_stiffness, b.lag_stiffness])
+        x, mass, _ = self.mass_nodes()
+        total = ca.SX(0)
+        for xk, wk in zip(x, mass / b.mass):
+            kappa = self.curvature(q, xk)
+            linear = ca.mtimes(ca.substitute(ca.jacobian(kappa, q), q, ca.SX.zeros(q.shape)), q)  # its linear part
+            total += wk / 2 * ca.dot(stiff, kappa**2 - linear**2)
+        return total
 
     def stiffness(self) -> np.ndarray:
         """Elastic stiffness of the modal coordinates (size, size): block-diagonal by direction."""

@@ -58,7 +58,7 @@ def add_flexible_blade(m: Model, beam: ModalBlade, name: str, parent: str, at=(0
         names.append(_insert(m, Body(aero_name(name, k + 1), name, Section(beam, x), 0.0, np.zeros(3),
                                      np.zeros((3, 3)))).name)
     damping = np.diag(beam.damping_times()) @ beam.stiffness() if dampers else np.zeros((beam.size,) * 2)
-    m.add_force(ModalElasticity(name, beam.names, beam.stiffness(), 0.5 * (damping + damping.T)))
+    m.add_force(ModalElasticity(name, beam.names, beam.stiffness(), 0.5 * (damping + damping.T), beam.strain_energy))
     return names
 
 

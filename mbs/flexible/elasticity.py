@@ -8,12 +8,14 @@ from mbs.forces import ForceElement
 
 
 class ModalElasticity(ForceElement):
-    """Generalized forces ``-K q - D q'`` on the modal coordinates ``names`` of ``body``
-    (stiffness ``K`` (n, n) from the section data, N m for tip-normalised coordinates;
-    damping ``D`` (n, n), N m s), with the strain energy ``q·K·q / 2`` (J)."""
+    """Generalized forces ``-∂U/∂q - D q'`` on the modal coordinates ``names`` of ``body``: the
+    strain energy ``U = q·K·q / 2 + extra(q)`` (J; stiffness ``K`` (n, n) from the section data,
+    N m for tip-normalised coordinates; ``extra`` a function of the coordinates' SX vector,
+    e.g. :meth:`mbs.flexible.beam.ModalBlade.strain_energy`, its gradient by AD) and the
+    damping ``D`` (n, n), N m s."""
 
-    def __init__(self, body: str, names, stiffness: np.ndarray, damping: np.ndarray):
-        self.name = f"elasticity {body}"
+    def __init__(self, body: str, names, stiffness: np.ndarray, damping: np.ndarray, extra=None):
+        self.name, self.extra = f"elasticity {body}", extra
         self.coordinates = [f"{body}.{n}" for n in names]
         self.stiffness, self.damping = np.asarray(stiffness, float), np.asarray(damping, float)
         n = len(self.coordinates)
@@ -25,11 +27,13 @@ class ModalElasticity(ForceElement):
         return ca.vertcat(*[state.q(n) for n in self.coordinates])
 
     def apply(self, state, loads) -> None:
-        rates = ca.vertcat(*[state.v(n + "_rate") for n in self.coordinates])
-        force = -ca.mtimes(ca.DM(self.stiffness), self._q(state)) - ca.mtimes(ca.DM(self.damping), rates)
+        q, rates = self._q(state), ca.vertcat(*[state.v(n + "_rate") for n in self.coordinates])
+        force = -ca.mtimes(ca.DM(self.stiffness), q) - ca.mtimes(ca.DM(self.damping), rates)
+        if self.extra is not None:
+            force -= ca.gradient(self.extra(q), q)
         for i, n in enumerate(self.coordinates):
             loads.add_generalized(n + "_rate", force[i])
 
     def potential(self, state):
         q = self._q(state)
-        return 0.5 * ca.mtimes([q.T, ca.DM(self.stiffness), q])
+        return 0.5 * ca.mtimes([q.T, ca.DM(self.stiffness), q]) + (self.extra(q) if self.extra is not None else 0)

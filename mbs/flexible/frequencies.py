@@ -52,23 +52,25 @@ def classify(jacobian: np.ndarray, q_names: list[str]) -> dict[str, list[float]]
     return {k: sorted(v) for k, v in out.items() if v}
 
 
-def equilibrium(sym, p, iterations: int = 20, tol: float = 1e-12) -> np.ndarray:
-    """The state (nx,) of ``sym`` (a :class:`mbs.dynamics.Symbolic` of a model without extra
-    states) at rest in the turning frame: rates zero, ``ht(s, 0) = 0`` to ``tol`` of its value at
-    the undeformed state, by Newton's method with the AD Jacobian of ``ht``."""
-    import casadi as ca
+def equilibrium(sym, p, x0=None, t: float = 0.0, iterations: int = 30, tol: float = 1e-12) -> np.ndarray:
+    """A state (nx,) of ``sym`` (a :class:`mbs.dynamics.Symbolic`) at rest in the turning frame:
+    rates zero and ``x' = 0`` (coordinates and extra states solved for; an axisymmetric rotor's
+    periodic solution), by Newton's method from ``x0`` (default: undeformed) with the exact AD
+    Jacobian, to ``tol`` of the first residual."""
+    from mbs.linearize import rhs_jacobian
 
     lay = sym.layout
-    x = ca.SX.sym("x", lay.nx)
-    ht = sym["parts"](x, 0.0, p)[2]
-    step = ca.Function("step", [x], [ht, ca.jacobian(ht, x)[:, :lay.nq]])
-    state, scale = np.zeros(lay.nx), None
+    rhs, jac = sym["rhs"], rhs_jacobian(sym["rhs"])
+    unknown = np.r_[np.arange(lay.nq), np.arange(lay.nq + lay.nv, lay.nx)]
+    state = np.zeros(lay.nx) if x0 is None else np.array(x0, dtype=float)
+    state[lay.nq:lay.nq + lay.nv], scale = 0.0, None
     for _ in range(iterations):
-        r, j = (np.array(a, dtype=float) for a in step(state))
-        scale = scale or max(1.0, np.abs(r).max())
+        r = np.array(rhs(state, t, p), dtype=float).ravel()[lay.nq:]
+        scale = scale or max(1e-300, np.abs(r).max())
         if np.abs(r).max() <= tol * scale:
             return state
-        state[:lay.nq] -= np.linalg.lstsq(j, r.ravel(), rcond=None)[0]
+        j = np.array(jac(state, t, p), dtype=float)[lay.nq:][:, unknown]
+        state[unknown] -= np.linalg.lstsq(j, r, rcond=None)[0]
     raise RuntimeError(f"no equilibrium of {sym.model.name!r} after {iterations} Newton steps")
 
 
