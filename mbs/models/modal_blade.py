@@ -62,3 +62,24 @@ def rotor_pieces(d, cfg) -> dict[str, list[tuple[str, float]]]:
     radii = aero_radii(d, cfg).tolist()
     blades = [f"blade{k + 1}" for k in range(cfg.blade_count(d["main_rotor"]["n_blades"]))]
     return {b: [(aero_name(b, j + 1), r) for j, r in enumerate(radii)] for b in blades}
+
+
+def modal_frequencies(modes, data=None) -> dict[str, float]:
+    """First flap, lag and torsion frequencies (rad/s, rotating frame) of one modal blade with
+    ``modes`` per direction (of the aircraft ``data``, default the Bo105) on a hub driven at
+    the rotor speed, in vacuum, without gravity and dampers: the eigenvalues of the AD
+    Jacobian of the multibody model at the undeformed blade, as
+    :func:`mbs.models.elastic_blade.segmented_frequencies` for the segmented blade."""
+    from mbs.dynamics import symbolic
+    from mbs.flexible.frequencies import classify
+    from mbs.linearize import rhs_jacobian
+    from mbs.models import helicopter
+
+    cfg = helicopter.Config(fuselage="none", blades=1, tail_rotor=False, rotor_aero=False, airframe_aero=False,
+                            dampers=False, shaft_tilt=False, pitch_hinge=False, blade_modes=modes)
+    model = helicopter.build(cfg, data, name="modal-blade")
+    model.gravity = np.zeros(3)
+    sym = symbolic(model)
+    p = [model.parameters[k].default for k in model.parameters]
+    found = classify(np.array(rhs_jacobian(sym["rhs"])(np.zeros(sym.layout.nx), 0.0, p)), sym.layout.q_names)
+    return {k: found[k][0] for k in eb.DIRECTIONS if k in found}
