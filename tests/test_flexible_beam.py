@@ -81,8 +81,11 @@ def test_the_lag_frequency_carries_the_minus_omega_squared_term():
 
 def _euler_bernoulli_mode(beta: float):
     sigma = (np.cosh(beta) + np.cos(beta)) / (np.sinh(beta) + np.sin(beta))
-    shape = lambda x: np.cosh(beta * x) - np.cos(beta * x) - sigma * (np.sinh(beta * x) - np.sin(beta * x))  # noqa: E731
-    slope = lambda x: beta * (np.sinh(beta * x) + np.sin(beta * x) - sigma * (np.cosh(beta * x) - np.cos(beta * x)))  # noqa: E731
+    def shape(x):
+        return np.cosh(beta * x) - np.cos(beta * x) - sigma * (np.sinh(beta * x) - np.sin(beta * x))
+
+    def slope(x):
+        return beta * (np.sinh(beta * x) + np.sin(beta * x) - sigma * (np.cosh(beta * x) - np.cos(beta * x)))
     return shape, slope
 
 

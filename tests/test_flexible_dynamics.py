@@ -114,7 +114,8 @@ def test_the_state_jacobian_by_ad_equals_finite_differences(flexible_tree):
     x, t, p = _deformed(system, 9), 0.2, system.params()
     jac = np.array(rhs_jacobian(system.functions["rhs"])(x, t, p))
     d = 1e-6
-    fd = np.column_stack([(system.rhs(x + d * e, t) - system.rhs(x - d * e, t)) / (2 * d) for e in np.eye(system.info.nx)])
+    fd = np.column_stack([(system.rhs(x + d * e, t) - system.rhs(x - d * e, t)) / (2 * d)
+                          for e in np.eye(system.info.nx)])
     assert np.abs(jac - fd).max() <= 1e-7 * np.abs(jac).max()
 
 

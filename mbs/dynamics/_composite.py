@@ -44,7 +44,8 @@ def composite(lay, spatial: dict) -> tuple[ca.SX, ca.SX]:
     rows = [[blocks[(a, k)] if (a, k) in blocks else blocks[(k, a)].T if (k, a) in blocks
              else ca.SX(spatial[a].twist.shape[1], spatial[k].twist.shape[1]) for k in moving] for a in moving]
     jtg = ca.vertcat(*[ca.mtimes(spatial[k].twist.T, wrench[k])
-                       + (spatial[k].own_force if spatial[k].own_force is not None else 0) for k in moving], ca.SX(0, 1))
+                       + (spatial[k].own_force if spatial[k].own_force is not None else 0) for k in moving],
+                     ca.SX(0, 1))
     return ca.sparsify(ca.blockcat(rows)) if moving else ca.SX(0, 0), jtg
 
 

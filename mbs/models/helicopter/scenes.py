@@ -75,8 +75,8 @@ ELASTIC_TEXT = ("hub clamped and driven (vertical shaft), the main rotor's blade
 ELASTIC_ROTOR_MODAL = replace(ELASTIC_ROTOR, blade_segments=0, blade_modes=(2, 2, 2))
 MODAL_TEXT = ("as elastic-rotor, the blades flexible bodies with modal coordinates: 2 flap, 2 lag and 2 torsion modes "
               "each (the blade's own rotating modes: 1.117, 3.33, 0.68, 4.16, 3.7 and 10.7/rev for the Bo105), the "
-              "centrifugal stiffening from the kinematics; RK4 at 120 steps per revolution (the step check finds the second "
-              "torsion mode 1.2 % off at 100)")
+              "centrifugal stiffening from the kinematics; RK4 at 120 steps per revolution (the step check finds the "
+              "second torsion mode 1.2 % off at 100)")
 
 
 def _register() -> None:
