@@ -21,7 +21,8 @@ import logging
 import sys
 
 COMMAND_MODULES = ("mbs.commands", "mbs.aircraft.commands", "mbs.bench.commands", "mbs.bench.stability", "mbs.bench.work_precision",
-                   "mbs.bench.scaling", "mbs.sweep.commands", "fmu.commands", "viewer.commands", "mbs.loads.commands")
+                   "mbs.bench.scaling", "mbs.sweep.commands", "fmu.commands", "viewer.commands", "mbs.loads.commands",
+                   "mbs.bench.modal")
 
 
 _json_out = None

@@ -22,8 +22,8 @@ HELI = Path(sys.executable).with_name("heli")
 PACKAGE_TRIMS = Path(mbs.__file__).resolve().parent / "aircraft" / "data" / "bo105_trim.toml"
 PACKAGE_TRIMS_TEXT = PACKAGE_TRIMS.read_text()
 NOT_TRIMMABLE = ("demo-rotor", "demo-driven", "structural", "single-blade", "ground-resonance")
-TRIMMABLE = ("trimmable scenes: elastic-rotor, forward-flight, forward-flight-actuators, forward-flight-swashplate, "
-             "ground-run, hover, single-blade-aero")
+TRIMMABLE = ("trimmable scenes: elastic-rotor, elastic-rotor-modal, forward-flight, forward-flight-actuators, "
+             "forward-flight-swashplate, ground-run, hover, single-blade-aero")
 
 # (command line; words the message must contain). FILE is an existing file, DIR an existing
 # folder with a results.csv in it, PKG the trims file inside the installed package.

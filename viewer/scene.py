@@ -163,8 +163,15 @@ def _default_colors(info, parents: list[int]) -> dict[str, int]:
 
 
 def default_traced(info) -> list[str]:
-    """Main-rotor blades: the bodies called ``blade<k>``."""
-    return [n for n in info.body_names if re.fullmatch(r"blade\d+", n)]
+    """Main-rotor blades: the bodies called ``blade<k>``; for a flexible blade (no shape of its
+    own, :mod:`mbs.flexible`) its outermost section with a shape, whose tip is the blade's."""
+    out = []
+    for b in info.bodies:
+        if re.fullmatch(r"blade\d+", b["name"]):
+            sections = [c["name"] for c in info.bodies if c["parent"] == b["name"] and c["joint"] == "Section"
+                        and c.get("shape")]
+            out.append(sections[-1] if not b.get("shape") and sections else b["name"])
+    return out
 
 
 def build_scene(info, flat: bool = False, trace=True, follow: str | None | bool = True) -> Scene:
@@ -188,7 +195,7 @@ def build_scene(info, flat: bool = False, trace=True, follow: str | None | bool 
     parts = {b["name"]: [_part(s, b["name"], defaults[b["name"]]) for s in _parts_of(b)] for b in info.bodies}
     colors = {n: (parts[n][0].color if parts[n] else defaults[n]) for n in names}
     traced = _traced(info, parents, parts, trace)
-    frames = {b: _trace_frame(names, parents, b) for b in traced}
+    frames = {b: _trace_frame(names, parents, b, info) for b in traced}
     return Scene(info, paths, parts, colors, flat, traced, frames, _follow(info, parents, follow),
                  _extent(info, parents, parts))
 
@@ -204,8 +211,11 @@ def _traced(info, parents, parts, trace) -> list[str]:
     return chosen
 
 
-def _trace_frame(names, parents, blade: str) -> str:
-    hub = parents[names.index(blade)]
+def _trace_frame(names, parents, blade: str, info=None) -> str:
+    i = names.index(blade)
+    if info is not None and info.bodies[i]["joint"] == "Section":  # a flexible blade's section: its blade's hub
+        i = parents[i]
+    hub = parents[i]
     if hub < 0 or parents[hub] < 0:
         return "world"
     return names[parents[hub]]

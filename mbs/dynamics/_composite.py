@@ -6,6 +6,13 @@ its ancestors (zero otherwise) and ``(J_uᵀ g)_k = ξ_kᵀ Wc(b_k)``, with ``Ic
 spatial inertias and wrenches summed over the subtree of ``b_k`` (Featherstone's composite
 rigid bodies): the same sums as the plain product, in O(n²) operations for a chain where
 the product takes O(n³). The LDL costs O(n³) on a chain, little on a shallow tree.
+
+A flexible body's modal rates move its sections (:mod:`mbs.flexible`), each with its own
+twist ``ψ_s`` (its AD columns of ``J_u``), and nothing else. The body's :class:`Spatial` holds
+its sections (:mod:`mbs.dynamics._flexible`: the subtree sums skip them) and their momentum
+``Γ = Σ_s I_s ψ_s``: its columns take ``f = Ic ξ + Γ`` in place of ``Ic ξ``, its own block gains
+``Γᵀ ξ + Σ_s ψ_sᵀ I_s ψ_s`` and its generalized force ``Σ_s ψ_sᵀ W_s``: the same sum
+``Σ J_iᵀ M_i J_i`` over the sections.
 """
 from __future__ import annotations
 
@@ -18,21 +25,27 @@ def composite(lay, spatial: dict) -> tuple[ca.SX, ca.SX]:
     inertia = {n: s.inertia for n, s in spatial.items()}
     wrench = {n: s.wrench for n, s in spatial.items()}
     for b in reversed(lay.bodies):
-        if b.parent in inertia:
+        if b.parent in inertia and not getattr(b.joint, "shares", 0):  # sections: inside their body's
             inertia[b.parent] = inertia[b.parent] + inertia[b.name]
             wrench[b.parent] = wrench[b.parent] + wrench[b.name]
     parent = {b.name: b.parent for b in lay.bodies}
     moving = [b.name for b in lay.moving()]
     blocks = {}
     for k in moving:
-        f, a = ca.mtimes(inertia[k], spatial[k].twist), k
+        sp = spatial[k]
+        f, a = ca.mtimes(inertia[k], sp.twist), k
+        f = f + sp.momentum if sp.momentum is not None else f
         while a in parent:  # b_k and its ancestors
             if a in moving:
                 blocks[(a, k)] = ca.mtimes(spatial[a].twist.T, f)
             a = parent[a]
+        if sp.momentum is not None:
+            blocks[(k, k)] = blocks[(k, k)] + ca.mtimes(sp.momentum.T, sp.twist) + sp.own_block
     rows = [[blocks[(a, k)] if (a, k) in blocks else blocks[(k, a)].T if (k, a) in blocks
              else ca.SX(spatial[a].twist.shape[1], spatial[k].twist.shape[1]) for k in moving] for a in moving]
-    jtg = ca.vertcat(*[ca.mtimes(spatial[k].twist.T, wrench[k]) for k in moving], ca.SX(0, 1))
+    jtg = ca.vertcat(*[ca.mtimes(spatial[k].twist.T, wrench[k])
+                       + (spatial[k].own_force if spatial[k].own_force is not None else 0) for k in moving],
+                     ca.SX(0, 1))
     return ca.sparsify(ca.blockcat(rows)) if moving else ca.SX(0, 0), jtg
 
 

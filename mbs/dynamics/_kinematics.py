@@ -8,7 +8,7 @@ the angular velocity (body components, rad/s), so that the body mass matrix is
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import casadi as ca
 
@@ -20,8 +20,9 @@ def _placement(body) -> Relative:
     return Relative(ca.DM(body.at), ca.DM(body.frame), z, z)
 
 
-def traverse(lay, s, u, t, p: Params) -> dict[str, Relative]:
-    """Absolute motion of every body frame, root to leaves (the paper's traversal)."""
+def traverse(lay, s, u, t, p: Params, relatives: dict | None = None) -> dict[str, Relative]:
+    """Absolute motion of every body frame, root to leaves (the paper's traversal); each joint's
+    relative motion also into ``relatives`` when given."""
     z = ca.SX.zeros(3)
     world = Relative(z, ca.SX.eye(3), z, z)
     motions: dict[str, Relative] = {}
@@ -29,6 +30,8 @@ def traverse(lay, s, u, t, p: Params) -> dict[str, Relative]:
         parent = motions.get(b.parent, world)
         rel = b.joint.relative(s[lay.q_slices[b.name]], u[lay.v_slices[b.name]], t, p)
         motions[b.name] = compose(compose(parent, _placement(b)), rel)
+        if relatives is not None:
+            relatives[b.name] = rel
     return motions
 
 
@@ -56,25 +59,35 @@ def position_rates(lay, s, u) -> ca.SX:
 @dataclass
 class Kinematics:
     """The tree's motion at a symbolic state: body-frame ``motions``, ``V`` (6 nb,), ``H``
-    (6 nb,), ``own`` per moving body its columns of ``J_u`` (6, nk) and ``sdot`` (nq,)."""
+    (6 nb,), ``own`` per moving body its columns of ``J_u`` (6, nk) (a section of a flexible
+    body: those of its body's modal rates), ``sdot`` (nq,) and each joint's ``relative`` motion."""
 
     motions: dict[str, Relative]
     V: ca.SX
     H: ca.SX
     own: dict[str, ca.SX]
     sdot: ca.SX
+    relative: dict[str, Relative] = field(default_factory=dict)
 
     def rows(self, i: int) -> slice:
         """The rows of body ``i`` (layout order) in ``V`` and ``H``."""
         return slice(6 * i, 6 * i + 6)
 
 
+def _rates(lay, b) -> int:
+    """The rates moving body ``b`` relative to its parent: its joint's, or a flexible body's
+    modal rates for one of its sections."""
+    v = lay.v_slices[b.name]
+    return v.stop - v.start
+
+
 def kinematics(lay, s, u, t, p: Params) -> Kinematics:
     """Traverse the tree and differentiate: one direction along ``(F, 1)`` for ``H`` and, per
     moving body, one per rate of its own joint for its columns of ``J_u``."""
-    motions = traverse(lay, s, u, t, p)
+    relative: dict[str, Relative] = {}
+    motions = traverse(lay, s, u, t, p, relative)
     V, sdot = body_states(lay, motions), position_rates(lay, s, u)
     H = ca.jtimes(V, ca.vertcat(s, t), ca.vertcat(sdot, 1))
-    own = {b.name: ca.jtimes(V[6 * i:6 * i + 6], u[lay.v_slices[b.name]], ca.SX.eye(b.joint.nv))
-           for i, b in enumerate(lay.bodies) if b.joint.nv}
-    return Kinematics(motions, V, H, own, sdot)
+    own = {b.name: ca.jtimes(V[6 * i:6 * i + 6], u[lay.v_slices[b.name]], ca.SX.eye(_rates(lay, b)))
+           for i, b in enumerate(lay.bodies) if _rates(lay, b)}
+    return Kinematics(motions, V, H, own, sdot, relative)

@@ -60,7 +60,8 @@ class Reactions:
             for b in self.lay.bodies:
                 sp = self.spatial[b.name]
                 a = acc.get(b.parent, ca.SX.zeros(6))
-                acc[b.name] = a + ca.mtimes(sp.twist, self.udot[self.lay.v_slices[b.name]]) if b.joint.nv else a
+                moved = sp.twist.shape[1]  # by its joint's rates (a flexible body's section: the body's modal ones)
+                acc[b.name] = a + ca.mtimes(sp.twist, self.udot[self.lay.v_slices[b.name]]) if moved else a
                 own[b.name] = ca.mtimes(sp.inertia, acc[b.name]) - sp.wrench
             for b in reversed(self.lay.bodies):
                 if b.parent in own:

@@ -29,12 +29,17 @@ class Spatial:
     """Body quantities about ``r0``, world components: ``twist`` (6, nk) of its own rates,
     ``inertia`` (6, 6), ``wrench`` (6,) of its load, and ``to_body_state`` (6, 6), the map
     from a twist to the body state (centre-of-mass velocity in world, angular velocity in
-    body)."""
+    body). A flexible body with its sections (:mod:`mbs.dynamics._flexible`) also has what its
+    modal rates move besides the rigid twist: ``momentum`` (6, nk), ``own_block`` (nk, nk) and
+    ``own_force`` (nk,)."""
 
     twist: ca.SX
     inertia: ca.SX
     wrench: ca.SX
     to_body_state: ca.SX
+    momentum: ca.SX | None = None
+    own_block: ca.SX | None = None
+    own_force: ca.SX | None = None
 
 
 def body_spatial(body, motion, own: ca.SX, load: ca.SX, r0) -> Spatial:

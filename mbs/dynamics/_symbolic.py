@@ -9,6 +9,7 @@ import numpy as np
 from mbs import tree as _tree
 from mbs.dynamics._articulated import articulated
 from mbs.dynamics._composite import composite, ldl_operations, solve
+from mbs.dynamics._flexible import flexible_spatials
 from mbs.dynamics._kinematics import Kinematics, kinematics, poses
 from mbs.dynamics._layout import Layout
 from mbs.dynamics._loads import applied, energy, mass_times, state_view
@@ -67,7 +68,7 @@ def _kin(lay, args, names, kin: Kinematics, spatial: dict) -> ca.Function:
     block ``(i, k)`` is body ``i``'s state map times ``ξ_k`` when ``b_k`` is ``b_i`` or one of
     its ancestors, formed by sparse products (compact code for any depth)."""
     maps = ca.diagcat(*[spatial[b.name].to_body_state for b in lay.bodies])
-    twists = ca.diagcat(*[spatial[b.name].twist for b in lay.bodies])
+    twists = _placed(lay, spatial) if lay.sections() else ca.diagcat(*[spatial[b.name].twist for b in lay.bodies])
     blocks = ca.Function("kin_blocks", args, [kin.V, kin.H, maps, twists], names, ["V", "H", "maps", "twists"])
     mx = [ca.MX.sym(n, a.sparsity()) for n, a in zip(names, args)]
     v, h, m, xi = blocks(*mx)
@@ -100,13 +101,19 @@ def symbolic(model: _tree.Model, path: str | None = None) -> Symbolic:
     spatial = {b.name: body_spatial(b, kin.motions[b.name], kin.own.get(b.name, ca.SX(6, 0)), g[kin.rows(i)], r0)
                for i, b in enumerate(lay.bodies)}
     args, names = [x, t, p], ["x", "t", "p"]
-    mt, jtg = composite(lay, spatial)
+    mt, jtg = composite(lay, {**spatial, **flexible_spatials(lay, kin, spatial, g, u, r0)})
     parts = ca.Function("parts", args, [kin.sdot, mt, jtg + q, zdot], names, ["sdot", "Mt", "ht", "zdot"])
-    udot = articulated(lay, spatial, q)
-    recursion = ca.Function("rhs", args, [ca.vertcat(kin.sdot, udot, zdot)], names, ["xdot"])
-    operations = {"composite": int(parts.n_instructions()) + ldl_operations(mt.sparsity()),
-                  "articulated": int(recursion.n_instructions())}
-    path = choose(operations, path)
+    operations = {"composite": int(parts.n_instructions()) + ldl_operations(mt.sparsity())}
+    flexible = bool(lay.sections())  # their sections share rates, which the recursion does not take
+    if flexible:
+        udot = ca.SX.sym("udot", lay.nv)
+        path = choose(operations, _rigid_only(path, model))
+    else:
+        udot = articulated(lay, spatial, q)
+        recursion = ca.Function("rhs", args, [ca.vertcat(kin.sdot, udot, zdot)], names, ["xdot"])
+        operations["articulated"] = int(recursion.n_instructions())
+        path = choose(operations, path)
+    rhs = recursion if path == "articulated" else solve(parts, lay.nx, len(model.parameters))
     project = ca.vertcat(*[b.joint.project(s[lay.q_slices[b.name]]) for b in lay.bodies], ca.SX(0, 1), u, z)
     state.reactions = Reactions(lay, spatial, udot, kin.motions, r0, s, u, t, params)
     outputs = ca.vertcat(*[o.fn(state) for o in model.outputs.values()], ca.SX(0, 1))
@@ -114,9 +121,36 @@ def symbolic(model: _tree.Model, path: str | None = None) -> Symbolic:
         "parts": parts,
         "kin": _kin(lay, args, names, kin, spatial),
         "energy": ca.Function("energy", args, [state.energy], names, ["energy"]),
-        "outputs": ca.Function("outputs", args, [outputs], names, ["y"]),
+        "outputs": _outputs(args, names, outputs, udot, rhs, lay) if flexible else
+        ca.Function("outputs", args, [outputs], names, ["y"]),
         "poses": ca.Function("poses", args, [poses(lay, kin.motions)], names, ["poses"]),
         "project": ca.Function("project", [x], [project], ["x"], ["x_projected"]),
-        "rhs": recursion if path == "articulated" else solve(parts, lay.nx, len(model.parameters)),
+        "rhs": rhs,
     }
     return Symbolic(model, lay, fns, path, operations)
+
+
+def _rigid_only(path: str | None, model) -> str | None:
+    if path == "articulated":
+        raise ValueError(f"model {model.name!r} has flexible bodies, whose sections share their modal rates: "
+                         "the articulated path takes rigid bodies only; use the composite path")
+    return path
+
+
+def _placed(lay, spatial: dict) -> ca.SX:
+    """Each body's twist (6, nk) in its rows and in the columns of the rates that move it
+    (6 nb, nv): a section's in its flexible body's modal columns."""
+    out = ca.SX(6 * len(lay.bodies), lay.nv)
+    for i, b in enumerate(lay.bodies):
+        if spatial[b.name].twist.shape[1]:
+            out[6 * i:6 * i + 6, lay.v_slices[b.name]] = spatial[b.name].twist
+    return out
+
+
+def _outputs(args, names, outputs: ca.SX, udot: ca.SX, rhs: ca.Function, lay) -> ca.Function:
+    """``outputs(x, t, p)`` whose joint reactions read the accelerations ``udot`` (a symbol)
+    from the right-hand side (code-generatable)."""
+    inner = ca.Function("outputs_at", args + [udot], [outputs])
+    mx = [ca.MX.sym(n, a.sparsity()) for n, a in zip(names, args)]
+    accelerations = rhs(*mx)[lay.nq:lay.nq + lay.nv]
+    return ca.Function("outputs", mx, [inner(*mx, accelerations)], names, ["y"])

@@ -55,7 +55,9 @@ class Blade:
     length ``mass`` (kg/m), section ``chord`` and ``thickness`` (m; the segments' inertia),
     bending stiffness in flap and lag and torsional stiffness (N m²), the damping of the
     root lag hinge (N m s/rad) and the structural damping, stiffness-proportional: each
-    hinge's damping is ``damping_time[direction]`` (s) times its spring stiffness."""
+    hinge's damping is ``damping_time[direction]`` (s) times its spring stiffness. The axial
+    stiffness ``EA`` (N) matters only where the blade is modelled as extensible
+    (:mod:`mbs.flexible`); the default, infinite, is the inextensible blade."""
 
     root: float
     tip: float
@@ -67,6 +69,7 @@ class Blade:
     torsion_stiffness: float
     lag_damping: float = 0.0
     damping_time: tuple[float, float, float] = (0.0, 0.0, 0.0)  # flap, lag, torsion
+    axial_stiffness: float = float("inf")
 
     @property
     def length(self) -> float:
@@ -230,40 +233,56 @@ def segmented_frequencies(n: int, data=None) -> dict[str, float]:
 
 # -- the continuous reference blade -------------------------------------------------------
 
-_GAUSS = np.polynomial.legendre.leggauss(4)
+GAUSS = np.polynomial.legendre.leggauss(4)
+"""Gauss–Legendre points (on [-1, 1]) and weights of the element integrals."""
 
 
-def _hermite(xi: np.ndarray, length: float) -> tuple[np.ndarray, np.ndarray]:
-    """Cubic Hermite shape functions (4, q) and their derivatives in r (4, q) at ``xi`` in [0, 1]."""
+def hermite(xi: np.ndarray, length: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Cubic Hermite shape functions (4, q) of an element of ``length`` (m) and their first and
+    second derivatives in r at ``xi`` in [0, 1]; the element's dofs are (w, w') at either end."""
     n = np.array([1 - 3 * xi**2 + 2 * xi**3, length * (xi - 2 * xi**2 + xi**3), 3 * xi**2 - 2 * xi**3,
                   length * (xi**3 - xi**2)])
     dn = np.array([(6 * xi**2 - 6 * xi) / length, 1 - 4 * xi + 3 * xi**2, (6 * xi - 6 * xi**2) / length,
                    3 * xi**2 - 2 * xi])
-    return n, dn
+    ddn = np.array([(12 * xi - 6) / length**2, (6 * xi - 4) / length, (6 - 12 * xi) / length**2,
+                    (6 * xi - 2) / length])
+    return n, dn, ddn
 
 
-def _linear(xi: np.ndarray, length: float) -> tuple[np.ndarray, np.ndarray]:
-    return np.array([1 - xi, xi]), np.array([-np.ones_like(xi), np.ones_like(xi)]) / length
+def linear(xi: np.ndarray, length: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Linear shape functions (2, q) at ``xi`` in [0, 1] and their first and (zero) second derivatives."""
+    return np.array([1 - xi, xi]), np.array([-np.ones_like(xi), np.ones_like(xi)]) / length, np.zeros((2, xi.size))
 
 
-def _matrices(blade: Blade, omega: float, direction: str, elements: int) -> tuple[np.ndarray, np.ndarray]:
-    """Stiffness and mass matrices of the rotating blade clamped at its root, one direction.
+def element_shapes(direction: str):
+    """``(shape functions, dofs per node)`` of ``direction``: cubic Hermite in bending, linear
+    in torsion and extension."""
+    return (linear, 1) if direction in ("torsion", "axial") else (hermite, 2)
+
+
+def beam_matrices(blade: Blade, omega: float, direction: str, elements: int = BEAM_ELEMENTS
+                  ) -> tuple[np.ndarray, np.ndarray]:
+    """Stiffness and mass matrices of the rotating blade clamped at its root, one direction;
+    the root node's dofs removed (``dofs per node * elements`` rows, root first).
 
     Flap and lag: Euler-Bernoulli bending with the centrifugal tension
     ``T(r) = m Ω² (R² - r²) / 2`` (lag also ``- m Ω²``); torsion: ``GJ`` with the propeller
-    moment ``m Ω² (c² - t²) / 12`` per length, inertia ``m (c² + t²) / 12``."""
-    shape, per_node = (_linear, 1) if direction == "torsion" else (_hermite, 2)
+    moment ``m Ω² (c² - t²) / 12`` per length, inertia ``m (c² + t²) / 12``; axial (extension,
+    ``blade.axial_stiffness`` EA): ``EA`` with the centrifugal softening ``- m Ω²``. At
+    ``omega = 0`` the stiffness is the elastic one alone."""
+    shape, per_node = element_shapes(direction)
     size = per_node * (elements + 1)
     k, mm = np.zeros((size, size)), np.zeros((size, size))
     length = blade.length / elements
-    xi, w = (_GAUSS[0] + 1) / 2, _GAUSS[1] * length / 2
+    xi, w = (GAUSS[0] + 1) / 2, GAUSS[1] * length / 2
     for e in range(elements):
         r = blade.root + (e + xi) * length
-        n, dn = shape(xi, length)
-        if direction == "torsion":
-            spring = blade.torsion_stiffness * (dn * w) @ dn.T
-            spring += omega**2 * blade.mass * (blade.chord**2 - blade.thickness**2) / 12 * (n * w) @ n.T
-            inertia = blade.torsional_inertia * (n * w) @ n.T
+        n, dn, _ = shape(xi, length)
+        if direction in ("torsion", "axial"):
+            inertia = (blade.torsional_inertia if direction == "torsion" else blade.mass) * (n * w) @ n.T
+            spring = blade.stiffness(direction) * (dn * w) @ dn.T
+            spring += (omega**2 * blade.mass * (blade.chord**2 - blade.thickness**2) / 12 * (n * w) @ n.T
+                       if direction == "torsion" else -omega**2 * inertia)
         else:
             tension = blade.mass * omega**2 * (blade.tip**2 - r**2) / 2
             spring = blade.stiffness(direction) / length**3 * np.array(
@@ -282,7 +301,7 @@ def beam_frequencies(blade: Blade, omega: float, elements: int = BEAM_ELEMENTS) 
     """First flap, lag and torsion frequencies (rad/s, rotating frame) of the continuous
     blade turning at ``omega`` (rad/s), by ``elements`` finite elements (cubic in bending,
     linear in torsion; converged to about 1e-5 at the default)."""
-    return {k: float(np.sqrt(eigh(*_matrices(blade, omega, k, elements), eigvals_only=True)[0]))
+    return {k: float(np.sqrt(eigh(*beam_matrices(blade, omega, k, elements), eigvals_only=True)[0]))
             for k in DIRECTIONS}
 
 

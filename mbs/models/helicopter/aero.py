@@ -6,7 +6,7 @@ import numpy as np
 
 from mbs.aero import (Airfoil, Compressibility, Download, FuselageAero, HubDrag, LiftingSurface, Rotor, RotorAero,
                       RotorModel, WakeGeometry)
-from mbs.models.elastic_blade import rotor_pieces
+from mbs.models.modal_blade import rotor_pieces
 from mbs.models.helicopter import frames as fr
 from mbs.tree import Model
 

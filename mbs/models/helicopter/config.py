@@ -20,7 +20,9 @@ class Config:
     both rotors); tail_wake (the main rotor's wake on the horizontal tail and fin); download
     (the wake's vertical drag on the fuselage); hub_drag (drag of the main-rotor hub). All off:
     the model of the paper's scenes. blade_segments: main-rotor blades as elastic chains of
-    that many segments (:mod:`mbs.models.elastic_blade`); 0: rigid blades. swashplate: None (the
+    that many segments (:mod:`mbs.models.elastic_blade`); blade_modes: main-rotor blades as
+    flexible bodies with that many modes per direction (one count, or flap, lag, torsion
+    counts; :mod:`mbs.models.modal_blade`); both 0: rigid blades. swashplate: None (the
     blade pitch driven by the pitch inputs), "pitch" (the swashplate and pitch links of the
     aircraft's ``[swashplate]`` set the pitch, the pilot pitch inputs mixed into the plate) or
     "actuators" (the same, the three actuator displacements the controls); loop_solver: how the
@@ -48,12 +50,16 @@ class Config:
     download: bool = False
     hub_drag: bool = False
     blade_segments: int = 0
+    blade_modes: int | tuple = 0
     swashplate: str | None = None
     loop_solver: str = "closed-form"
     pitch_link: str = "rigid"
 
     def __post_init__(self):
         from mbs.models.helicopter.swashplate import check
+        if self.blade_segments and self.blade_modes:
+            raise ValueError(f"blade_segments = {self.blade_segments} and blade_modes = {self.blade_modes!r}: an "
+                             "elastic blade is either a chain of segments or a modal blade; give one of them")
         check(self)
         needs_rotor = [n for n in ("tail_wake", "download", "tip_loss", "compressibility") if getattr(self, n)]
         needs_rotor += ["inflow"] if self.inflow != "uniform" else []

@@ -130,7 +130,8 @@ def check(cfg) -> None:
     if cfg.pitch_link == "elastic" and cfg.loop_solver != "closed-form":
         raise ValueError("loop_solver: elastic pitch links have no loop to solve (the pitch is a state)")
     needs = [("rotors", "driven", "the pitch links follow the hub's prescribed azimuth"),
-             ("pitch_hinge", True, "the links turn the blades' pitch hinges"), ("blade_segments", 0, "rigid blades")]
+             ("pitch_hinge", True, "the links turn the blades' pitch hinges"), ("blade_segments", 0, "rigid blades"),
+             ("blade_modes", 0, "rigid blades")]
     for name, value, why in needs:
         if getattr(cfg, name) != value:
             raise ValueError(f"the swashplate needs {name} = {value!r} ({why}), not {getattr(cfg, name)!r}")

@@ -16,6 +16,7 @@ import numpy as np
 from mbs.aircraft.checks import rotor_masses
 from mbs.joints import DrivenHinge, Fixed, FreeJoint, Hinge, Serial
 from mbs.models.elastic_blade import add_elastic_blade
+from mbs.models.modal_blade import add_modal_blade
 from mbs.models.helicopter import frames as fr
 from mbs.models.helicopter.swashplate import blade_joint
 from mbs.tree import Model
@@ -100,8 +101,9 @@ def add_main_rotor(m: Model, d, cfg, parent: str) -> None:
     e = mr["flap_hinge_offset"]
     for k, psi0 in enumerate(fr.blade_azimuths(mr["n_blades"])[:cfg.blade_count(mr["n_blades"])]):
         frame = fr.rz(sense * psi0)
-        if cfg.blade_segments:  # elastic, after the pitch bearing (the rigid blade joint's last part)
-            add_elastic_blade(m, d, cfg, k, frame, _blade_joint(d, cfg, psi0, sense).parts[2:], sense)
+        if cfg.blade_segments or cfg.blade_modes:  # elastic, after the pitch bearing (the blade joint's last part)
+            add = add_elastic_blade if cfg.blade_segments else add_modal_blade
+            add(m, d, cfg, k, frame, _blade_joint(d, cfg, psi0, sense).parts[2:], sense)
             continue
         joint = blade_joint(d, cfg, k + 1, psi0, sense) if cfg.swashplate else _blade_joint(d, cfg, psi0, sense)
         m.add_body(f"blade{k + 1}", "main_hub", joint, mass=mr["blade_mass"],

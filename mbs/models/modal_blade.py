@@ -1,0 +1,85 @@
+"""Elastic main-rotor blades as flexible bodies with modal coordinates (:mod:`mbs.flexible`).
+
+The blade of the aircraft file (:func:`mbs.models.elastic_blade.blade_from_data`: the
+uniform blade clamped at the rigid blade's hinge radius, with the ``[elastic_blade]``
+stiffnesses and structural damping) carries ``cfg.blade_modes`` modes per direction, the
+blade's own rotating modes at the rotor's nominal speed; its mass sits on Gauss–Legendre
+sections and the blade elements of the rotor act on massless sections at the element radii,
+whose motion (position, velocity, turn by slopes and twist) the aerodynamics reads as it
+reads a rigid blade's. The flexible body ``blade<k>`` hangs on the hub after the pitch
+bearing; its coordinates are ``blade<k>.flap``, ``.flap2``, … ``.lag``, … ``.torsion``, …
+(tip deflection over the blade length, tip twist; rad). With the scene's dampers the modes
+have the data's structural damping (stiffness-proportional, as on the segmented blade's
+hinges); the rigid blade's lag damper (``main_rotor.lag_damping``) stands for a lag hinge's
+damper, which a hingeless modal blade does not have: it is not applied.
+"""
+from __future__ import annotations
+
+from typing import Sequence
+
+import numpy as np
+
+from mbs.flexible.beam import ModalBlade
+from mbs.flexible.body import add_flexible_blade, aero_name
+from mbs.joints import Joint
+from mbs.models import elastic_blade as eb
+from mbs.tree import Model
+
+
+def modal_blade(d, modes, sense: int = 1, nodes: int | None = None) -> ModalBlade:
+    """The blade of the aircraft data ``d`` with ``modes`` per direction (see
+    :class:`mbs.flexible.beam.ModalBlade`), shapes at the nominal rotor speed."""
+    if "elastic_blade" not in d or not d["elastic_blade"]:
+        raise ValueError("elastic blades need the aircraft file's [elastic_blade] section (first torsion frequency "
+                         "and structural damping); this aircraft has none")
+    return ModalBlade(eb.blade_from_data(d), modes, d["main_rotor"]["omega"], sense, nodes)
+
+
+def aero_radii(d, cfg) -> np.ndarray:
+    """Radii (m) of the main rotor's blade elements (:meth:`mbs.aero.Rotor.stations`)."""
+    mr = d["main_rotor"]
+    r0 = mr["root_cutout"] * mr["radius"]
+    n = int(cfg.elements or mr["elements"])
+    return r0 + (mr["radius"] - r0) / n * (np.arange(n) + 0.5)
+
+
+def add_modal_blade(m: Model, d, cfg, k: int, frame: np.ndarray, inboard: Sequence[Joint] = (),
+                    sense: int = 1) -> list[str]:
+    """Blade ``k`` (from 0) of the main rotor of the aircraft data ``d`` with ``cfg.blade_modes``
+    modes per direction on ``main_hub``, after the ``inboard`` joints (the pitch bearing)."""
+    beam = modal_blade(d, cfg.blade_modes, sense)
+    root = beam.blade.root
+    stations = aero_radii(d, cfg) - root if cfg.rotor_aero else ()
+    return add_flexible_blade(m, beam, f"blade{k + 1}", "main_hub", root * frame[:, 0], frame, inboard, stations,
+                              cfg.dampers, eb.COLORS[k % len(eb.COLORS)])
+
+
+def rotor_pieces(d, cfg) -> dict[str, list[tuple[str, float]]]:
+    """The main rotor's :attr:`mbs.aero.Rotor.pieces`: the bodies carrying its blade elements
+    (segments of a segmented blade, the element sections of a modal one; none when rigid)."""
+    if not cfg.blade_modes:
+        return eb.rotor_pieces(d, cfg)
+    radii = aero_radii(d, cfg).tolist()
+    blades = [f"blade{k + 1}" for k in range(cfg.blade_count(d["main_rotor"]["n_blades"]))]
+    return {b: [(aero_name(b, j + 1), r) for j, r in enumerate(radii)] for b in blades}
+
+
+def modal_frequencies(modes, data=None) -> dict[str, float]:
+    """First flap, lag and torsion frequencies (rad/s, rotating frame) of one modal blade with
+    ``modes`` per direction (of the aircraft ``data``, default the Bo105) on a hub driven at
+    the rotor speed, in vacuum, without gravity and dampers: the eigenvalues of the AD
+    Jacobian of the multibody model at the undeformed blade, as
+    :func:`mbs.models.elastic_blade.segmented_frequencies` for the segmented blade."""
+    from mbs.dynamics import symbolic
+    from mbs.flexible.frequencies import classify
+    from mbs.linearize import rhs_jacobian
+    from mbs.models import helicopter
+
+    cfg = helicopter.Config(fuselage="none", blades=1, tail_rotor=False, rotor_aero=False, airframe_aero=False,
+                            dampers=False, shaft_tilt=False, pitch_hinge=False, blade_modes=modes)
+    model = helicopter.build(cfg, data, name="modal-blade")
+    model.gravity = np.zeros(3)
+    sym = symbolic(model)
+    p = [model.parameters[k].default for k in model.parameters]
+    found = classify(np.array(rhs_jacobian(sym["rhs"])(np.zeros(sym.layout.nx), 0.0, p)), sym.layout.q_names)
+    return {k: found[k][0] for k in eb.DIRECTIONS if k in found}
