@@ -1,4 +1,4 @@
-"""The cost of the swashplate's local loops: ``python -m mbs.bench.loops [--json]``.
+"""The cost of the swashplate's local loops: ``heli bench loops [--json]`` (or ``python -m mbs.bench.loops``).
 
 RK4 step and right-hand side of forward flight (the Bo105, every aerodynamics switch on) without
 the mechanism and with it: pitch links closed in closed form (the Bo105's horn on the housing,
@@ -126,19 +126,38 @@ def run(repeats: int = 3) -> dict:
             "newton_steps_per_solve": NEWTON_ITERATIONS, "solves_per_rk4_step": 4 * 4}
 
 
+def _lines(res: dict) -> list[str]:
+    out = [f"{'model':48s} {'RK4 step µs':>12s} {'rhs µs':>8s} {'ratio':>6s}"]
+    for name, row in res["rows"].items():
+        out.append(f"{name:48s} {row['rk4_step_us']:12.1f} {row['rhs_us']:8.2f} {row['ratio']:6.2f}")
+    out.append("Newton: largest link-length residual (m) after 1..6 steps from the predictor over 10 revolutions: "
+               + ", ".join(f"{r:.1e}" for r in res["newton_residual_m_after_steps"]))
+    return out
+
+
+def cmd_bench_loops(args) -> int:
+    from mbs.cli import emit
+
+    res = run()
+    emit(res, args.json, _lines(res))
+    return 0
+
+
+def register(sub, bench) -> None:
+    from mbs.cli import add_json
+
+    p = bench.add_parser("loops", help="forward flight's RK4 step with the swashplate's local loops (closed form, "
+                                       "Newton, elastic links) against without, and Newton's residual per step")
+    add_json(p)
+    p.set_defaults(fn=cmd_bench_loops)
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m mbs.bench.loops", description=__doc__.splitlines()[0])
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     args = parser.parse_args(argv)
     res = run()
-    if args.json:
-        print(json.dumps(res))
-        return 0
-    print(f"{'model':48s} {'RK4 step µs':>12s} {'rhs µs':>8s} {'ratio':>6s}")
-    for name, row in res["rows"].items():
-        print(f"{name:48s} {row['rk4_step_us']:12.1f} {row['rhs_us']:8.2f} {row['ratio']:6.2f}")
-    print("Newton: largest link-length residual (m) after 1..6 steps from the predictor over 10 revolutions: "
-          + ", ".join(f"{r:.1e}" for r in res["newton_residual_m_after_steps"]))
+    print(json.dumps(res) if args.json else "\n".join(_lines(res)))
     return 0
 
 
