@@ -46,6 +46,10 @@ ELSEWHERE = {  # command -> the test that parses its whole stdout as one JSON ob
     "heli bench loads": "a loads sweep (slow); pipe-clean by test_a_command_that_prints_stays_pipe_clean",
     "heli cosim": "the 60 s co-simulation (slow); pipe-clean by test_a_command_that_prints_stays_pipe_clean",
     "heli bench cosim": "repeated co-simulations (slow); pipe-clean by test_a_command_that_prints_stays_pipe_clean",
+    "heli bench modal": "three rotors' trims and Floquet analyses (slow); pipe-clean by "
+                        "test_a_command_that_prints_stays_pipe_clean",
+    "heli bench loops": "five forward-flight models compiled (slow); pipe-clean by "
+                        "test_a_command_that_prints_stays_pipe_clean",
 }
 
 
