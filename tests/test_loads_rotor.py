@@ -220,3 +220,21 @@ def test_heli_loads_refuses_bad_input_in_one_line(argv, message, capsys):
     assert status == 2
     err = capsys.readouterr().err
     assert message in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
+
+
+def _refuse_nan(constant):
+    raise AssertionError(f"{constant} in the JSON output (not JSON)")
+
+
+def test_heli_loads_of_the_modal_rotor_without_a_tail_rotor_is_strict_json(tmp_path, capsys):
+    """The modal elastic rotor's loads: a hub with no other rotor has no fractional orders, shown
+    as a dash and given as null (it was NaN, which is no JSON); the hub's thrust carries the
+    rotor's own 4/rev and nothing at other harmonics (identical blades)."""
+    assert main(["loads", "elastic-rotor-modal", "--quiet", "--json", "--out", str(tmp_path)]) == 0
+    captured = capsys.readouterr()
+    res = json.loads(captured.out, parse_constant=_refuse_nan)
+    rows = {r["output"]: r for r in res["hub"]["main_rotor"]}
+    fz = rows["main_rotor.hub.force_z"]
+    assert fz["fractional_order"] is None and fz["fractional"] == 0.0
+    assert fz["mean"] < -1.5e4 and fz["other"] < 1e-8 * abs(fz["mean"])
+    assert "nan" not in captured.err

@@ -76,10 +76,10 @@ class RotorLoads:
 
     def largest(self, name: str, keep) -> tuple[float, float]:
         """The order (per revolution) and amplitude of the largest content of ``name`` among
-        the orders > 0 for which ``keep(order)`` holds; (nan, 0) when there are none."""
+        the orders > 0 for which ``keep(order)`` holds; (None, 0) when there are none."""
         mask = np.array([o > 0 and keep(o) for o in self.orders])
         if not mask.any():
-            return float("nan"), 0.0
+            return None, 0.0
         a = np.abs(self.amplitudes[mask, self.column(name)])
         return float(self.orders[mask][np.argmax(a)]), float(a.max())
 

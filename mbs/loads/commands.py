@@ -64,13 +64,17 @@ def loads_lines(res) -> list[str]:
             for r in rows:
                 lines.append(f"    {r['output'].rsplit('.', 1)[1]:10s} {_cell(r['mean'])} "
                              + " ".join(_cell(r[k]) for k in own)
-                             + f" {r['other']:10.3g} @{r['other_order']:<6g}"
-                             + f" {r['fractional']:10.3g} @{r['fractional_order']:<6g}")
+                             + _at(r["other"], r["other_order"]) + _at(r["fractional"], r["fractional_order"]))
     lines += _blade_lines(res) + _power_lines(res) + _span_lines(res)
     lines.append(f"  (other: the largest other harmonic of that rotor's speed; fractional: the largest content at "
                  f"orders that are none, from the other rotor through the airframe; {nb} identical blades pass "
                  f"only 0, {nb}, {2 * nb} ... /rev into the hub)")
     return lines
+
+
+def _at(value: float, order: float | None) -> str:
+    """A load and the order it appears at, or a dash where the spectrum has no such order."""
+    return f" {value:10.3g} @{order:<6g}" if order is not None else f" {'-':>10s}  {'':6s}"
 
 
 def _blade_lines(res) -> list[str]:
