@@ -37,7 +37,8 @@ class RotorLoads:
     amplitudes: (m, ny) complex Fourier amplitudes (``A_0`` the mean; phase at azimuth 0);
     n_blades: main-rotor blades; gear: tail-rotor speed per main-rotor speed (None without);
     tail_blades: tail-rotor blades;
-    stations: blade-station output prefix (``blade1.root``, ``blade1.station2`` …) -> radius (m).
+    stations: blade-station output prefix (``blade1.root``, ``blade1.station2`` …) -> radius (m);
+    notes: what the loads leave out for this model (e.g. a modal blade's spanwise moments).
     """
 
     scene: str
@@ -56,6 +57,7 @@ class RotorLoads:
     trim_reason: str
     wall_s: float
     tail_blades: int = 2
+    notes: tuple[str, ...] = ()
 
     def column(self, name: str) -> int:
         if name not in self.names:
@@ -133,7 +135,8 @@ class RotorLoads:
                 "samples": len(self.t), "n_blades": self.n_blades, "thrust": self.thrust,
                 "hub": {r: self.hub_rows(r) for r in rotors}, "blade_root": self.blade_rows(),
                 "power": self.power_rows(), "span": self.span_rows() if len(self.stations) > self.n_blades else [],
-                "means": {n: self.mean(n) for n in self.names}, "trim": self.trim_reason, "wall_s": self.wall_s}
+                "means": {n: self.mean(n) for n in self.names}, "trim": self.trim_reason, "wall_s": self.wall_s,
+                "notes": list(self.notes)}
 
 
 def _integer(x: float) -> bool:
@@ -220,7 +223,17 @@ def _record(sc, sol, system, start: float) -> RotorLoads:
     tail_blades = sum(1 for b in info.bodies if re.fullmatch(r"tail_blade\d+", b["name"]))
     return RotorLoads(sc.name, sol.speed, per.revolution, per.full_revs, traj.t[1:], info.output_names, values,
                       orders, amplitudes, n_blades, gear, stations(info), sol.thrust, sol.reason,
-                      time.perf_counter() - start, tail_blades)
+                      time.perf_counter() - start, tail_blades, _notes(info))
+
+
+MODAL_NOTE = ("the blades are modal (flexible bodies): their loads are given at the root and the hub; spanwise "
+              "bending and torsion moments are not computed for modal blades (the segmented blades of "
+              "elastic-rotor give them at each segment joint)")
+
+
+def _notes(info) -> tuple[str, ...]:
+    """What the loads of this model leave out: a modal blade's sections are bodies ``blade<k>:<j>``."""
+    return (MODAL_NOTE,) if any(re.fullmatch(r"blade\d+:\d+", b["name"]) for b in info.bodies) else ()
 
 
 def _gear(sc, info) -> float | None:
