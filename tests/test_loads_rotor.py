@@ -229,8 +229,8 @@ def _refuse_nan(constant):
 def test_heli_loads_of_the_modal_rotor_without_a_tail_rotor_is_strict_json(tmp_path, capsys):
     """The modal elastic rotor's loads: a hub with no other rotor has no fractional orders, shown
     as a dash and given as null (it was NaN, which is no JSON); the hub's thrust carries the
-    rotor's own 4/rev and nothing at other harmonics (identical blades); the report says that
-    modal blades have no spanwise moments."""
+    rotor's own 4/rev and nothing at other harmonics (identical blades); the modal blade's
+    moments along the span are reported."""
     assert main(["loads", "elastic-rotor-modal", "--quiet", "--json", "--out", str(tmp_path)]) == 0
     captured = capsys.readouterr()
     res = json.loads(captured.out, parse_constant=_refuse_nan)
@@ -239,6 +239,11 @@ def test_heli_loads_of_the_modal_rotor_without_a_tail_rotor_is_strict_json(tmp_p
     assert fz["fractional_order"] is None and fz["fractional"] == 0.0
     assert fz["mean"] < -1.5e4 and fz["other"] < 1e-8 * abs(fz["mean"])
     assert "nan" not in captured.err
-    # spanwise moments are not computed for modal blades, and the report says so
-    assert res["span"] == [] and "spanwise bending and torsion moments are not computed" in res["notes"][0]
-    assert "note: the blades are modal" in captured.err
+    # the modal blade's moments along the span: at its root and the 8-segment blade's seven joint radii, the
+    # mean flap bending moment falling outwards over the inner stations (the blade droops less
+    # than its thrust bends it up)
+    span = res["span"]
+    assert [r["station"] for r in span] == ["blade1.root"] + [f"blade1.station{j}" for j in range(2, 9)]
+    assert all(a["radius"] < b["radius"] for a, b in zip(span, span[1:]))
+    assert span[0]["flap_mean"] > span[1]["flap_mean"] > span[2]["flap_mean"] > span[3]["flap_mean"] > 0
+    assert "blade 1 along the span" in captured.err

@@ -37,8 +37,7 @@ class RotorLoads:
     amplitudes: (m, ny) complex Fourier amplitudes (``A_0`` the mean; phase at azimuth 0);
     n_blades: main-rotor blades; gear: tail-rotor speed per main-rotor speed (None without);
     tail_blades: tail-rotor blades;
-    stations: blade-station output prefix (``blade1.root``, ``blade1.station2`` …) -> radius (m);
-    notes: what the loads leave out for this model (e.g. a modal blade's spanwise moments).
+    stations: blade-station output prefix (``blade1.root``, ``blade1.station2`` …) -> radius (m).
     """
 
     scene: str
@@ -57,7 +56,6 @@ class RotorLoads:
     trim_reason: str
     wall_s: float
     tail_blades: int = 2
-    notes: tuple[str, ...] = ()
 
     def column(self, name: str) -> int:
         if name not in self.names:
@@ -135,8 +133,7 @@ class RotorLoads:
                 "samples": len(self.t), "n_blades": self.n_blades, "thrust": self.thrust,
                 "hub": {r: self.hub_rows(r) for r in rotors}, "blade_root": self.blade_rows(),
                 "power": self.power_rows(), "span": self.span_rows() if len(self.stations) > self.n_blades else [],
-                "means": {n: self.mean(n) for n in self.names}, "trim": self.trim_reason, "wall_s": self.wall_s,
-                "notes": list(self.notes)}
+                "means": {n: self.mean(n) for n in self.names}, "trim": self.trim_reason, "wall_s": self.wall_s}
 
 
 def _integer(x: float) -> bool:
@@ -161,16 +158,25 @@ def radii(info, hub: str = "main_hub") -> dict[str, float]:
     return {n: float(np.hypot(*p[:2])) for n, (p, _) in place.items() if n != hub}
 
 
-def stations(info) -> dict[str, float]:
-    """Blade-station output prefix -> radius (m) of its joint on the undeformed rotor."""
+def stations(info, data=None) -> dict[str, float]:
+    """Blade-station output prefix -> radius (m) of its joint on the undeformed rotor (a modal
+    blade's stations from the aircraft ``data``: :func:`mbs.models.modal_blade.station_radii`)."""
     r = radii(info) if "main_hub" in info.body_names else {}
     out = {}
     for name in info.output_names:
         m = STATION.match(name)
         if m and r:
             body = m.group(1) if m.group(2) == "root" else f"{m.group(1)}_{m.group(3)}"
-            out[name.rsplit(".", 1)[0]] = r[body]
+            out[name.rsplit(".", 1)[0]] = r[body] if body in r else _modal_radius(data, int(m.group(3)))
     return out
+
+
+def _modal_radius(data, j: int) -> float:
+    from mbs.models.modal_blade import station_radii
+
+    if data is None:
+        raise ValueError(f"the radius of a modal blade's station {j} needs the aircraft data")
+    return station_radii(data)[j]
 
 
 def check_scene(scene):
@@ -222,18 +228,10 @@ def _record(sc, sol, system, start: float) -> RotorLoads:
     n_blades = sum(1 for b in info.bodies if re.fullmatch(r"blade\d+", b["name"]))
     tail_blades = sum(1 for b in info.bodies if re.fullmatch(r"tail_blade\d+", b["name"]))
     return RotorLoads(sc.name, sol.speed, per.revolution, per.full_revs, traj.t[1:], info.output_names, values,
-                      orders, amplitudes, n_blades, gear, stations(info), sol.thrust, sol.reason,
-                      time.perf_counter() - start, tail_blades, _notes(info))
+                      orders, amplitudes, n_blades, gear, stations(info, sc.aircraft.data if sc.aircraft else None),
+                      sol.thrust, sol.reason,
+                      time.perf_counter() - start, tail_blades)
 
-
-MODAL_NOTE = ("the blades are modal (flexible bodies): their loads are given at the root and the hub; spanwise "
-              "bending and torsion moments are not computed for modal blades (the segmented blades of "
-              "elastic-rotor give them at each segment joint)")
-
-
-def _notes(info) -> tuple[str, ...]:
-    """What the loads of this model leave out: a modal blade's sections are bodies ``blade<k>:<j>``."""
-    return (MODAL_NOTE,) if any(re.fullmatch(r"blade\d+:\d+", b["name"]) for b in info.bodies) else ()
 
 
 def _gear(sc, info) -> float | None:

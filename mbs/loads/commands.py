@@ -65,7 +65,7 @@ def loads_lines(res) -> list[str]:
                 lines.append(f"    {r['output'].rsplit('.', 1)[1]:10s} {_cell(r['mean'])} "
                              + " ".join(_cell(r[k]) for k in own)
                              + _at(r["other"], r["other_order"]) + _at(r["fractional"], r["fractional_order"]))
-    lines += _blade_lines(res) + _power_lines(res) + _span_lines(res) + [f"  note: {n}" for n in res.notes]
+    lines += _blade_lines(res) + _power_lines(res) + _span_lines(res)
     lines.append(f"  (other: the largest other harmonic of that rotor's speed; fractional: the largest content at "
                  f"orders that are none, from the other rotor through the airframe; {nb} identical blades pass "
                  f"only 0, {nb}, {2 * nb} ... /rev into the hub)")

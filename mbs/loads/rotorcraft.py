@@ -16,6 +16,7 @@ blade's segments ``blade<k>_<j>``), ``tail_hub`` with ``seesaw`` and tail blades
   ``blade<k>.root.pitch_torque``: its drive torque about the feathering axis (nose up), what
   a pitch link carries times its arm;
 * on elastic blades, ``blade<k>.station<j>.*``: the same at segment ``j``'s joints (j >= 2);
+  on modal blades the three moments at the 8-segment blade's joint radii, from the curvature;
 * ``main_rotor.hub.*``, ``tail_rotor.hub.*``: what the rotor exerts on the airframe at its
   hub, in the airframe's body axes (world axes for a hub on the world);
 * with driven rotors, ``<rotor>.shaft_torque`` (the drive's torque on the rotor) and
@@ -25,7 +26,7 @@ blade's segments ``blade<k>_<j>``), ``tail_hub`` with ``seesaw`` and tail blades
 from __future__ import annotations
 
 from mbs.loads.engine import Engine
-from mbs.loads.outputs import add_hinge_torque, add_joint_loads
+from mbs.loads.outputs import COMPONENTS, add_hinge_torque, add_joint_loads
 from mbs.tree import WORLD, Model
 
 ROTORS = {"main_rotor": ("main_hub", 1.0), "tail_rotor": ("tail_hub", None)}
@@ -59,9 +60,35 @@ def _blade_loads(m: Model, d, cfg) -> list[str]:
         for j in range(2, cfg.blade_segments + 1):
             names += add_joint_loads(m, f"{blade}_{j}", f"{blade}.station{j}", signs=signs,
                                      what=f"blade {k} load at the joint of segment {j} (inboard on outboard)")
+        if cfg.blade_modes:
+            names += _modal_stations(m, d, blade, k, signs)
         if cfg.pitch_hinge and cfg.rotors == "driven":
             names.append(add_hinge_torque(m, blade, "pitch", f"{blade}.root.pitch_torque",
                                           f"blade {k} pitch-bearing drive torque about the feathering axis, nose up"))
+    return names
+
+
+def _modal_stations(m: Model, d, blade: str, k: int, signs) -> list[str]:
+    """A modal blade's torsion, flap and lag bending moments at the 8-segment blade's joint
+    radii: the section stiffnesses times the curvature of the bent blade (the modal blade's
+    strain, as a segment joint's moment is its spring's)."""
+    import casadi as ca
+
+    from mbs.flexible.joints import Modal
+    from mbs.models.modal_blade import station_radii
+
+    beam = next(j for j in getattr(m.bodies[blade].joint, "parts", ()) if isinstance(j, Modal)).beam
+    stiff = ca.DM([beam.blade.torsion_stiffness, beam.blade.flap_stiffness, beam.blade.lag_stiffness])
+    names = []
+    for j, radius in station_radii(d).items():
+        x = radius - beam.blade.root
+        for c, comp in enumerate(COMPONENTS[3:]):
+            name = f"{blade}.station{j}.{comp}"
+            m.add_output(name, lambda s, x=x, c=c: -signs[3 + c] * stiff[c] * beam.curvature(
+                ca.vertcat(*[s.q(f"{blade}.{n}") for n in beam.names]), x)[c], "N m",
+                f"blade {k} {('torsion', 'flap bending', 'lag bending')[c]} moment at {radius:.3f} m from the rotor "
+                "axis (section stiffness times the bent blade's curvature), section axes")
+            names.append(name)
     return names
 
 

@@ -54,6 +54,18 @@ def add_modal_blade(m: Model, d, cfg, k: int, frame: np.ndarray, inboard: Sequen
                               cfg.dampers, eb.COLORS[k % len(eb.COLORS)])
 
 
+STATIONS = 8
+"""A modal blade's load stations: the joints of the 8-segment blade (``elastic-rotor``), so that
+``blade<k>.station<j>`` (j = 2 … 8) names the same radius on either blade."""
+
+
+def station_radii(d) -> dict[int, float]:
+    """Station number ``j`` -> radius (m from the rotor axis) of the modal blade's load
+    stations (:data:`STATIONS`) on the blade of the aircraft data ``d``."""
+    hinges = eb.layout(eb.blade_from_data(d), STATIONS)[0]
+    return {j: float(hinges[j - 1]) for j in range(2, STATIONS + 1)}
+
+
 def rotor_pieces(d, cfg) -> dict[str, list[tuple[str, float]]]:
     """The main rotor's :attr:`mbs.aero.Rotor.pieces`: the bodies carrying its blade elements
     (segments of a segmented blade, the element sections of a modal one; none when rigid)."""
