@@ -172,6 +172,7 @@ def test_the_bo105_modal_blade_has_the_continuous_blades_frequencies():
 
 def test_bad_mode_counts_are_refused():
     for bad, words in (((1, -1, 1), "lag = -1"), ((0, 0, 0), "at least one mode"), ({"twist": 1}, "unknown mode"),
-                       ((1, 1, 1, 1), "axial stiffness EA")):
+                       ((1, 1, 1, 1), "axial stiffness EA"), (0.5, "give one whole count"),
+                       (2.0, "give one whole count"), ((1, 2.5, 1), "lag = 2.5")):
         with pytest.raises(ValueError, match=words):
             ModalBlade(UNIT, bad, 0.0)

@@ -43,7 +43,11 @@ def _counts(modes) -> dict[str, int]:
     elif isinstance(modes, (int, np.integer)) and not isinstance(modes, bool):
         counts = {"flap": modes, "lag": modes, "torsion": modes, "axial": 0}
     else:
-        values = list(modes)
+        try:
+            values = list(modes)
+        except TypeError:
+            raise ValueError(f"modes {modes!r}: give one whole count, or counts for flap, lag, torsion and "
+                             "optionally axial") from None
         if not 1 <= len(values) <= 4:
             raise ValueError(f"modes {modes!r}: give one count, or counts for flap, lag, torsion and optionally axial")
         counts = dict(zip(DIRECTIONS, values + [0] * (4 - len(values))))
