@@ -21,14 +21,20 @@ from mbs.models.mathieu import PERIOD, mathieu
 def blade():
     """Floquet modes of ``single-blade-aero`` in hover with zero cyclic (an axisymmetric,
     time-invariant rotating system), the periodic solution and the system."""
-    sc = scenes.get("single-blade-aero")
+    model, system, stepper, sol = zero_cyclic_hover(scenes.get("single-blade-aero"))
+    return analyse(sol, system, stepper), sol, system
+
+
+def zero_cyclic_hover(sc):
+    """``sc``'s model with zero cyclic, its compiled system, RK4 tangent stepper and periodic
+    solution (converged)."""
     model = sc.model()
     for name in ("lateral_cyclic", "longitudinal_cyclic"):
         model.parameters[name] = replace(model.parameters[name], default=0.0)
     system, stepper = mbs.build(model, "compiled"), TangentStepper(model, "rk4")
     sol = periodic_solution(sc, system=system, stepper=stepper)
     assert sol.converged, sol.reason
-    return analyse(sol, system, stepper), sol, system
+    return model, system, stepper, sol
 
 
 def _blade_constants(system, sol) -> dict:

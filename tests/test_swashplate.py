@@ -11,14 +11,12 @@ import numpy as np
 import pytest
 
 from aircraft_files import entries, write
-from test_floquet_closed_forms import _blade_constants
+from test_floquet_closed_forms import _blade_constants, zero_cyclic_hover
 import mbs
 from mbs import aircraft, scenes
 from mbs.analysis.floquet import analyse
-from mbs.analysis.monodromy import TangentStepper
-from mbs.analysis.trim import periodic_solution
 from mbs.dynamics import symbolic
-from mbs.joints import DrivenHinge, Hinge, Params, Serial
+from mbs.joints import DrivenHinge, Params, Serial
 from mbs.models.helicopter import Config, build
 from mbs.models.helicopter.scenes import SCENE_CONFIGS
 from mbs.models.helicopter.swashplate import Swashplate
@@ -247,12 +245,7 @@ def _hover_flap(craft):
     """The single blade in hover (single-blade-aero, zero cyclic) with the pitch set by its link:
     its periodic solution, flap mode exponent (per rev), the coupling ``K_P = -∂θ/∂β`` and the pitch there."""
     sc = replace(scenes.get("single-blade-aero").with_aircraft(craft), options={"swashplate": "pitch"})
-    model = sc.model()
-    for name in ("lateral_cyclic", "longitudinal_cyclic"):
-        model.parameters[name] = replace(model.parameters[name], default=0.0)
-    system, stepper = mbs.build(model, "compiled"), TangentStepper(model, "rk4")
-    sol = periodic_solution(sc, system=system, stepper=stepper)
-    assert sol.converged, sol.reason
+    model, system, stepper, sol = zero_cyclic_hover(sc)
     flap = [m for m in analyse(sol, system, stepper).modes if m.name.startswith("flap") and m.exponent.imag > 0]
     assert len(flap) == 1
     theta, slope = pitch_function(model)([sol.state["blade1.flap"], sol.state["blade1.lag"]], 0.0, sol.params)
