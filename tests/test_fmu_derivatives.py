@@ -173,6 +173,20 @@ def test_adjoint_derivatives_equal_the_transposed_forward_ones(kind, fmus):
         h.close()
 
 
+def test_a_derivative_call_without_knowns_or_unknowns_is_empty_not_refused(fmus):
+    """FMI 3.0 model exchange: an adjoint call with no knowns, and one with no unknowns, answer
+    fmi3OK with nothing to fill (the adjoint's NULL check had seeds and sensitivities crossed
+    for these two cases and refused them); a forward call likewise."""
+    h = Host(fmus[3], "ModelExchange")
+    try:
+        u = [x.valueReference for x in h.unknowns]
+        assert list(h.inst.getAdjointDerivative(u, [], [1.0] * h.n_unknown, 0)) == []
+        assert list(h.inst.getAdjointDerivative([], h.known_vrs, [], sum(h.known_sizes))) == [0.0] * sum(h.known_sizes)
+        assert list(h.inst.getDirectionalDerivative(u, [], [], h.n_unknown)) == [0.0] * h.n_unknown
+    finally:
+        h.close()
+
+
 def _declared_pattern(fmu, host: Host) -> np.ndarray:
     """The FMI 2.0 model description's dependencies as a boolean (unknowns, knowns) matrix."""
     root = ElementTree.fromstring(zipfile.ZipFile(fmu).read("modelDescription.xml"))

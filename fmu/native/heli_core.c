@@ -1166,8 +1166,7 @@ int heli_adjoint(heli_instance* c, const char* call, const unsigned unknown[], s
   const double* x;
   const heli_group* g;
   /* in the adjoint the seeds belong to the unknowns and the sensitivities to the knowns */
-  if (derivative_problem(c, call, nu, unknown, nk, known, nu ? sensitivity : NULL, nk ? seed : NULL))
-    return HELI_ERROR;
+  if (derivative_problem(c, call, nu, unknown, nk, known, sensitivity, seed)) return HELI_ERROR;
   x = current_state(c, &scene);
   g = &M->groups[M->scenes[scene].group];
   memset(c->ad_in, 0, sizeof c->ad_in);
