@@ -50,6 +50,16 @@ def real_number(low: float = -math.inf, strict: bool = False) -> Callable[[str],
     return convert
 
 
+def within(low: float, high: float, unit: str) -> Callable[[str], float]:
+    """Type: a finite number in ``[low, high]`` (``unit`` named in the message)."""
+    def convert(text: str) -> float:
+        value = real_number()(text)
+        if not low <= value <= high:
+            raise Bad(f"{text} {unit} is outside {low:g} to {high:g} {unit}")
+        return value
+    return convert
+
+
 positive_int = whole_number(1)
 non_negative_int = whole_number(0)
 port = whole_number(1, 65535)

@@ -146,7 +146,9 @@ def _check_speed(args, scene) -> None:
     """Refuse ``--speed`` and ``--climb-rate`` on a scene whose fuselage does not fly (clamped or
     none): they would be ignored."""
     given = [(f, v) for f, v in (("--speed", getattr(args, "speed", None)),
-                                 ("--climb-rate", getattr(args, "climb_rate", 0.0) or None)) if v is not None]
+                                 ("--climb-rate", getattr(args, "climb_rate", 0.0) or None),
+                                 ("--bank", getattr(args, "bank", None)),
+                                 ("--turn-rate", getattr(args, "turn_rate", 0.0) or None)) if v is not None]
     if given and not _model_facts(scene)[1]:
         flag, value = given[0]
         raise ValueError(f"{flag} {value:g}: scene {scene.name!r} has no free fuselage, so no flight speed or climb "
@@ -189,7 +191,8 @@ def cmd_trim(args) -> int:
     _check_speed(args, scene)
     res = trim(scene, speed=args.speed, climb_rate=args.climb_rate, method=args.method,
                steps_per_rev=args.steps_per_rev, backend=args.backend, tol=args.tol,
-               max_iterations=args.iterations, progress=Progress(f"trim {args.scene}", not args.quiet))
+               max_iterations=args.iterations, progress=Progress(f"trim {args.scene}", not args.quiet),
+               turn_rate=args.turn_rate, bank=args.bank)
     out, lines = res.summary(), _trim_lines(res)
     if args.write and res.converged:
         from mbs.trim import write_trim
@@ -214,7 +217,16 @@ def _trim_lines(res) -> list[str]:
                for k, it in enumerate(res.history)],
              f"  final:       max |scaled residual| {np.abs(res.residual).max():.3e}",
              *[f"  {k:20s} {v:+.6f} rad ({np.degrees(v):+.4f} deg)" for k, v in
-               [*res.controls.items(), ("roll", res.roll), ("pitch", res.pitch)]]]
+               [*res.controls.items(), ("roll", res.roll), ("pitch", res.pitch),
+                *([("sideslip", res.sideslip)] if res.flight.bank is not None else [])]]]
+    if res.flight.bank is not None or res.flight.turn_rate:
+        lines.append(f"  flight: {res.flight.constraint}, turn rate {res.flight.turn_rate:g} rad/s")
+    changed = {k: v for k, v in res.published.items() if v != res.controls.get(k)}
+    if changed:
+        lines.append("  as published (the aircraft's conventions): "
+                     + ", ".join(f"{k} {np.degrees(v):+.4f} deg" for k, v in changed.items()))
+    if res.pilot:
+        lines.append("  pilot controls: " + ", ".join(f"{k} {v:.4g} {res.pilot_units[k]}" for k, v in res.pilot.items()))
     lines += [f"  {k:28s} {v:.6g} {res.output_units.get(k, '')} (period mean)".replace(" 1 (", " (")
               for k, v in res.output_means.items() if not OTHER_BLADES.match(k)]
     if res.flapping:
@@ -223,6 +235,7 @@ def _trim_lines(res) -> list[str]:
     if res.rotor:
         lines.append("  main rotor: " + ", ".join(f"{k} {v:.5g}" for k, v in res.rotor.items()))
     verdict = "converged" if res.converged else "NOT CONVERGED"
+    lines += [f"  warning: {w}" for w in res.warnings]
     return lines + [f"  {res.summary()['note']}",
                     f"{verdict}: {res.reason}; {res.iterations} Newton iterations, {res.n_jacobian} Jacobians, "
                     f"{res.n_residual} residual runs, {res.wall_s:.2f} s (+ {res.setup_s:.2f} s set-up)"]
@@ -478,6 +491,11 @@ def register(sub, bench) -> None:
                        "with the exact AD Jacobian of the period map")
     _add_periodic_arguments(p)
     p.add_argument("--climb-rate", type=A.finite, default=0.0, help="climb rate in m/s, up positive (default 0)")
+    p.add_argument("--bank", type=A.within(-1.2, 1.2, "rad"), default=None,
+                   help="hold this roll angle in rad (right wing down positive) and trim the sideslip instead "
+                        "(--bank 0: a zero-bank trim); default: zero sideslip, the roll trimmed")
+    p.add_argument("--turn-rate", type=A.within(-1.0, 1.0, "rad/s"), default=0.0,
+                   help="steady turn: the heading's rate in rad/s, right positive (default 0: straight flight)")
     p.add_argument("--tol", type=A.positive, default=1e-10, help="max |scaled residual| to reach (default 1e-10)")
     p.add_argument("--iterations", type=A.positive_int, default=20,
                    help="most Newton iterations before giving up (default 20)")

@@ -87,8 +87,9 @@ def _vector(name: str, what: str, value, shape) -> np.ndarray:
     return a
 
 
-def check_inertia(name: str, inertia) -> np.ndarray:
-    """Validate a 3x3 inertia tensor: symmetric, positive definite, triangle inequality."""
+def check_inertia(name: str, inertia, physical: bool = True) -> np.ndarray:
+    """Validate a 3x3 inertia tensor: symmetric, positive definite and, when ``physical``, the
+    triangle inequality (which any real distribution of mass satisfies)."""
     j = _vector(name, "inertia", inertia, (3, 3))
     scale = max(np.abs(j).max(), 1e-300)
     if np.abs(j - j.T).max() > 1e-9 * scale:
@@ -97,7 +98,7 @@ def check_inertia(name: str, inertia) -> np.ndarray:
     if ev[0] <= 0:
         raise ValueError(f"body {name!r}: inertia tensor is not positive definite "
                          f"(principal moments {ev.tolist()} kg m^2)")
-    if ev[0] + ev[1] < ev[2] * (1 - 1e-9):
+    if physical and ev[0] + ev[1] < ev[2] * (1 - 1e-9):
         raise ValueError(f"body {name!r}: principal moments {ev.tolist()} kg m^2 violate the "
                          "triangle inequality I1 + I2 >= I3")
     return j
@@ -163,8 +164,10 @@ class Model:
         self.outputs[name] = Output(name, fn, unit, description)
 
     def add_body(self, name: str, parent: str, joint: Joint, mass: float, com=(0, 0, 0),
-                 inertia=None, at=(0, 0, 0), frame=None, shape: dict | None = None) -> Body:
-        """Add a body; see :class:`Body` for units and frames. Returns the body."""
+                 inertia=None, at=(0, 0, 0), frame=None, shape: dict | None = None, physical: bool = True) -> Body:
+        """Add a body; see :class:`Body` for units and frames. Returns the body. ``physical=False``
+        accepts an inertia that violates the triangle inequality (an airframe left when a
+        whole-aircraft inertia is published inconsistently with the rotor's own)."""
         if name in self.bodies or name == WORLD:
             raise ValueError(f"duplicate body name {name!r}")
         if not isinstance(joint, Joint):
@@ -173,7 +176,7 @@ class Model:
             raise ValueError(f"body {name!r}: mass {mass} kg must be positive and finite")
         inertia = np.eye(3) * mass * 1e-2 if inertia is None else inertia
         body = Body(name, parent, joint, float(mass), _vector(name, "com", com, (3,)),
-                    check_inertia(name, inertia), _vector(name, "at", at, (3,)),
+                    check_inertia(name, inertia, physical), _vector(name, "at", at, (3,)),
                     check_rotation(name, np.eye(3) if frame is None else frame), shape or {})
         self.bodies[name] = body
         self._add_hinge_springs(body)

@@ -16,7 +16,8 @@ MAX_PERIOD_REVS = 12
 def problems(values: dict) -> list[str]:
     """Every physical problem of the completed ``values`` (defaults and derived values in)."""
     out = []
-    for check in (_inertia, _blades, _controls, _rotor_speed, _tail_hub, _airframe_mass, _tip_mach):
+    for check in (_inertia, _blades, _controls, _rotor_speed, _tail_hub, _airframe_mass, _tip_mach, _airframe_inertia,
+                  _rigging):
         out += check(values)
     return out
 
@@ -32,6 +33,64 @@ def _inertia(v: dict) -> list[str]:
         return [f"aircraft.Izz: principal moments {p[0]:.4g}, {p[1]:.4g}, {p[2]:.4g} kg m^2 violate the triangle "
                 "inequality (no rigid body has them: the largest exceeds the sum of the other two)"]
     return []
+
+
+def _airframe_inertia(v: dict) -> list[str]:
+    """A whole-aircraft inertia must leave a positive-definite airframe once the rotors' is subtracted."""
+    if v["aircraft"]["inertia"] != "whole-aircraft" or _airframe_mass(v):
+        return []
+    from mbs.aircraft import mass
+
+    p = np.linalg.eigvalsh(mass.airframe(v).inertia)
+    if p[0] > 0:
+        return []
+    return [f"aircraft.Ixx: the whole-aircraft inertia less the rotors' leaves the airframe principal moments "
+            f"{', '.join(f'{x:.4g}' for x in p)} kg m^2 (not positive definite): the rotors carry more inertia "
+            "than the aircraft; check the inertias, the blades' mass and I_flap, or set inertia = \"airframe\""]
+
+
+def inertia_warnings(v: dict) -> list[str]:
+    """What is physically doubtful about the airframe's inertia but usable: a whole-aircraft
+    inertia that leaves an airframe violating the triangle inequality (the published inertias and
+    the blades' data do not belong to one real aircraft)."""
+    if v["aircraft"]["inertia"] != "whole-aircraft":
+        return []
+    from mbs.aircraft import mass
+
+    p = np.linalg.eigvalsh(mass.airframe(v).inertia)
+    if p[0] <= 0 or p[0] + p[1] >= p[2] * (1 - 1e-12):
+        return []
+    return [f"aircraft.inertia: the whole-aircraft inertia less the rotors' leaves airframe principal moments "
+            f"{p[0]:.4g}, {p[1]:.4g}, {p[2]:.4g} kg m^2, which violate the triangle inequality by "
+            f"{p[2] - p[0] - p[1]:.4g} kg m^2: no real airframe has them, so the published inertias and the blades' "
+            "mass and I_flap are not of one aircraft. The model keeps the published total (the aircraft's rigid-body "
+            "motion is as published); check the sources"]
+
+
+GAIN_DIMS = {"m": (-1, 0, 0, 1), "rad": (0, 0, 0, 0), "-": (0, 0, 0, 1)}
+"""The dimensions of a mixing gain (an angle per position) for each kind of control position."""
+
+
+def _rigging(v: dict) -> list[str]:
+    """Each mixing gain is an angle per its own control's position unit; the mixing is invertible."""
+    c, meta = v.get("controls", {}), getattr(v, "meta", {}).get("controls", {})
+    if "collective_lever" not in c or not meta:
+        return []
+    from mbs.aircraft import rigging, units
+    from mbs.aircraft.reader import position_kind
+
+    out = []
+    kinds = [position_kind(meta[k]["unit"]) for k in rigging.PILOT]
+    for row in rigging.BLADE:
+        gains = [u.strip() for u in meta[row]["unit"].split(",")][1:]
+        for control, kind, text in zip(rigging.PILOT, kinds, gains):
+            if units.parse(text).dims != GAIN_DIMS[kind]:
+                out.append(f"controls.{row}: the gain per {control} is in {text!r}, but {control}'s position is "
+                           f"in {meta[control]['unit']!r}: give it in deg/{meta[control]['unit']}")
+    if not out and abs(np.linalg.det(np.array([c[k] for k in rigging.BLADE])[:, 1:])) < 1e-300:
+        out.append("controls.collective: the mixing's gains (4 x 4) are singular: some blade angle combination no "
+                   "pilot input reaches, so a trim has no pilot positions; check the rows")
+    return out
 
 
 def _blades(v: dict) -> list[str]:

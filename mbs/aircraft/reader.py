@@ -128,6 +128,8 @@ def convert(value, unit: str | None, spec: Entry):
                          "unit)" if kind != "table" else f"no unit: give unit = \"{spec.unit}\"")
     if kind == "table":
         return _table(value, unit, spec)
+    if kind in ("travel", "mixing"):
+        return _pilot(value, str(unit), spec)
     factor = units.factor_to(str(unit), spec.unit)
     if kind == "vector":
         if not (isinstance(value, list) and len(value) == spec.length):
@@ -188,6 +190,45 @@ def _table(value, unit: str, spec: Entry) -> list:
     if not isinstance(value, list) or not all(isinstance(r, list) and len(r) == len(factors) for r in value):
         raise ValueError(f"must be a list of rows of {len(factors)} numbers ({spec.unit})")
     return [[_number(v) * f for v, f in zip(row, factors)] for row in value]
+
+
+POSITION_KINDS = {(1, 0, 0, 0): "m", (0, 0, 0, 1): "rad", (0, 0, 0, 0): "-"}
+"""What a pilot control's position may be, and its SI unit."""
+
+
+def position_kind(unit: str) -> str:
+    """The SI unit (m, rad, -) of a pilot control's position in ``unit``; ValueError otherwise."""
+    u = units.parse(unit)
+    if u.per_rev or u.dims not in POSITION_KINDS:
+        raise ValueError(f"unit {unit!r} is {u.describe()}: a control's position is a length (in), an angle (deg) "
+                         "or a fraction (%)")
+    return POSITION_KINDS[u.dims]
+
+
+def _pilot(value, unit: str, spec: Entry) -> list:
+    """A pilot control's travel (two positions, ascending) or a mixing row (an angle, then four
+    angles per control position), in SI (m, rad or fraction of travel)."""
+    if not (isinstance(value, list) and len(value) == spec.length):
+        raise ValueError(f"must be a list of {spec.length} numbers")
+    numbers = [_number(v) for v in value]
+    if spec.kind == "travel":
+        factor = units.parse(unit).factor if position_kind(unit) else 1.0
+        low, high = (x * factor for x in numbers)
+        if not low < high:
+            raise ValueError(f"the least position {numbers[0]:g} must be below the largest {numbers[1]:g} {unit}")
+        return [low, high]
+    columns = [u.strip() for u in unit.split(",")]
+    if len(columns) != spec.length:
+        raise ValueError(f"unit {unit!r}: give {spec.length} units, an angle and four angles per control position "
+                         "(e.g. \"deg, deg/in, deg/in, deg/in, deg/in\")")
+    factors = [units.factor_to(columns[0], "rad")]
+    for text in columns[1:]:
+        gain = units.parse(text)
+        if gain.per_rev or gain.dims[:3] not in ((-1, 0, 0), (0, 0, 0)) or gain.dims[3] not in (0, 1):
+            raise ValueError(f"unit {text!r} is {gain.describe()}, not an angle per control position (deg/in, deg/deg, "
+                             "deg/%)")
+        factors.append(gain.factor)
+    return [x * f for x, f in zip(numbers, factors)]
 
 
 def _missing(out: Reading, raw: dict) -> None:

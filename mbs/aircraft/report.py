@@ -2,6 +2,8 @@
 from __future__ import annotations
 
 import math
+
+import numpy as np
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -85,6 +87,7 @@ def _warnings(data: Data, rows: list[tuple]) -> list[str]:
     if template:
         out.append(f"{len(template)} entries still carry the template's Bo105 values (source {TEMPLATE_SOURCE}), "
                    f"e.g. {', '.join(template[:3])}: replace them with your aircraft's data and sources")
+    out += checks.inertia_warnings(data)
     tr = data["tail_rotor"]
     period = checks.period_problem(tr["gear_ratio"], checks.tail_blade_symmetry(tr))
     if period:
@@ -116,9 +119,23 @@ def figures(data: Data) -> list[tuple]:
         ("hover tail-rotor thrust", hov.tail.thrust, "N"),
         ("main-rotor mass (hub and blades)", main_mass, "kg"), ("tail-rotor mass", tail_mass, "kg"),
         ("airframe mass", data["aircraft"]["mass"] - main_mass - tail_mass, "kg"),
+        *_inertia_figures(data),
         ("rotor period (both rotors back in place)", revs, "rev"),
         ("main-rotor revolution", 2 * math.pi / mr["omega"], "s"),
     ]
+
+
+def _inertia_figures(data: Data) -> list[tuple]:
+    """The airframe's inertia about its centre of mass and the whole aircraft's about the CG,
+    body axes (:mod:`mbs.aircraft.mass`), with the rotors' share."""
+    from mbs.aircraft import mass
+
+    frame, whole = mass.airframe(data).inertia, mass.whole_aircraft(data)
+    rows = [(f"airframe {n} (about its centre of mass)", float(s * frame[i, j]), "kg m^2")
+            for n, i, j, s in (("Ixx", 0, 0, 1), ("Iyy", 1, 1, 1), ("Izz", 2, 2, 1), ("Ixz", 0, 2, -1))]
+    rows += [(f"whole-aircraft {n} (about the CG)", float(s * whole.about(np.zeros(3))[i, j]), "kg m^2")
+             for n, i, j, s in (("Ixx", 0, 0, 1), ("Iyy", 1, 1, 1), ("Izz", 2, 2, 1), ("Ixz", 0, 2, -1))]
+    return rows
 
 
 def lines(report: Report) -> list[str]:

@@ -86,6 +86,23 @@ def _rotor(what: str) -> dict[str, Entry]:
     }
 
 
+POSITION = "m, rad or -"
+"""The unit kinds a pilot control's position may have: a length (in, mm), an angle (deg) or a
+fraction of its travel (%, -)."""
+
+
+def _travel(what: str, positive: str) -> Entry:
+    return Entry(POSITION, f"{what}: least and largest position, {positive} positive; a length (in), an angle (deg) "
+                 "or a fraction (%)", "travel", length=2)
+
+
+def _rig(what: str) -> Entry:
+    return Entry("rad, rad/position (4)", f"{what} from the pilot's controls: [at zero position, per unit of the "
+                 "collective lever, of the longitudinal stick, of the lateral stick, of the pedals], e.g. unit = "
+                 "\"deg, deg/in, deg/in, deg/in, deg/in\" (each gain per its control's position unit)", "mixing",
+                 length=5)
+
+
 def _controls(prefix: str, what: str) -> dict[str, Entry]:
     return {f"{prefix}_min": angle(f"least {what} the control reaches", 60),
             f"{prefix}_max": angle(f"largest {what} the control reaches", 60)}
@@ -102,9 +119,13 @@ ENTRIES: dict[str, dict[str, Entry]] = {
     "aircraft": {
         "name": Entry("-", "name of the aircraft", "text"),
         "mass": positive("kg", "gross mass"),
-        "Ixx": positive("kg m^2", "roll inertia of the airframe without the rotors, about the CG"),
-        "Iyy": positive("kg m^2", "pitch inertia of the airframe without the rotors, about the CG"),
-        "Izz": positive("kg m^2", "yaw inertia of the airframe without the rotors, about the CG"),
+        "inertia": choice("what Ixx, Iyy, Izz, Ixz are: the airframe's without the rotors, about its own centre of "
+                          "mass (airframe), or the whole aircraft's with its rotors, about the CG (whole-aircraft: "
+                          "the program subtracts the rotors' hubs and blades, averaged over a revolution)",
+                          "airframe", "whole-aircraft", default="airframe"),
+        "Ixx": positive("kg m^2", "roll moment of inertia (of what: see inertia)"),
+        "Iyy": positive("kg m^2", "pitch moment of inertia (of what: see inertia)"),
+        "Izz": positive("kg m^2", "yaw moment of inertia (of what: see inertia)"),
         "Ixz": num("kg m^2", "product of inertia: tensor [[Ixx, 0, -Ixz], [0, Iyy, 0], [-Ixz, 0, Izz]]", default=0.0),
     },
     "environment": {
@@ -150,6 +171,37 @@ ENTRIES: dict[str, dict[str, Entry]] = {
         "delta3": num("rad", "pitch-flap coupling: not modelled, 0 only", 0.0, 0.0, default=0.0),
         **_rotor("tail-rotor"),
         **_controls("collective", "tail-rotor collective pitch"),
+    },
+    "controls": {
+        "collective_lever": _travel("collective lever", "up"),
+        "longitudinal_stick": _travel("longitudinal cyclic stick", "forward"),
+        "lateral_stick": _travel("lateral cyclic stick", "right"),
+        "pedals": _travel("pedals", "right pedal forward"),
+        "collective": _rig("main-rotor collective pitch (at conventions.collective_radius)"),
+        "longitudinal_cyclic": _rig("longitudinal cyclic theta_1s (positive: the disc tilts aft)"),
+        "lateral_cyclic": _rig("lateral cyclic theta_1c (positive: the disc tilts to the advancing side's left ... "
+                               "as the model's lateral_cyclic)"),
+        "tail_collective": _rig("tail-rotor collective pitch (sign of conventions.tail_collective_positive)"),
+        "phase": angle("swashplate phase: the mixing's cyclic is turned by it in the sense of rotation, theta_1c = "
+                       "c cos(phase) + s sin(phase), theta_1s = s cos(phase) - c sin(phase) of the mixing's (c, s)",
+                       90, default=0.0),
+    },
+    "conventions": {
+        "tail_collective_positive": choice("what a positive tail-rotor collective pitch does in this file's rigging "
+                                           "and in published data of the aircraft: anti-torque (the model's "
+                                           "tail_collective), or thrust to port or to starboard",
+                                           "anti-torque", "port", "starboard", default="anti-torque"),
+        "collective_radius": ratio("where published main-rotor collective pitch is measured, fraction of R (0: "
+                                   "the blade root, the model's collective; 0.75 for theta_0.75)", 0.0, 1.0,
+                                   default=0.0),
+    },
+    "envelope": {
+        "pitch_min": angle("least pitch attitude of the published flight envelope", 90),
+        "pitch_max": angle("largest pitch attitude of the published flight envelope", 90),
+        "roll_min": angle("least roll attitude (left bank) of the published flight envelope", 90),
+        "roll_max": angle("largest roll attitude (right bank) of the published flight envelope", 90),
+        "sideslip_min": angle("least sideslip of the published flight envelope", 90),
+        "sideslip_max": angle("largest sideslip of the published flight envelope", 90),
     },
     "fuselage_aero": {
         "v_ref": positive("m/s", "speed at which the polynomials give the loads; loads scale with (V/v_ref)^2"),
@@ -209,9 +261,11 @@ ENTRIES: dict[str, dict[str, Entry]] = {
     },
 }
 
-OPTIONAL_SECTIONS = ("environment", "geometry", "elastic_blade", "swashplate")
+OPTIONAL_SECTIONS = ("environment", "geometry", "elastic_blade", "swashplate", "controls", "conventions",
+                     "envelope")
 """Sections a file may leave out: ISA, display sizes scaled from the rotor, no elastic blades, no
-swashplate mechanism (the blade pitch then only driven)."""
+swashplate mechanism (the blade pitch then only driven), no pilot-control rigging (the controls are
+the blade angles), the model's own conventions."""
 
 
 @dataclass(frozen=True)

@@ -2,7 +2,7 @@
 
 A unit text is a product of symbols with optional integer powers, one ``/`` dividing the
 product after it: ``kg m^2``, ``slug ft^2``, ``N m/rad``, ``N m s/rad``, ``kg/m^3``,
-``1/rad^2``, ``ft lbf``. Angles are a dimension of their own (``rad``, ``deg``, ``rev``), so
+``1/rad^2``, ``ft lbf``, ``deg/in``, ``deg/%`` (``%`` a hundredth). Angles are a dimension of their own (``rad``, ``deg``, ``rev``), so
 ``rpm`` converts to ``rad/s`` and ``1/deg`` to ``1/rad``, but an angle never passes for a
 number. ``-`` (or ``1``) is a pure number and ``1/rev`` a frequency ratio per revolution
 (which converts to nothing else).
@@ -27,6 +27,7 @@ SYMBOLS: dict[str, tuple[float, tuple[int, int, int, int]]] = {
     "N": (1.0, (1, 1, -2, 0)), "kN": (1e3, (1, 1, -2, 0)), "lbf": (_LB * _G0, (1, 1, -2, 0)),
     "W": (1.0, (2, 1, -3, 0)), "kW": (1e3, (2, 1, -3, 0)), "hp": (745.69987158227022, (2, 1, -3, 0)),
     "J": (1.0, (2, 1, -2, 0)), "Pa": (1.0, (-1, 1, -2, 0)),
+    "percent": (0.01, (0, 0, 0, 0)),
     "kt": (1852.0 / 3600, (1, 0, -1, 0)), "rpm": (2 * math.pi / 60, (0, 0, -1, 1)), "Hz": (1.0, (0, 0, -1, 0)),
 }
 DIMENSIONLESS = ("-", "1", "")
@@ -77,7 +78,7 @@ def parse(text: str) -> Unit:
 
 def _product(part: str, text: str, sign: int) -> tuple[float, tuple[int, ...]]:
     factor, dims = 1.0, [0, 0, 0, 0]
-    for token in part.replace("*", " ").replace("·", " ").split():
+    for token in part.replace("*", " ").replace("·", " ").replace("%", " percent ").split():
         if token == "1":
             continue
         match = _TOKEN.match(token)

@@ -29,7 +29,7 @@ import numpy as np
 
 from mbs.analysis.newton import Failure, Iteration, newton
 from mbs.analysis.period import RotorPeriod, scene_period
-from mbs.analysis.shooting import TrimLayout, residual_function, residual_scales, start_function
+from mbs.analysis.shooting import FlightPath, TrimLayout, residual_function, residual_scales, start_function
 
 TORQUE_NOTE = ("rotor torque and power: aerodynamic shaft torque of the blade-element forces (N m) and "
                "torque times rotor speed (W); shaft torque and power: the drive's (a joint reaction); engine power: "
@@ -73,6 +73,12 @@ class Trim:
     flapping: dict[str, float] = field(default_factory=dict)  # rad: beta0, beta1c, beta1s
     rotor: dict[str, float] = field(default_factory=dict)  # mu, C_T, C_T/sigma of the main rotor
     output_units: dict[str, str] = field(default_factory=dict)
+    flight: FlightPath = field(default_factory=FlightPath)
+    sideslip: float = 0.0  # rad: the track's sideslip at t = 0 (zero with the zero-sideslip constraint)
+    pilot: dict[str, float] = field(default_factory=dict)  # pilot control positions of an aircraft with a rigging
+    pilot_units: dict[str, str] = field(default_factory=dict)  # their units (the aircraft file's)
+    published: dict[str, float] = field(default_factory=dict)  # the controls in the aircraft's published conventions
+    warnings: list[str] = field(default_factory=list)
 
     @property
     def iterations(self) -> int:
@@ -93,7 +99,9 @@ class Trim:
                 "method": self.method,
                 "steps_per_rev": self.steps_per_rev, "converged": self.converged, "reason": self.reason,
                 "controls": self.controls, "controls_deg": {k: float(np.degrees(v)) for k, v in self.controls.items()},
-                "roll": self.roll, "pitch": self.pitch, "state": self.state,
+                "roll": self.roll, "pitch": self.pitch, "sideslip": self.sideslip, "state": self.state,
+                "constraint": self.flight.constraint, "turn_rate": self.flight.turn_rate,
+                "pilot_controls": self.pilot, "pilot_units": self.pilot_units, "published_controls": self.published, "warnings": self.warnings,
                 "roll_deg": float(np.degrees(self.roll)), "pitch_deg": float(np.degrees(self.pitch)),
                 "period": self._period_summary(),
                 "max_abs_residual": float(np.abs(self.residual).max()), "residuals": self.residuals,
@@ -119,16 +127,17 @@ class ShootingProblem:
     shooting interval (m); radius: reference length of the scaled residual (m); speed: m/s.
     """
 
-    def __init__(self, system, stepper, period: RotorPeriod, steps_per_rev: int, path, radius: float,
-                 speed: float = 0.0):
+    def __init__(self, system, stepper, period: RotorPeriod, steps_per_rev: int, flight: FlightPath, radius: float):
         info = system.info
-        self.speed, self.radius = speed, radius
+        self.flight, self.speed, self.radius = flight, flight.speed, radius
         self.system, self.stepper, self.period = system, stepper, period
-        self.lay = TrimLayout.of(info)
+        self.lay = TrimLayout.of(info, sideslip=flight.bank is not None)
         self.h, self.n = period.revolution / steps_per_rev, period.revs * steps_per_rev
-        self.path, self.p_base = np.asarray(path, dtype=float), system.params()
-        self._start = start_function(self.lay, info.nx, len(self.p_base))
-        self._residual = residual_function(self.lay, info.nx, period.symmetry(info.nx))
+        self.path, self.p_base = flight.chord(period.duration), system.params()
+        bank = flight.bank or 0.0
+        self._start = start_function(self.lay, info.nx, len(self.p_base), bank)
+        self._residual = residual_function(self.lay, info.nx, period.symmetry(info.nx),
+                                           flight.turn_rate * period.duration, bank)
         self.scale = residual_scales(self.lay.residual_names, period.omega, radius)
         self.nfwd = 0
 
@@ -205,9 +214,11 @@ def reference_radius(sc) -> float:
     return sc.aircraft.data["main_rotor"]["radius"] if getattr(sc, "aircraft", None) is not None else 1.0
 
 
-def estimate(system, lay: TrimLayout, speed: float, climb_rate: float = 0.0, aircraft=None) -> np.ndarray:
+def estimate(system, lay: TrimLayout, speed: float, climb_rate: float = 0.0, aircraft=None,
+             bank: float | None = None) -> np.ndarray:
     """Starting unknowns ``z``: the closed-form estimate at ``speed`` for a free-flying
-    helicopter of ``aircraft``, the model's initial state and parameters otherwise."""
+    helicopter of ``aircraft``, the model's initial state and parameters otherwise; with a given
+    ``bank`` (rad) the roll is that and the sideslip starts at zero."""
     x, p = system.x0(), system.params()
     if lay.free and aircraft is not None:
         x, p = _aircraft_estimate(system, lay, speed, aircraft.data)
@@ -216,9 +227,10 @@ def estimate(system, lay: TrimLayout, speed: float, climb_rate: float = 0.0, air
     from mbs import _rotation as rot
 
     roll, pitch, _ = rot.quat_to_euler(x[lay.quaternion])
+    roll = roll if bank is None else bank
     q = rot.euler_to_quat(roll, pitch, 0.0)
     body = np.r_[np.asarray(rot.quat_to_matrix(q)).T @ [speed, 0.0, -climb_rate], 0.0, 0.0, 0.0]
-    return np.r_[p[lay.controls], roll, pitch, body, x[lay.rotor]]
+    return np.r_[p[lay.controls], roll if bank is None else 0.0, pitch, body, x[lay.rotor]]
 
 
 def _aircraft_estimate(system, lay: TrimLayout, speed: float, d) -> tuple[np.ndarray, np.ndarray]:
@@ -265,22 +277,27 @@ def _scene_speed(system, lay: TrimLayout) -> float:
 
 def trim(scene: str = "forward-flight", speed: float | None = None, climb_rate: float = 0.0,
          method: str = "rk4", steps_per_rev: int | None = None, backend: str = "compiled",
-         tol: float = 1e-10, max_iterations: int = 20, system=None, stepper=None, progress=None) -> Trim:
+         tol: float = 1e-10, max_iterations: int = 20, system=None, stepper=None, progress=None, *,
+         turn_rate: float = 0.0, bank: float | None = None) -> Trim:
     """Trim ``scene`` at ``speed`` (m/s, default the scene's) and ``climb_rate`` (m/s, up).
 
     method, steps_per_rev: the fixed-step method and step of the periodic solution (the trim
     is periodic for exactly this discretisation); tol: on the max-norm scaled residual.
     ``system``/``stepper`` reuse built evaluators (the scene's defaults otherwise).
+    ``turn_rate`` (rad/s, right positive) trims a steady turn; ``bank`` None holds zero sideslip
+    (the roll a trim unknown), a number (rad) holds that roll with the sideslip free (0: zero bank).
     """
     return periodic_solution(_check_scene(scene), speed, climb_rate, method, steps_per_rev, backend, tol,
-                             max_iterations, system, stepper, progress)
+                             max_iterations, system, stepper, progress, turn_rate=turn_rate, bank=bank)
 
 
 def periodic_solution(sc, speed: float | None = None, climb_rate: float = 0.0, method: str = "rk4",
                       steps_per_rev: int | None = None, backend: str = "compiled", tol: float = 1e-10,
-                      max_iterations: int = 20, system=None, stepper=None, progress=None) -> Trim:
+                      max_iterations: int = 20, system=None, stepper=None, progress=None, *,
+                      turn_rate: float = 0.0, bank: float | None = None) -> Trim:
     """The periodic solution of the scene ``sc`` (a :class:`mbs.scenes.Scene`): a trim when its
-    fuselage is free, the periodic rotor response at the given controls otherwise."""
+    fuselage is free (flight path and constraint as :func:`trim`), the periodic rotor response at
+    the given controls otherwise."""
     from mbs.analysis.monodromy import TangentStepper
 
     start = time.perf_counter()
@@ -289,19 +306,38 @@ def periodic_solution(sc, speed: float | None = None, climb_rate: float = 0.0, m
     system = system or sc.system(backend)
     stepper = stepper or TangentStepper(sc.model(), method, backend)
     steps_per_rev = steps_per_rev or sc.steps_per_rev
-    prob = _problem(system, stepper, sc, speed, climb_rate, steps_per_rev)
+    flight = FlightPath(0.0, climb_rate, turn_rate, bank)
+    prob = _problem(system, stepper, sc, speed, flight, steps_per_rev)
     setup_s, nfev0 = time.perf_counter() - start, system.nfev
-    res = newton(prob.residual, prob.jacobian, estimate(system, prob.lay, prob.speed, climb_rate, sc.aircraft), tol,
-                 max_iterations, progress=progress)
+    z0 = estimate(system, prob.lay, prob.speed, climb_rate, sc.aircraft, prob.flight.bank)
+    res = newton(prob.residual, prob.jacobian, z0, tol, max_iterations, progress=progress)
     if not res.converged and prob.lay.free and prob.speed > CONTINUATION_STEP:
-        res = _continuation(system, stepper, sc, prob, climb_rate, steps_per_rev, tol, max_iterations, res)
+        res = _continuation(system, stepper, sc, prob, steps_per_rev, tol, max_iterations, res)
     if not res.converged and prob.lay.free:
         res.reason += _beyond_range(system, prob.speed, sc.aircraft)
-    out = _result(sc.name, prob, res, prob.speed, climb_rate, steps_per_rev, setup_s, system.nfev - nfev0)
+    out = _result(sc.name, prob, res, steps_per_rev, setup_s, system.nfev - nfev0)
     if sc.aircraft is not None:
         out.aircraft = sc.aircraft.name
         out.rotor = rotor_coefficients(sc.aircraft.data, out.thrust, out.speed, system.params(out.params))
+        _pilot_figures(out, sc.aircraft.data)
     return out
+
+
+def _pilot_figures(out: Trim, d) -> None:
+    """The trim's controls in the aircraft's published conventions and, with a rigging, as pilot
+    positions; the warnings of :func:`mbs.analysis.trim_checks.warnings`."""
+    from mbs.aircraft import rigging
+    from mbs.analysis.trim_checks import warnings
+
+    out.published = rigging.conventions(d).to_published(out.controls)
+    rig = rigging.rigging(d)
+    if rig is not None and all(k in out.controls for k in rigging.BLADE):
+        si = rig.pilot(out.controls)
+        out.warnings = warnings(out, d, si)
+        out.pilot_units = {k: d.meta["controls"][k]["unit"] for k in si}
+        out.pilot = {k: rig.in_file_unit(k, v, out.pilot_units[k]) for k, v in si.items()}
+    else:
+        out.warnings = warnings(out, d)
 
 
 def rotor_coefficients(d, thrust: float | None, speed: float, p: np.ndarray | None = None) -> dict[str, float]:
@@ -321,16 +357,17 @@ CONTINUATION_STEP = 10.0
 """m/s: speed step of the continuation that takes over when Newton from the estimate fails."""
 
 
-def _continuation(system, stepper, sc, prob: ShootingProblem, climb_rate: float, steps_per_rev: int, tol: float,
+def _continuation(system, stepper, sc, prob: ShootingProblem, steps_per_rev: int, tol: float,
                   max_iterations: int, failed):
     """Newton from the estimate at ``prob.speed`` failed (``failed``): trim at speeds rising to
     it in steps of at most :data:`CONTINUATION_STEP`, each Newton solve starting from the
     previous solution. Returns the last solve with the work of all of them (the failed attempt
     included) counted, or ``failed`` when a step does not converge either."""
     speeds = np.linspace(0.0, prob.speed, int(np.ceil(prob.speed / CONTINUATION_STEP)) + 1)[1:]
-    z, work = estimate(system, prob.lay, speeds[0], climb_rate, sc.aircraft), [failed]
+    flight = prob.flight
+    z, work = estimate(system, prob.lay, speeds[0], flight.climb_rate, sc.aircraft, flight.bank), [failed]
     for v in speeds:
-        step = _problem(system, stepper, sc, v, climb_rate, steps_per_rev)
+        step = _problem(system, stepper, sc, v, flight, steps_per_rev)
         work.append(newton(step.residual, step.jacobian, z, tol, max_iterations))
         if not work[-1].converged:
             return failed
@@ -342,22 +379,27 @@ def _continuation(system, stepper, sc, prob: ShootingProblem, climb_rate: float,
     return res
 
 
-def _problem(system, stepper, sc, speed, climb_rate, steps_per_rev) -> ShootingProblem:
+def _problem(system, stepper, sc, speed, flight: FlightPath, steps_per_rev) -> ShootingProblem:
+    """The trim problem at ``speed`` (m/s; None: the scene's) with ``flight``'s other settings."""
+    from dataclasses import replace
+
     lay = TrimLayout.of(system.info)
     speed = _scene_speed(system, lay) if speed is None or not lay.free else float(speed)
-    period = scene_period(sc, system)
-    path = np.array([speed, 0.0, -climb_rate]) * period.duration
-    return ShootingProblem(system, stepper, period, steps_per_rev, path, reference_radius(sc), speed)
+    return ShootingProblem(system, stepper, scene_period(sc, system), steps_per_rev, replace(flight, speed=speed),
+                           reference_radius(sc))
 
 
-def _result(scene: str, prob: ShootingProblem, res, speed, climb_rate, steps_per_rev, setup_s, nfev) -> Trim:
+def _result(scene: str, prob: ShootingProblem, res, steps_per_rev, setup_s, nfev) -> Trim:
     x0, p = prob.start(res.z)[:2]
     controls, attitude = prob.lay.split(res.z)[:2]
-    out = Trim(scene, speed, climb_rate, prob.stepper.method, steps_per_rev, prob.period,
-               dict(zip(prob.lay.control_names, map(float, controls))),
-               *(map(float, attitude) if prob.lay.free else (0.0, 0.0)), x0, p, prob.system.info.state_names,
-               res.converged, res.reason, res.r, prob.lay.residual_names, res.history, res.n_jacobian,
-               res.n_residual, nfev, prob.nfwd, res.wall_s, setup_s, radius=prob.radius)
+    flight = prob.flight
+    roll, pitch = map(float, attitude) if prob.lay.free else (0.0, 0.0)
+    sideslip, roll = (roll, flight.bank) if prob.lay.sideslip else (0.0, roll)
+    out = Trim(scene, flight.speed, flight.climb_rate, prob.stepper.method, steps_per_rev, prob.period,
+               dict(zip(prob.lay.control_names, map(float, controls))), roll, pitch, x0, p,
+               prob.system.info.state_names, res.converged, res.reason, res.r, prob.lay.residual_names, res.history,
+               res.n_jacobian, res.n_residual, nfev, prob.nfwd, res.wall_s, setup_s, radius=prob.radius,
+               flight=flight, sideslip=sideslip)
     out.output_units = {o["name"]: o["unit"] for o in prob.system.info.outputs}
     if res.converged:
         out.output_means, out.flapping = _period_figures(prob, res.z)

@@ -13,52 +13,10 @@ from __future__ import annotations
 
 import numpy as np
 
-
-def rz(angle: float) -> np.ndarray:
-    c, s = np.cos(angle), np.sin(angle)
-    return np.array([[c, -s, 0], [s, c, 0], [0, 0, 1.0]])
-
-
-def main_sense(d) -> int:
-    """+1 for a main rotor turning counter-clockwise seen from above (about its thrust axis, up)."""
-    return 1 if d["main_rotor"]["rotation"] == "counter-clockwise" else -1
-
-
-def shaft_frame(tilt: float) -> np.ndarray:
-    """Main-rotor hub frame in body axes: columns x (aft), y (starboard), z (shaft, up)."""
-    return np.array([[-np.cos(tilt), 0, np.sin(tilt)], [0, 1.0, 0], [-np.sin(tilt), 0, -np.cos(tilt)]])
+from mbs.aircraft.geometry import (blade_azimuths, main_hub_position, main_sense, rz, shaft_frame,  # noqa: F401
+                                   tail_frame, tail_hub_position, tail_sense)
 
 
 def azimuth_frame(hub_frame: np.ndarray, sense: int) -> np.ndarray:
     """The azimuth frame (x at ψ = 0, y at ψ = 90°, z thrust) of a hub frame and its sense."""
     return hub_frame * np.array([1.0, sense, 1.0])
-
-
-def tail_frame(d) -> np.ndarray:
-    """Tail-rotor hub frame in body axes: x up, z the thrust (against the main rotor's torque:
-    starboard under a counter-clockwise main rotor), y = z × x."""
-    z = np.array([0.0, main_sense(d), 0.0])
-    x = np.array([0.0, 0.0, -1.0])
-    return np.column_stack([x, np.cross(z, x), z])
-
-
-def tail_sense(d) -> int:
-    """+1 when the tail rotor turns about its thrust axis: its upper blade then moves along the
-    tail hub frame's y."""
-    forward_is_y = tail_frame(d)[0, 1] > 0
-    moves_forward = d["tail_rotor"]["upper_blade"] == "forward"
-    return 1 if forward_is_y == moves_forward else -1
-
-
-def main_hub_position(d) -> np.ndarray:
-    return np.array([d["main_rotor"]["hub_x"], 0.0, d["main_rotor"]["hub_z"]])
-
-
-def tail_hub_position(d) -> np.ndarray:
-    tr = d["tail_rotor"]
-    return np.array([tr["hub_x"], tr["hub_y"], tr["hub_z"]])
-
-
-def blade_azimuths(n_blades: int) -> np.ndarray:
-    """Azimuth of each blade at ψ = 0 of blade 1 (rad, in the sense of rotation)."""
-    return 2 * np.pi * np.arange(n_blades) / n_blades

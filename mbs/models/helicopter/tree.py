@@ -13,7 +13,7 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
-from mbs.aircraft.checks import rotor_masses
+from mbs.aircraft import mass as parts
 from mbs.joints import DrivenHinge, Fixed, FreeJoint, Hinge, Serial
 from mbs.models.elastic_blade import add_elastic_blade
 from mbs.models.modal_blade import add_modal_blade
@@ -24,28 +24,15 @@ from mbs.tree import Model
 BLADE_COLORS = ["#d62728", "#1f77b4", "#2ca02c", "#ff7f0e"]
 
 
-def box_inertia(mass: float, lx: float, ly: float, lz: float) -> np.ndarray:
-    return mass / 12 * np.diag([ly**2 + lz**2, lx**2 + lz**2, lx**2 + ly**2])
-
-
 def add_fuselage(m: Model, d, cfg) -> str:
     """The airframe (free, clamped, or none: the hub then sits on the world); its name."""
     if cfg.fuselage == "none":
         return "world"
-    a = d["aircraft"]
-    inertia = [[a["Ixx"], 0, -a["Ixz"]], [0, a["Iyy"], 0], [-a["Ixz"], 0, a["Izz"]]]
     joint = FreeJoint() if cfg.fuselage == "free" else Fixed()
-    mass, com = fuselage_mass_and_com(d)
-    m.add_body("fuselage", "world", joint, mass=mass, com=com, inertia=inertia, shape=_fuselage_shape(d))
+    body = parts.airframe(d)
+    m.add_body("fuselage", "world", joint, mass=body.mass, com=body.com, inertia=body.inertia,
+               shape=_fuselage_shape(d), physical=d["aircraft"]["inertia"] == "airframe")
     return "fuselage"
-
-
-def fuselage_mass_and_com(d) -> tuple[float, np.ndarray]:
-    """Total mass minus the rotors' parts; centre of mass so that the aircraft CG is the origin."""
-    m_main, m_tail = rotor_masses(d)
-    mass = d["aircraft"]["mass"] - m_main - m_tail
-    com = -(m_main * fr.main_hub_position(d) + m_tail * fr.tail_hub_position(d)) / mass
-    return mass, com
 
 
 def _fuselage_shape(d) -> dict:
@@ -92,13 +79,12 @@ def add_main_rotor(m: Model, d, cfg, parent: str) -> None:
     mr, sense = d["main_rotor"], fr.main_sense(d)
     tilt = mr["shaft_tilt"] if cfg.shaft_tilt else 0.0
     at = fr.main_hub_position(d) if parent != "world" else np.zeros(3)
-    rh = mr["hub_radius"]
-    m.add_body("main_hub", parent, _azimuth_joint(cfg, 1.0, sense), mass=mr["hub_mass"],
-               inertia=mr["hub_mass"] / 4 * np.diag([rh**2, rh**2, 2 * rh**2]), at=at, frame=fr.shaft_frame(tilt),
-               shape={"kind": "cylinder", "radius": rh, "length": d["geometry"]["hub_height"], "axis": [0, 0, 1],
+    hub = parts.main_hub(d)
+    m.add_body("main_hub", parent, _azimuth_joint(cfg, 1.0, sense), mass=hub.mass, inertia=hub.inertia, at=at,
+               frame=fr.shaft_frame(tilt), shape={"kind": "cylinder", "radius": mr["hub_radius"], "length": d["geometry"]["hub_height"], "axis": [0, 0, 1],
                       "color": "#50565e"})
     big_r, c, t = mr["radius"], mr["chord"], mr["blade_thickness"]
-    e = mr["flap_hinge_offset"]
+    e, blade = mr["flap_hinge_offset"], parts.main_blade(d)
     for k, psi0 in enumerate(fr.blade_azimuths(mr["n_blades"])[:cfg.blade_count(mr["n_blades"])]):
         frame = fr.rz(sense * psi0)
         if cfg.blade_segments or cfg.blade_modes:  # elastic, after the pitch bearing (the blade joint's last part)
@@ -106,8 +92,7 @@ def add_main_rotor(m: Model, d, cfg, parent: str) -> None:
             add(m, d, cfg, k, frame, _blade_joint(d, cfg, psi0, sense).parts[2:], sense)
             continue
         joint = blade_joint(d, cfg, k + 1, psi0, sense) if cfg.swashplate else _blade_joint(d, cfg, psi0, sense)
-        m.add_body(f"blade{k + 1}", "main_hub", joint, mass=mr["blade_mass"],
-                   com=((big_r - e) / 2, 0, 0), inertia=box_inertia(mr["blade_mass"], big_r - e, c, t),
+        m.add_body(f"blade{k + 1}", "main_hub", joint, mass=blade.mass, com=blade.com, inertia=blade.inertia,
                    at=e * frame[:, 0], frame=frame,
                    shape={"kind": "box", "size": [big_r - e, c, t], "offset": [(big_r - e) / 2, 0, 0],
                           "color": BLADE_COLORS[k % 4]})
@@ -116,20 +101,22 @@ def add_main_rotor(m: Model, d, cfg, parent: str) -> None:
 def add_tail_rotor(m: Model, d, cfg, parent: str) -> None:
     tr, sense = d["tail_rotor"], fr.tail_sense(d)
     radius, length = d["geometry"]["tail_hub"]
-    m.add_body("tail_hub", parent, _azimuth_joint(cfg, tr["gear_ratio"], sense), mass=tr["hub_mass"],
-               inertia=box_inertia(tr["hub_mass"], *[tr["hub_size"]] * 3), at=fr.tail_hub_position(d),
+    hub = parts.tail_hub(d)
+    m.add_body("tail_hub", parent, _azimuth_joint(cfg, tr["gear_ratio"], sense), mass=hub.mass,
+               inertia=hub.inertia, at=fr.tail_hub_position(d),
                frame=fr.tail_frame(d),
                shape={"kind": "cylinder", "radius": radius, "length": length, "axis": [0, 0, 1], "color": "#50565e"})
     blades_on = "tail_hub"
     if tr["hub_type"] == "teetering":
         m.add_body("seesaw", "tail_hub", Hinge((0, -1, 0), name="teeter", stiffness=tr["teeter_stiffness"]),
-                   mass=tr["seesaw_mass"], inertia=box_inertia(tr["seesaw_mass"], *tr["seesaw_size"]),
+                   mass=tr["seesaw_mass"], inertia=parts.seesaw(d).inertia,
                    shape={"kind": "box", "size": tr["seesaw_size"], "color": "#50565e"})
         blades_on = "seesaw"
     big_r, c, t = tr["radius"], tr["chord"], tr["blade_thickness"]
+    blade = parts.tail_blade(d)
     for k, psi0 in enumerate(fr.blade_azimuths(tr["n_blades"])):
         pitch = (DrivenHinge((sense, 0, 0), lambda t, p: p["tail_collective"], name="pitch")
                  if cfg.rotors == "driven" else Hinge((sense, 0, 0), name="pitch"))
-        m.add_body(f"tail_blade{k + 1}", blades_on, pitch, mass=tr["blade_mass"], com=(big_r / 2, 0, 0),
-                   inertia=box_inertia(tr["blade_mass"], big_r, c, t), frame=fr.rz(sense * psi0),
+        m.add_body(f"tail_blade{k + 1}", blades_on, pitch, mass=blade.mass, com=blade.com, inertia=blade.inertia,
+                   frame=fr.rz(sense * psi0),
                    shape={"kind": "box", "size": [big_r, c, t], "offset": [big_r / 2, 0, 0], "color": "#7f7f7f"})

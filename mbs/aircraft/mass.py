@@ -1,0 +1,144 @@
+"""Mass properties of the aircraft's parts from its data: the rotors' hubs and blades, and the
+airframe that remains of the aircraft's mass and inertia.
+
+Each part is a rigid :class:`Part` in its own frame; the rotors' parts are summed in their hub
+frame and averaged over a revolution (the inertia a slow motion of the aircraft feels), then
+carried to body axes about the aircraft's centre of gravity (CG). ``aircraft.inertia`` says what
+the file's ``Ixx … Ixz`` are: the airframe's alone about its own centre of mass, or the whole
+aircraft's about the CG, from which the rotors' are subtracted here. SI units: kg, m, kg m².
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from mbs.aircraft import geometry as geo
+from mbs.aircraft.checks import rotor_masses
+
+AVERAGE_AZIMUTHS = 36
+"""Azimuths of the average over a revolution: exact for an inertia (a trigonometric polynomial of
+degree 2 in the azimuth)."""
+
+
+@dataclass(frozen=True)
+class Part:
+    """A rigid part: ``mass`` (kg), centre of mass ``com`` (3,) (m) and ``inertia`` (3, 3) about it
+    (kg m²), both in the part's frame."""
+
+    mass: float
+    com: np.ndarray
+    inertia: np.ndarray
+
+    def placed(self, at, frame) -> "Part":
+        """The part with its frame turned by ``frame`` (3, 3) and its origin moved to ``at`` (3,)."""
+        frame = np.asarray(frame, dtype=float)
+        return Part(self.mass, np.asarray(at, dtype=float) + frame @ self.com, frame @ self.inertia @ frame.T)
+
+    def about(self, point) -> np.ndarray:
+        """Inertia (3, 3) about ``point`` (3,) in the part's frame (parallel axes)."""
+        r = self.com - np.asarray(point, dtype=float)
+        return self.inertia + self.mass * (r @ r * np.eye(3) - np.outer(r, r))
+
+
+def box_inertia(mass: float, lx: float, ly: float, lz: float) -> np.ndarray:
+    """kg m²: a uniform box of edges ``lx, ly, lz`` (m) about its centre."""
+    return mass / 12 * np.diag([ly**2 + lz**2, lx**2 + lz**2, lx**2 + ly**2])
+
+
+def combine(parts: list[Part]) -> Part:
+    """One part of ``parts`` (all in one frame): total mass, centre of mass and inertia about it."""
+    mass = sum(p.mass for p in parts)
+    com = sum(p.mass * p.com for p in parts) / mass
+    return Part(mass, com, sum(p.about(com) for p in parts))
+
+
+def main_blade(d) -> Part:
+    """A main-rotor blade in its frame (x along the span from its flap hinge): a uniform box."""
+    mr = d["main_rotor"]
+    span = mr["radius"] - mr["flap_hinge_offset"]
+    return Part(mr["blade_mass"], np.array([span / 2, 0.0, 0.0]),
+                box_inertia(mr["blade_mass"], span, mr["chord"], mr["blade_thickness"]))
+
+
+def main_hub(d) -> Part:
+    """The main-rotor hub, a solid disc about the shaft."""
+    mr = d["main_rotor"]
+    m, r = mr["hub_mass"], mr["hub_radius"]
+    return Part(m, np.zeros(3), m / 4 * np.diag([r**2, r**2, 2 * r**2]))
+
+
+def tail_blade(d) -> Part:
+    """A tail-rotor blade in its frame (x along the span from the axis): a uniform box."""
+    tr = d["tail_rotor"]
+    return Part(tr["blade_mass"], np.array([tr["radius"] / 2, 0.0, 0.0]),
+                box_inertia(tr["blade_mass"], tr["radius"], tr["chord"], tr["blade_thickness"]))
+
+
+def tail_hub(d) -> Part:
+    """The tail-rotor hub, a cube."""
+    tr = d["tail_rotor"]
+    return Part(tr["hub_mass"], np.zeros(3), box_inertia(tr["hub_mass"], *[tr["hub_size"]] * 3))
+
+
+def seesaw(d) -> Part:
+    """A teetering tail rotor's seesaw, a box along the blades."""
+    tr = d["tail_rotor"]
+    return Part(tr["seesaw_mass"], np.zeros(3), box_inertia(tr["seesaw_mass"], *tr["seesaw_size"]))
+
+
+def main_rotor(d) -> Part:
+    """The main rotor (hub and blades) in its hub frame, averaged over a revolution."""
+    mr = d["main_rotor"]
+    sense, e = geo.main_sense(d), mr["flap_hinge_offset"]
+    blades = [main_blade(d).placed(e * geo.rz(sense * psi)[:, 0], geo.rz(sense * psi))
+              for psi in geo.blade_azimuths(mr["n_blades"])]
+    return _averaged(combine([main_hub(d), *blades]))
+
+
+def tail_rotor(d) -> Part:
+    """The tail rotor (hub, seesaw, blades) in its hub frame, averaged over a revolution."""
+    tr = d["tail_rotor"]
+    sense = geo.tail_sense(d)
+    parts = [tail_hub(d)] + ([seesaw(d)] if tr["hub_type"] == "teetering" else [])
+    parts += [tail_blade(d).placed(np.zeros(3), geo.rz(sense * psi)) for psi in geo.blade_azimuths(tr["n_blades"])]
+    return _averaged(combine(parts))
+
+
+def _averaged(part: Part) -> Part:
+    """``part`` averaged over its turns about the hub frame's z axis."""
+    turns = [geo.rz(a) for a in 2 * np.pi * np.arange(AVERAGE_AZIMUTHS) / AVERAGE_AZIMUTHS]
+    inertia = sum(t @ part.inertia @ t.T for t in turns) / len(turns)
+    return Part(part.mass, np.array([0.0, 0.0, part.com[2]]), inertia)
+
+
+def rotors(d) -> list[Part]:
+    """Main and tail rotor in body axes about the CG (:func:`main_rotor`, :func:`tail_rotor` placed)."""
+    tilt = d["main_rotor"]["shaft_tilt"]
+    return [main_rotor(d).placed(geo.main_hub_position(d), geo.shaft_frame(tilt)),
+            tail_rotor(d).placed(geo.tail_hub_position(d), geo.tail_frame(d))]
+
+
+def published_inertia(d) -> np.ndarray:
+    """The file's inertia tensor (3, 3), kg m²: ``[[Ixx, 0, -Ixz], [0, Iyy, 0], [-Ixz, 0, Izz]]``."""
+    a = d["aircraft"]
+    return np.array([[a["Ixx"], 0, -a["Ixz"]], [0, a["Iyy"], 0], [-a["Ixz"], 0, a["Izz"]]], dtype=float)
+
+
+def airframe(d) -> Part:
+    """The airframe: the aircraft's mass less the rotors', its centre of mass such that the
+    aircraft's is the CG (the rotors' masses at their hubs), and its inertia about its own centre
+    of mass: the file's (``inertia = "airframe"``) or the file's whole-aircraft inertia about the
+    CG less the rotors' (``"whole-aircraft"``)."""
+    main, tail = rotor_masses(d)
+    mass = d["aircraft"]["mass"] - main - tail
+    com = -(main * geo.main_hub_position(d) + tail * geo.tail_hub_position(d)) / mass
+    if d["aircraft"].get("inertia", "airframe") == "airframe":
+        return Part(mass, com, published_inertia(d))
+    rest = published_inertia(d) - sum(p.about(np.zeros(3)) for p in rotors(d))
+    return Part(mass, com, rest - mass * (com @ com * np.eye(3) - np.outer(com, com)))
+
+
+def whole_aircraft(d) -> Part:
+    """The whole aircraft (airframe and rotors) about the CG in body axes."""
+    return combine([airframe(d), *rotors(d)])

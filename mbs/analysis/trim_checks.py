@@ -1,0 +1,82 @@
+"""What a converged trim can be right about and still be wrong for: warnings for its report.
+
+Each check returns lines that name what to look at: a control at (or within 1 % of) a stop, a
+pilot control at the end of its travel, an attitude outside the aircraft's envelope (or outside
+what any helicopter trims at), a tail surface in more downwash than a rotor's wake can carry, and
+inertias that belong to no real airframe. Angles in rad, speeds in m/s.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+STOP_MARGIN = 0.01
+"""Fraction of a control's range within which it counts as at its stop."""
+PLAUSIBLE = {"pitch": np.radians(30.0), "roll": np.radians(60.0), "sideslip": np.radians(30.0)}
+"""Attitudes beyond which no helicopter trims in level or climbing flight (without an envelope in
+the aircraft file)."""
+CONTROLS = {"collective": ("main_rotor", "collective"), "lateral_cyclic": ("main_rotor", "lateral_cyclic"),
+            "longitudinal_cyclic": ("main_rotor", "longitudinal_cyclic"), "tail_collective": ("tail_rotor", "collective")}
+
+
+def warnings(res, d, pilot: dict | None = None) -> list[str]:
+    """Every warning of the trim ``res`` (:class:`mbs.analysis.trim.Trim`) of the aircraft data ``d``;
+    ``pilot`` its pilot positions in SI (an aircraft with a rigging)."""
+    if not res.converged:
+        return []
+    from mbs.aircraft.checks import inertia_warnings
+
+    return [*control_stops(res.controls, d), *pilot_stops(pilot or {}, d), *attitude(res, d), *tail_wake(res, d),
+            *inertia_warnings(d)]
+
+
+def control_stops(controls: dict, d) -> list[str]:
+    """Blade-angle controls at or within :data:`STOP_MARGIN` of their ranges' ends."""
+    out = []
+    for name, value in controls.items():
+        if name not in CONTROLS:
+            continue
+        section, key = CONTROLS[name]
+        low, high = d[section][f"{key}_min"], d[section][f"{key}_max"]
+        margin = STOP_MARGIN * (high - low)
+        if value <= low + margin or value >= high - margin:
+            end = f"{section}.{key}_min" if value <= low + margin else f"{section}.{key}_max"
+            out.append(f"{name} = {np.degrees(value):.3f} deg is at its stop {end} = {np.degrees(d[section][end.split('.')[1]]):.3f} "
+                       "deg: the trim holds only at the limit of control; check the range, or the flight condition")
+    return out
+
+
+def pilot_stops(pilot: dict, d) -> list[str]:
+    """Pilot controls at the ends of their travel (an aircraft with a rigging)."""
+    from mbs.aircraft import rigging
+
+    rig = rigging.rigging(d)
+    if rig is None or not pilot:
+        return []
+    return [f"{line}: the trim needs the full travel; check the rigging or the flight condition"
+            for line in rig.beyond_travel(pilot, STOP_MARGIN)]
+
+
+def attitude(res, d) -> list[str]:
+    """Pitch, roll and sideslip outside the aircraft's ``[envelope]`` or beyond :data:`PLAUSIBLE`."""
+    env, out = d.get("envelope", {}), []
+    values = {"pitch": res.pitch, "roll": res.roll, "sideslip": res.sideslip}
+    for name, value in values.items():
+        low, high = env.get(f"{name}_min", -PLAUSIBLE[name]), env.get(f"{name}_max", PLAUSIBLE[name])
+        if not low <= value <= high:
+            where = "the aircraft's envelope" if f"{name}_max" in env else "what a helicopter trims at"
+            out.append(f"{name} {np.degrees(value):+.2f} deg is outside {where} ({np.degrees(low):+.1f} to "
+                       f"{np.degrees(high):+.1f} deg): look at the controls and the aircraft data before using it")
+    return out
+
+
+def tail_wake(res, d) -> list[str]:
+    """A horizontal tail in more downwash than the main rotor's fully developed wake (twice the
+    mean induced velocity at the disc, momentum theory) can carry."""
+    down, inflow = res.output_means.get("horizontal_tail.downwash"), res.state.get("main_rotor.inflow")
+    if down is None or inflow is None or inflow <= 0:
+        return []
+    if down <= 2 * inflow * (1 + 1e-6):
+        return []
+    return [f"the horizontal tail sits in {down:.3g} m/s of downwash, more than the {2 * inflow:.3g} m/s of the main "
+            f"rotor's fully developed wake (twice its induced velocity {inflow:.3g} m/s): the wake model overstates "
+            "the tail's downwash here, so the trim's pitch attitude and longitudinal cyclic are doubtful"]

@@ -1,0 +1,206 @@
+"""Published data as printed: whole-aircraft inertias, pilot controls through a rigging, the
+tail-rotor pitch and collective conventions, and trims at zero bank and in steady turns."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from aircraft_files import edited, entries, write
+from mbs import aircraft, scenes
+from mbs.aircraft import mass, rigging
+from mbs.analysis.trim import evaluators, trim
+from mbs.models.helicopter import build
+from mbs.models.helicopter.config import Config
+
+RIG = {  # a utility helicopter's kind of rigging: inches of travel, blade angles per inch, mixing, phase
+    "collective_lever": {"value": [0.0, 10.0], "unit": "in", "source": "test"},
+    "longitudinal_stick": {"value": [-5.0, 5.0], "unit": "in", "source": "test"},
+    "lateral_stick": {"value": [-4.0, 4.0], "unit": "in", "source": "test"},
+    "pedals": {"value": [-2.7, 2.7], "unit": "in", "source": "test"},
+    "collective": {"value": [3.0, 1.6, 0.0, 0.0, 0.0], "unit": "deg, deg/in, deg/in, deg/in, deg/in", "source": "t"},
+    "longitudinal_cyclic": {"value": [0.0, 0.1, -1.6, 0.0, 0.0], "unit": "deg, deg/in, deg/in, deg/in, deg/in",
+                            "source": "t"},
+    "lateral_cyclic": {"value": [0.0, 0.0, 0.0, -1.0, 0.0], "unit": "deg, deg/in, deg/in, deg/in, deg/in",
+                       "source": "t"},
+    "tail_collective": {"value": [5.0, 0.3, 0.0, 0.0, 3.0], "unit": "deg, deg/in, deg/in, deg/in, deg/in",
+                        "source": "t"},
+    "phase": {"value": -10.0, "unit": "deg", "source": "t"},
+}
+
+
+def _rigged(tmp_path, **conventions):
+    raw = entries("bo105")
+    raw["controls"] = dict(RIG)
+    if conventions:
+        raw["conventions"] = {k: {"value": v, "unit": "-", "source": "t"} for k, v in conventions.items()}
+    return aircraft.load(write(raw, tmp_path / "rigged.toml"))
+
+
+def _whole(tmp_path, name: str):
+    raw = entries(name)
+    raw["aircraft"]["inertia"] = {"value": "whole-aircraft", "unit": "-", "source": "test"}
+    return aircraft.load(write(raw, tmp_path / f"{name}_whole.toml"))
+
+
+def _pose(model, name: str) -> tuple[np.ndarray, np.ndarray]:
+    """Body ``name``'s frame (rotation, origin) in the world at zero joint coordinates and azimuths,
+    composed from the model's own ``at``/``frame`` data (independent of :mod:`mbs.aircraft.mass`)."""
+    body = model.bodies[name]
+    if body.parent == "world":
+        return body.frame, body.at
+    rot, origin = _pose(model, body.parent)
+    return rot @ body.frame, origin + rot @ body.at
+
+
+def _model_inertia(model, turn: float) -> np.ndarray:
+    """The model's inertia about the origin (the CG) with both rotors turned by ``turn`` rad about
+    their shafts (zero flap, lag, pitch and teeter)."""
+    total = np.zeros((3, 3))
+    for name, body in model.bodies.items():
+        rot, origin = _pose(model, name)
+        for hub in ("main_hub", "tail_hub"):  # turn a rotor's bodies about its hub's axis
+            if name == hub or _descends(model, name, hub):
+                h_rot, h_at = _pose(model, hub)
+                spin = h_rot @ _rz(turn) @ h_rot.T
+                rot, origin = spin @ rot, h_at + spin @ (origin - h_at)
+        com = origin + rot @ body.com
+        total += rot @ body.inertia @ rot.T + body.mass * (com @ com * np.eye(3) - np.outer(com, com))
+    return total
+
+
+def _descends(model, name: str, ancestor: str) -> bool:
+    while name != "world":
+        name = model.bodies[name].parent
+        if name == ancestor:
+            return True
+    return False
+
+
+def _rz(a: float) -> np.ndarray:
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[c, -s, 0], [s, c, 0], [0, 0, 1.0]])
+
+
+@pytest.mark.parametrize("name", ["puma", "bo105", "lynx"])
+def test_a_whole_aircraft_inertia_is_the_models_total_over_a_revolution(tmp_path, name):
+    """With ``inertia = "whole-aircraft"`` the model's bodies (airframe, hubs, blades, seesaw),
+    averaged over the rotors' revolution, carry exactly the published inertia about the CG."""
+    craft = _whole(tmp_path, name)
+    model = build(Config(fuselage="clamped", rotor_aero=False, airframe_aero=False), craft)
+    turns = 2 * np.pi * np.arange(36) / 36
+    average = sum(_model_inertia(model, a) for a in turns) / len(turns)
+    assert np.abs(average - mass.published_inertia(craft.data)).max() <= 1e-9 * np.abs(average).max()
+
+
+def test_the_puma_as_whole_aircraft_warns_that_no_airframe_has_what_is_left(tmp_path):
+    """Padfield's Puma inertias less four 68.3 kg blades of I_beta = 1280 kg m^2 leave an airframe
+    whose pitch inertia exceeds roll plus yaw: a warning in check and the trim, not a refusal."""
+    craft = _whole(tmp_path, "puma")
+    report = aircraft.check(craft.path)
+    assert report.ok and any("triangle inequality" in w for w in report.warnings), report.warnings
+    frame = mass.airframe(craft.data).inertia
+    assert np.linalg.eigvalsh(frame)[0] > 0  # positive definite: the model runs
+
+
+def test_a_whole_aircraft_inertia_smaller_than_the_rotors_is_refused(tmp_path):
+    path = edited(tmp_path / "tiny.toml", "puma", **{"aircraft.inertia": "whole-aircraft", "aircraft.Ixx": 4500.0,
+                                                      "aircraft.Iyy": 6000.0, "aircraft.Izz": 5000.0})
+    report = aircraft.check(path)
+    assert not report.ok and report.problems[0].startswith("aircraft.Ixx:") and "not positive definite" in \
+        report.problems[0]
+
+
+def test_the_airframe_basis_leaves_the_model_as_it_was():
+    craft = aircraft.load("bo105")
+    body = build(Config(), craft).bodies["fuselage"]
+    assert np.array_equal(body.inertia, mass.published_inertia(craft.data))
+
+
+def test_rigging_maps_pilot_controls_to_blade_angles_and_back(tmp_path):
+    craft = _rigged(tmp_path, tail_collective_positive="port", collective_radius=0.75)
+    rig = rigging.rigging(craft.data)
+    pilot = {"collective_lever": 0.127, "longitudinal_stick": 0.0254, "lateral_stick": -0.02, "pedals": 0.01}
+    blade = rig.blade(pilot)
+    back = rig.pilot(blade)
+    assert all(back[k] == pytest.approx(v, abs=1e-15) for k, v in pilot.items())
+    # by hand: 5 in of collective lever is 3 + 1.6 * 5 = 11 deg at 0.75 R; the Bo105's twist -0.14 rad
+    # makes the root 0.105 rad more; a thrust to port is against the Bo105's anti-torque (starboard) thrust
+    deg, inch = math.radians(1.0), 0.0254
+    assert blade["collective"] == pytest.approx(11 * deg + 0.75 * 0.14, abs=1e-14)
+    tail = 5 * deg + 0.3 * deg * 5 + 3 * deg * pilot["pedals"] / inch
+    assert blade["tail_collective"] == pytest.approx(-tail, abs=1e-14)
+    s, c = (0.1 * 5 - 1.6 * 1.0) * deg, -1.0 * deg * pilot["lateral_stick"] / inch  # the mixing's theta_1s, theta_1c
+    phase = math.radians(-10.0)
+    assert blade["longitudinal_cyclic"] == pytest.approx(s * math.cos(phase) - c * math.sin(phase), abs=1e-14)
+    assert blade["lateral_cyclic"] == pytest.approx(c * math.cos(phase) + s * math.sin(phase), abs=1e-14)
+    jac = np.array([[(rig.blade({**pilot, p: pilot[p] + 1e-6})[b] - rig.blade({**pilot, p: pilot[p] - 1e-6})[b])
+                     / 2e-6 for p in rigging.PILOT] for b in rigging.BLADE])
+    assert np.abs(jac - rig.matrix()).max() <= 1e-8
+
+
+@pytest.mark.parametrize("row, unit, words", [
+    ("collective", "deg, deg/%, deg/in, deg/in, deg/in", "give it in deg/in"),
+    ("pedals", "kg", "a control's position is a length"),
+    ("collective", "deg, deg/in", "give 5 units"),
+])
+def test_a_rigging_in_the_wrong_units_is_refused_naming_the_entry(tmp_path, row, unit, words):
+    raw = entries("bo105")
+    raw["controls"] = {k: dict(v) for k, v in RIG.items()}
+    raw["controls"][row]["unit"] = unit
+    report = aircraft.check(write(raw, tmp_path / "bad.toml"))
+    assert not report.ok and report.problems[0].startswith(f"controls.{row}:") and words in report.problems[0], \
+        report.problems
+
+
+@pytest.fixture(scope="module")
+def forward_flight():
+    sc = scenes.get("forward-flight")
+    return sc, evaluators(sc)
+
+
+def test_a_zero_bank_trim_holds_the_wings_level_and_trims_the_sideslip(forward_flight):
+    sc, (system, stepper) = forward_flight
+    level = trim(sc, speed=30.0, system=system, stepper=stepper, bank=0.0)
+    assert level.converged and level.iterations <= 8, level.reason
+    assert level.roll == 0.0 and level.flight.constraint == "zero bank"
+    x = dict(zip(level.state_names, level.x0))
+    u, v, w = (x[f"fuselage.{k}"] for k in "uvw")
+    # the track is turned by the sideslip from the nose: the body velocity's side component is V sin(beta)
+    assert v / math.sqrt(u * u + v * v + w * w) == pytest.approx(math.sin(level.sideslip), abs=2e-3)
+    zero_sideslip = trim(sc, speed=30.0, system=system, stepper=stepper)
+    assert abs(zero_sideslip.roll) > math.radians(0.5) and abs(level.sideslip) > math.radians(1.0)
+
+
+def test_a_steady_turn_banks_as_the_centripetal_force_asks(forward_flight):
+    """At 30 m/s turning at 0.1 rad/s the bank exceeds the straight flight's by atan(V psi_dot / g)
+    (the rotor's tilt to hold the turn) within 0.2 deg, and the body rates are the heading rate's
+    components."""
+    sc, (system, stepper) = forward_flight
+    straight = trim(sc, speed=30.0, system=system, stepper=stepper)
+    turn = trim(sc, speed=30.0, system=system, stepper=stepper, turn_rate=0.1)
+    assert turn.converged and turn.iterations <= 8, turn.reason
+    g = sc.aircraft.data["environment"]["g"]
+    assert math.degrees(turn.roll - straight.roll) == pytest.approx(math.degrees(math.atan(30.0 * 0.1 / g)), abs=0.2)
+    x = dict(zip(turn.state_names, turn.x0))
+    phi, theta = turn.roll, turn.pitch
+    expected = 0.1 * np.array([-math.sin(theta), math.sin(phi) * math.cos(theta), math.cos(phi) * math.cos(theta)])
+    rates = np.array([x[f"fuselage.{k}"] for k in "pqr"])
+    assert np.abs(rates - expected).max() <= 0.02 * 0.1  # the rotor's vibration moves them a little within a period
+    left = trim(sc, speed=30.0, system=system, stepper=stepper, turn_rate=-0.1)
+    assert left.roll - straight.roll == pytest.approx(-(turn.roll - straight.roll), abs=math.radians(0.2))
+
+
+def test_a_rigged_aircraft_trims_in_pilot_controls_and_warns_at_a_stop(tmp_path):
+    craft = _rigged(tmp_path)
+    sc = scenes.get("hover", craft)
+    res = trim(sc)
+    assert res.converged and set(res.pilot) == set(rigging.PILOT) and res.pilot_units["pedals"] == "in"
+    rig = rigging.rigging(craft.data)
+    si = {k: v * 0.0254 for k, v in res.pilot.items()}
+    assert all(rig.blade(si)[k] == pytest.approx(res.controls[k], abs=1e-12) for k in rigging.BLADE)
+    stops = [w for w in res.warnings if "position (travel" in w]
+    beyond = [k for k, (lo, hi) in zip(rigging.PILOT, np.array([RIG[k]["value"] for k in rigging.PILOT]))
+              if not lo + 0.01 * (hi - lo) < res.pilot[k] < hi - 0.01 * (hi - lo)]
+    assert [w.split(" =")[0] for w in stops] == beyond
