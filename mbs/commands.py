@@ -376,6 +376,13 @@ def _derivative_lines(res) -> list[str]:
         row = [res.table[f"{f}_{v}"] for v in [*VELOCITIES, *syms]]
         lines.append(f"  {f:4s}" + "".join(f"{x:+11.4g}" for x in row))
     lines += matrix_lines("A", res.A, res.states, res.states) + matrix_lines("B", res.B, res.states, syms)
+    flipped = {k: v for k, v in res.published.items() if v != res.table.get(k)}
+    if flipped:
+        lines.append("  per published control angle (the aircraft's conventions): "
+                     + ", ".join(f"{k} {v:+.4g}" for k, v in flipped.items()))
+    if res.B_pilot is not None:
+        lines += matrix_lines("B per pilot position (SI: m, rad or fraction of travel)", res.B_pilot, res.states,
+                              ["lever", "lon stick", "lat stick", "pedals"])
     lines.append(f"  {'mode':22s} {'Re λ 1/s':>10s} {'Im λ rad/s':>11s} {'ζ':>7s} {'period s':>9s}")
     for m in res.modes:
         period = f"{m.period_s:9.2f}" if m.period_s else " " * 9

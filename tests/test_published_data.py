@@ -204,3 +204,17 @@ def test_a_rigged_aircraft_trims_in_pilot_controls_and_warns_at_a_stop(tmp_path)
     beyond = [k for k, (lo, hi) in zip(rigging.PILOT, np.array([RIG[k]["value"] for k in rigging.PILOT]))
               if not lo + 0.01 * (hi - lo) < res.pilot[k] < hi - 0.01 * (hi - lo)]
     assert [w.split(" =")[0] for w in stops] == beyond
+
+
+def test_derivatives_come_per_published_control_and_per_pilot_position(tmp_path):
+    """The control derivatives in the published tail-pitch convention flip the tail column; per
+    pilot position they are B times the rigging's d(blade)/d(pilot)."""
+    from mbs.analysis.derivatives import derivatives
+
+    craft = _rigged(tmp_path, tail_collective_positive="port")
+    res = derivatives(scenes.get("forward-flight", craft), speed=20.0)
+    assert res.published["N_θ0T"] == -res.table["N_θ0T"] and res.published["L_θ1c"] == res.table["L_θ1c"]
+    g = rigging.rigging(craft.data).matrix()
+    assert np.abs(res.B_pilot - res.B @ g).max() <= 1e-12 * np.abs(res.B).max()
+    assert res.pilot["N_pedals"] == pytest.approx(sum(res.table[f"N_{s}"] * g[i, 3] for i, s in
+                                                       enumerate(("θ0", "θ1s", "θ1c", "θ0T"))), rel=1e-12)

@@ -96,7 +96,7 @@ def _entry(out: Reading, section: str, key: str, entry) -> None:
         return
     origin = "override" if entry.get("override") else "file"
     out.put(section, key, value, {"unit": entry.get("unit", ""), "source": entry["source"],
-                                  "note": entry.get("note", ""), "origin": origin})
+                                  "note": entry.get("note", ""), "origin": origin, "value": entry["value"]})
 
 
 def _fields(entry: dict) -> str | None:

@@ -27,6 +27,7 @@ class Report:
     warnings: list[str] = field(default_factory=list)
     derived: list[tuple] = field(default_factory=list)
     figures: list[tuple] = field(default_factory=list)
+    converted: list[tuple] = field(default_factory=list)
 
     @property
     def ok(self) -> bool:
@@ -36,7 +37,8 @@ class Report:
         return {"file": str(self.path), "name": self.name, "ok": self.ok, "problems": self.problems,
                 "warnings": self.warnings,
                 "derived": [{"entry": e, "value": v, "unit": u, "how": h} for e, v, u, h in self.derived],
-                "figures": {n: {"value": v, "unit": u} for n, v, u in self.figures}}
+                "figures": {n: {"value": v, "unit": u} for n, v, u in self.figures},
+                "converted": [{"entry": e, "as_written": w, "si": v, "source": src} for e, w, v, src in self.converted]}
 
 
 def check(source) -> Report:
@@ -51,6 +53,7 @@ def check(source) -> Report:
     report = Report(path, str(data.get("aircraft", {}).get("name", "")), problems)
     if not problems:
         report.derived = _derived_rows(data)
+        report.converted = converted_rows(data)
         report.figures = figures(data)
         report.warnings = _warnings(data, report.derived)
     return report
@@ -65,6 +68,47 @@ def _derived_rows(data: Data) -> list[tuple]:
             how = "overridden in the file" if data.meta[section][key]["origin"] == "override" else spec.text
             rows.append((f"{section}.{key}", data[section][key], spec.unit, how))
     return rows
+
+
+def converted_rows(data: Data) -> list[tuple]:
+    """Every entry the program converted on loading: ``(entry, as written, SI value, source)``:
+    units to SI (``in`` to m, ``deg`` to rad, ``slug ft^2`` to kg m^2 ...)."""
+    from mbs.aircraft.schema import ENTRIES
+
+    rows = []
+    for section, entries in data.meta.items():
+        for key, meta in entries.items():
+            spec = ENTRIES.get(section, {}).get(key)
+            written = str(meta.get("unit", ""))
+            if meta.get("origin") not in ("file", "override") or spec is None or spec.kind in ("text", "choice"):
+                continue
+            if written.replace(" ", "") == spec.unit.replace(" ", "") or written in ("-", "1", ""):
+                continue
+            rows.append((f"{section}.{key}", f"{meta.get('value', '')} {written}".strip(),
+                         _si(data[section][key], spec), meta.get("source", "")))
+    return rows + _inertia_conversion(data)
+
+
+def _inertia_conversion(data: Data) -> list[tuple]:
+    """A whole-aircraft inertia becomes the airframe's (about its own centre of mass)."""
+    if data["aircraft"]["inertia"] != "whole-aircraft":
+        return []
+    from mbs.aircraft import mass
+
+    frame = mass.airframe(data).inertia
+    return [(f"aircraft.{n}", f"{data['aircraft'][n]:.6g} kg m^2 of the whole aircraft about the CG",
+             f"{s * frame[i, j]:.6g} kg m^2 of the airframe about its centre of mass (the rotors' parts subtracted)",
+             data.meta["aircraft"][n]["source"])
+            for n, i, j, s in (("Ixx", 0, 0, 1), ("Iyy", 1, 1, 1), ("Izz", 2, 2, 1), ("Ixz", 0, 2, -1))]
+
+
+def _si(value, spec) -> str:
+    unit = {"travel": "SI (m, rad or fraction)", "mixing": "rad, rad per SI position"}.get(spec.kind, spec.unit)
+    return f"{_numbers(value)} {unit}"
+
+
+def _numbers(value) -> str:
+    return "[" + ", ".join(_numbers(v) for v in value) + "]" if isinstance(value, list) else f"{value:.6g}"
 
 
 def _recomputed(data: Data, entry: str) -> float | None:
@@ -143,6 +187,9 @@ def lines(report: Report) -> list[str]:
     if not report.ok:
         return [f"{report.path}: {p}" for p in report.problems]
     out = [f"{report.path}: {report.name}: no problems"]
+    if report.converted:
+        out += ["  converted on loading (as written -> SI, source):"]
+        out += [f"    {e:34s} {w} -> {v}  ({src})" for e, w, v, src in report.converted]
     out += ["  derived values:"] + [f"    {e:34s} {_fmt(v)} {u}  ({h})" for e, v, u, h in report.derived]
     out += ["  figures:"] + [f"    {n:40s} {_fmt(v)} {u}" for n, v, u in report.figures]
     return out + [f"  warning: {w}" for w in report.warnings]

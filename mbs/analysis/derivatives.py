@@ -74,6 +74,9 @@ class Derivatives:
     units: dict[str, str] = field(default_factory=dict)
     wall_s: float = 0.0
     nfwd: int = 0
+    published: dict[str, float] = field(default_factory=dict)  # control derivatives per published control angle
+    pilot: dict[str, float] = field(default_factory=dict)  # control derivatives per pilot position (SI)
+    B_pilot: np.ndarray | None = None  # (8, 4): B per pilot position, PILOT order
 
     @property
     def states(self) -> list[str]:
@@ -88,6 +91,8 @@ class Derivatives:
                 "mean_acceleration_at_reference": self.mean_acceleration_at_reference.tolist(),
                 "eigenvalues": [m.summary() for m in self.modes],
                 "rotor_periodicity_residual": self.held.residual, "wall_s": self.wall_s, "nfwd": self.nfwd,
+                "control_derivatives_published": self.published, "control_derivatives_pilot": self.pilot,
+                "B_pilot": None if self.B_pilot is None else self.B_pilot.tolist(),
                 "convention": "Padfield 8-state x = (u, w, q, theta, v, p, phi, r), u = (theta0, theta1s, "
                               "theta1c, theta0T); forces per unit mass, moments per unit inertia (primed L, N); "
                               "quasi-static rotor in its periodic equilibrium"}
@@ -188,7 +193,33 @@ def derivatives(scene: str = "forward-flight", speed: float | None = None, metho
     if not sol.converged:
         raise RuntimeError(f"no trim of {sc.name!r} at {sol.speed:g} m/s: {sol.reason}")
     held_stepper = held_stepper or HeldStepper(sc.model(), method, backend)
-    return linearise(sol, system, held_stepper, sol.radius, start)
+    res = linearise(sol, system, held_stepper, sol.radius, start)
+    if sc.aircraft is not None:
+        in_pilot_controls(res, sc.aircraft.data)
+    return res
+
+
+def in_pilot_controls(res: Derivatives, d) -> None:
+    """Fill ``res.published`` (control derivatives per published control angle: the tail-rotor
+    pitch with the aircraft's sign convention) and, with a rigging, ``res.pilot`` and
+    ``res.B_pilot`` (per pilot position in SI: m, rad or fraction of travel)."""
+    from mbs.aircraft import rigging
+
+    conv, rig = rigging.conventions(d), rigging.rigging(d)
+    blade = [c for c in rigging.BLADE if c in res.controls]
+    cols = [res.controls.index(c) for c in blade]
+    scale = dict(zip(rigging.BLADE, conv.scale()))
+    for f in FORCES:
+        for c in blade:
+            res.published[f"{f}_{CONTROL_SYMBOLS[c]}"] = float(scale[c] * res.table[f"{f}_{CONTROL_SYMBOLS[c]}"])
+    if rig is None or len(blade) < 4:
+        return
+    g = rig.matrix()
+    res.B_pilot = res.B[:, cols] @ g
+    dmean = np.array([[res.table[f"{f}_{CONTROL_SYMBOLS[c]}"] for c in rigging.BLADE] for f in FORCES]) @ g
+    for i, f in enumerate(FORCES):
+        for j, p in enumerate(rigging.PILOT):
+            res.pilot[f"{f}_{p}"] = float(dmean[i, j])
 
 
 def _flies_free(model) -> bool:
