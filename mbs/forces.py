@@ -148,6 +148,45 @@ class SpringDamper(ForceElement):
         return 0.5 * self.stiffness * (state.q(self.coordinate) - self.rest) ** 2
 
 
+class Strut(ForceElement):
+    """A spring and damper along the line between point ``a`` of ``body_a`` and point ``b`` of
+    ``body_b`` (body frames, m): a lag damper between hub and blade, a shock strut.
+
+    The tension ``stiffness (L − rest) + damper(L̇)`` (N; ``L`` the length in m, ``L̇`` its rate in
+    m/s, ``damper`` a function of ``L̇``: a force curve) pulls the two points together; equal and
+    opposite forces at the points, so the strut does no work but its own. ``rest`` (m) the free
+    length; ``potential`` the spring's energy (J)."""
+
+    def __init__(self, name: str, body_a: str, a, body_b: str, b, stiffness: float = 0.0, rest: float = 0.0,
+                 damper: Callable | None = None):
+        self.name, self.body_a, self.body_b = name, body_a, body_b
+        self.a, self.b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+        self.stiffness, self.rest, self.damper = float(stiffness), float(rest), damper
+        if not (np.isfinite(self.stiffness) and np.isfinite(self.rest)):
+            raise ValueError(f"{name}: stiffness {stiffness} and rest length {rest} must be finite")
+
+    def geometry(self, state: State):
+        """``(d, L, L̇)``: the vector from ``a`` to ``b`` (world, m), its length (m) and rate (m/s)."""
+        d = state.point_position(self.body_b, self.b) - state.point_position(self.body_a, self.a)
+        length = ca.sqrt(ca.dot(d, d))
+        rate = ca.dot(d, state.point_velocity(self.body_b, self.b) - state.point_velocity(self.body_a, self.a)) / length
+        return d, length, rate
+
+    def tension(self, state: State):
+        """The strut's tension (N) and its unit vector from ``a`` to ``b`` (world)."""
+        d, length, rate = self.geometry(state)
+        tension = self.stiffness * (length - self.rest) + (self.damper(rate) if self.damper else 0.0)
+        return tension, d / length
+
+    def apply(self, state, loads):
+        tension, e = self.tension(state)
+        for body, point, sign in ((self.body_a, self.a, 1.0), (self.body_b, self.b, -1.0)):
+            loads.add_force(body, sign * tension * e, point=point, frame="world", rotation=state.body(body).rotation)
+
+    def potential(self, state):
+        return 0.5 * self.stiffness * (self.geometry(state)[1] - self.rest) ** 2
+
+
 class UserForce(ForceElement):
     """Any loads written as a function ``fn(state, loads)`` of the symbolic state."""
 

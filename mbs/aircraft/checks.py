@@ -17,7 +17,7 @@ def problems(values: dict) -> list[str]:
     """Every physical problem of the completed ``values`` (defaults and derived values in)."""
     out = []
     for check in (_inertia, _blades, _controls, _rotor_speed, _tail_hub, _airframe_mass, _tip_mach, _airframe_inertia,
-                  _rigging):
+                  _rigging, _lag_damper):
         out += check(values)
     return out
 
@@ -65,6 +65,38 @@ def inertia_warnings(v: dict) -> list[str]:
             f"{p[2] - p[0] - p[1]:.4g} kg m^2: no real airframe has them, so the published inertias and the blades' "
             "mass and I_flap are not of one aircraft. The model keeps the published total (the aircraft's rigid-body "
             "motion is as published); check the sources"]
+
+
+def lag_damper_figures(v: dict) -> tuple[float, float, float] | None:
+    """``(arm, c, c_zeta)`` of a ``[lag_damper]``: its moment arm about the lag hinge at zero lag (m),
+    its force curve's slope at rest (N s/m, the natural spline through the rows) and the rotational
+    damping it gives the lag hinge there, ``c arm²`` (N m s/rad); None without a damper."""
+    ld = v.get("lag_damper", {})
+    if not ld.get("force_curve"):
+        return None
+    from scipy.interpolate import CubicSpline
+
+    e = v["main_rotor"]["flap_hinge_offset"]
+    line = np.asarray(ld["blade_point"], dtype=float) - ld["hub_point"]
+    lever = np.asarray(ld["blade_point"], dtype=float) - [e, 0.0, 0.0]
+    arm = abs(np.cross(lever, line / np.linalg.norm(line))[2])
+    rows = np.array(ld["force_curve"], dtype=float)
+    slope = float(CubicSpline(rows[:, 0], rows[:, 1], bc_type="natural")(0.0, 1)) if len(rows) > 2 else \
+        float((rows[1, 1] - rows[0, 1]) / (rows[1, 0] - rows[0, 0]))
+    return float(arm), slope, slope * arm**2
+
+
+def _lag_damper(v: dict) -> list[str]:
+    """A damper's ends apart, its curve's rates increasing."""
+    ld = v.get("lag_damper", {})
+    if not ld.get("force_curve"):
+        return []
+    rows = np.array(ld["force_curve"], dtype=float)
+    if len(rows) < 2 or np.any(np.diff(rows[:, 0]) <= 0):
+        return ["lag_damper.force_curve: give at least two rows with the rate of extension increasing"]
+    if np.linalg.norm(np.asarray(ld["blade_point"]) - ld["hub_point"]) < 1e-3:
+        return ["lag_damper.blade_point: the damper's two ends coincide; give the hub and blade ends apart"]
+    return []
 
 
 GAIN_DIMS = {"m": (-1, 0, 0, 1), "rad": (0, 0, 0, 0), "-": (0, 0, 0, 1)}

@@ -132,6 +132,11 @@ def _warnings(data: Data, rows: list[tuple]) -> list[str]:
         out.append(f"{len(template)} entries still carry the template's Bo105 values (source {TEMPLATE_SOURCE}), "
                    f"e.g. {', '.join(template[:3])}: replace them with your aircraft's data and sources")
     out += checks.inertia_warnings(data)
+    damper = checks.lag_damper_figures(data)
+    if damper and data["main_rotor"]["lag_damping"] > 0:
+        out.append(f"main_rotor.lag_damping: {data['main_rotor']['lag_damping']:g} N m s/rad on the lag hinge as well as "
+                   f"the [lag_damper] strut ({damper[2]:.4g} N m s/rad at rest): both act; set lag_damping to the "
+                   "blade's structural damping only (or 0)")
     tr = data["tail_rotor"]
     period = checks.period_problem(tr["gear_ratio"], checks.tail_blade_symmetry(tr))
     if period:
@@ -163,10 +168,18 @@ def figures(data: Data) -> list[tuple]:
         ("hover tail-rotor thrust", hov.tail.thrust, "N"),
         ("main-rotor mass (hub and blades)", main_mass, "kg"), ("tail-rotor mass", tail_mass, "kg"),
         ("airframe mass", data["aircraft"]["mass"] - main_mass - tail_mass, "kg"),
-        *_inertia_figures(data),
+        *_inertia_figures(data), *_damper_figures(data),
         ("rotor period (both rotors back in place)", revs, "rev"),
         ("main-rotor revolution", 2 * math.pi / mr["omega"], "s"),
     ]
+
+
+def _damper_figures(data: Data) -> list[tuple]:
+    damper = checks.lag_damper_figures(data)
+    if damper is None:
+        return []
+    return [("lag damper arm about the lag hinge", damper[0], "m"), ("lag damper slope at rest", damper[1], "N s/m"),
+            ("lag damper as hinge damping at rest", damper[2], "N m s/rad")]
 
 
 def _inertia_figures(data: Data) -> list[tuple]:

@@ -195,6 +195,18 @@ ENTRIES: dict[str, dict[str, Entry]] = {
                                    "the blade root, the model's collective; 0.75 for theta_0.75)", 0.0, 1.0,
                                    default=0.0),
     },
+    "lag_damper": {
+        "hub_point": Entry("m", "the lag damper's end on the hub, in its blade's rotating frame at zero azimuth: "
+                           "distance from the rotor axis along the blade, towards the blade's leading edge, up",
+                           "vector", length=3),
+        "blade_point": Entry("m", "its end on the blade (moving with flap, lag and pitch), at zero flap, lag and "
+                             "pitch: distance from the rotor axis, towards the leading edge, up", "vector", length=3),
+        "force_curve": Entry("m/s, N", "the damper's force against its rate of extension: rows of (rate, force), "
+                             "the force resisting the motion (positive when extending); a natural cubic spline "
+                             "through the rows, linear beyond the ends", "table", columns=("m/s", "N")),
+        "stiffness": num("N/m", "the damper's stiffness along its line (an elastomeric damper), about its length at "
+                         "zero flap, lag and pitch", 0.0, default=0.0),
+    },
     "envelope": {
         "pitch_min": angle("least pitch attitude of the published flight envelope", 90),
         "pitch_max": angle("largest pitch attitude of the published flight envelope", 90),
@@ -262,7 +274,7 @@ ENTRIES: dict[str, dict[str, Entry]] = {
 }
 
 OPTIONAL_SECTIONS = ("environment", "geometry", "elastic_blade", "swashplate", "controls", "conventions",
-                     "envelope")
+                     "envelope", "lag_damper")
 """Sections a file may leave out: ISA, display sizes scaled from the rotor, no elastic blades, no
 swashplate mechanism (the blade pitch then only driven), no pilot-control rigging (the controls are
 the blade angles), the model's own conventions."""

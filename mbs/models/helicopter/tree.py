@@ -18,6 +18,7 @@ from mbs.joints import DrivenHinge, Fixed, FreeJoint, Hinge, Serial
 from mbs.models.elastic_blade import add_elastic_blade
 from mbs.models.modal_blade import add_modal_blade
 from mbs.models.helicopter import frames as fr
+from mbs.models.helicopter.lag_damper import add_lag_damper, has_damper
 from mbs.models.helicopter.swashplate import blade_joint
 from mbs.tree import Model
 
@@ -87,6 +88,9 @@ def add_main_rotor(m: Model, d, cfg, parent: str) -> None:
     e, blade = mr["flap_hinge_offset"], parts.main_blade(d)
     for k, psi0 in enumerate(fr.blade_azimuths(mr["n_blades"])[:cfg.blade_count(mr["n_blades"])]):
         frame = fr.rz(sense * psi0)
+        if (cfg.blade_segments or cfg.blade_modes) and has_damper(d) and cfg.dampers:
+            raise ValueError("the aircraft's [lag_damper] strut is built on rigid blades only; an elastic blade "
+                             "takes its lag damping as main_rotor.lag_damping: leave [lag_damper] out for it")
         if cfg.blade_segments or cfg.blade_modes:  # elastic, after the pitch bearing (the blade joint's last part)
             add = add_elastic_blade if cfg.blade_segments else add_modal_blade
             add(m, d, cfg, k, frame, _blade_joint(d, cfg, psi0, sense).parts[2:], sense)
@@ -96,6 +100,8 @@ def add_main_rotor(m: Model, d, cfg, parent: str) -> None:
                    at=e * frame[:, 0], frame=frame,
                    shape={"kind": "box", "size": [big_r - e, c, t], "offset": [(big_r - e) / 2, 0, 0],
                           "color": BLADE_COLORS[k % 4]})
+        if has_damper(d) and cfg.dampers:
+            add_lag_damper(m, d, f"blade{k + 1}", frame, sense)
 
 
 def add_tail_rotor(m: Model, d, cfg, parent: str) -> None:
