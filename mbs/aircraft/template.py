@@ -21,7 +21,7 @@ HEADER = """\
 # gravity, x forward, y starboard, z down. Check the file with:  heli aircraft check FILE
 """
 
-COMMENTED = ("elastic_blade", "swashplate")
+COMMENTED = ("elastic_blade", "swashplate", "controls", "conventions", "envelope", "lag_damper")
 """Optional sections written commented out (their entries are required once the section is there)."""
 
 
