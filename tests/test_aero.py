@@ -53,12 +53,14 @@ def test_pitt_peters_forward_flight_gradient_is_the_skewed_wake_closed_form(v_in
 
 
 def test_pitt_peters_moments_drive_their_gradients_with_the_textbook_gains():
-    """Hover: ``L = diag(1/2, 2, 2)``, ``V_T = V_m = v0``: ``v1s = 2 M_s / (ρ A v0)``, ``v1c`` alike."""
+    """Hover: ``L = diag(1/2, 2, 2)``, ``V_T = v0`` and the gradients' mass flow ``V_m = 2 v0``
+    (Peters and HaQuang, J. AHS 33 (1988): ``V = (μ² + λ (λ + ν)) / V_T`` with ``ν`` the induced
+    inflow): ``v1s = M_s / (ρ A v0)``, ``v1c`` alike."""
     moment_s, moment_c = 800.0, -500.0
     v = _equilibrium((WEIGHT, moment_s, moment_c), 0.0, 0.0)
     area = np.pi * RADIUS**2
-    assert v[1] == pytest.approx(2 * moment_s / (RHO * area * v[0]), rel=1e-6)
-    assert v[2] == pytest.approx(2 * moment_c / (RHO * area * v[0]), rel=1e-6)
+    assert v[1] == pytest.approx(moment_s / (RHO * area * v[0]), rel=1e-6)
+    assert v[2] == pytest.approx(moment_c / (RHO * area * v[0]), rel=1e-6)
 
 
 def test_pitt_peters_uniform_row_equals_the_uniform_model_without_moments():
@@ -70,7 +72,7 @@ def test_pitt_peters_uniform_row_equals_the_uniform_model_without_moments():
         assert float(pp[0]) == pytest.approx(float(uni), rel=1e-12)
     _, v_m, tan_half, _ = (float(a) for a in wake_skew(3.0, 40.0**2, 2.0))
     assert tan_half == pytest.approx(np.tan(np.arctan2(40.0, 5.0) / 2), rel=1e-12)
-    assert v_m == pytest.approx((40.0**2 + 5.0 * 7.0) / np.hypot(40.0, 5.0), rel=1e-12)
+    assert v_m == pytest.approx((40.0**2 + 5.0 * 8.0) / np.hypot(40.0, 5.0), rel=1e-12)  # λ (λ + v0), λ = 2 + 3
 
 
 def test_tip_loss_factor_and_strip_shares():

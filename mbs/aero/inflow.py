@@ -48,7 +48,9 @@ def wake_skew(v0, v_inplane2, v_normal):
     """``(V_T, V_m, tan(χ/2), cos χ)`` of the disc flow with uniform inflow ``v0`` (m/s).
 
     Total inflow ``λ = V_normal + v0``; ``V_T = sqrt(V_inplane² + λ²)`` (m/s) drives the uniform
-    component, ``V_m = (V_inplane² + λ (λ + V_normal)) / V_T`` (m/s) the gradients; wake skew
+    component, ``V_m = (V_inplane² + λ (λ + v0)) / V_T`` (m/s, Peters and HaQuang's mass-flow
+    parameter: ``2 v0`` in hover, where a perturbation of momentum theory's ``T = 2 ρ A v0²``
+    sees twice the mean flow) the gradients; wake skew
     ``χ = atan(V_inplane / λ)`` (0 in hover, π/2 edgewise). ``tan(χ/2)`` takes ``|V_inplane|``,
     which has a kink at zero; it is rounded to ``|V| (1 − exp(−V²/δ²))`` with
     :data:`SKEW_ROUNDING` ``δ``: exactly 0 in hover, ``|V|³/δ²`` near it (twice differentiable,
@@ -57,7 +59,7 @@ def wake_skew(v0, v_inplane2, v_normal):
     """
     lam = v_normal + v0
     v_t = ca.sqrt(v_inplane2 + lam**2 + EPS**2)
-    v_m = (v_inplane2 + lam * (lam + v_normal)) / v_t
+    v_m = (v_inplane2 + lam * (lam + v0)) / v_t
     rounded = ca.sqrt(v_inplane2 + EPS**2) * (1 - ca.exp(-v_inplane2 / SKEW_ROUNDING**2))
     tan_half = rounded / (v_t + lam)
     return v_t, v_m, tan_half, lam / v_t
