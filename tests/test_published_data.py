@@ -218,3 +218,71 @@ def test_derivatives_come_per_published_control_and_per_pilot_position(tmp_path)
     assert np.abs(res.B_pilot - res.B @ g).max() <= 1e-12 * np.abs(res.B).max()
     assert res.pilot["N_pedals"] == pytest.approx(sum(res.table[f"N_{s}"] * g[i, 3] for i, s in
                                                        enumerate(("θ0", "θ1s", "θ1c", "θ0T"))), rel=1e-12)
+
+
+def _rot(axis, angle: float) -> np.ndarray:
+    """Rotation by ``angle`` (rad) about the unit ``axis`` (Rodrigues)."""
+    a = np.asarray(axis, dtype=float)
+    k = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+    return np.eye(3) + math.sin(angle) * k + (1 - math.cos(angle)) * k @ k
+
+
+@pytest.mark.parametrize("curve", [[[-2.0, -6000.0], [0.0, 0.0], [2.0, 6000.0]],
+                                   [[-1.0, -5200.0], [-0.2, -2500.0], [0.0, 0.0], [0.2, 2500.0], [1.0, 5200.0]]])
+def test_a_lag_damper_strut_loads_flap_and_lag_by_virtual_work(tmp_path, curve):
+    """Hub end and blade end of a published damper geometry; its tension from the force curve at the
+    rate of extension (and a stiffness about the neutral length): the generalized forces on blade 1's
+    flap and lag are -T dL/dβ and -T dL/dζ, with L from an independent composition of the hinges."""
+    from scipy.interpolate import CubicSpline
+
+    from mbs.dynamics import symbolic
+
+    raw = entries("bo105")
+    raw["main_rotor"]["lag_damping"]["value"] = 0.0
+    raw["lag_damper"] = {"hub_point": {"value": [0.25, 0.20, 0.02], "unit": "m", "source": "t"},
+                         "blade_point": {"value": [0.75, 0.06, 0.0], "unit": "m", "source": "t"},
+                         "force_curve": {"value": curve, "unit": "m/s, N", "source": "t"},
+                         "stiffness": {"value": 2.0e5, "unit": "N/m", "source": "t"}}
+    craft = aircraft.load(write(raw, tmp_path / "damped.toml"))
+    cfg = Config(fuselage="none", tail_rotor=False, rotor_aero=False, airframe_aero=False)
+    with_damper, without = (symbolic(build(replace_cfg(cfg, dampers=on), craft)) for on in (True, False))
+    model = with_damper.model
+    x = np.zeros(len(_state_names(with_damper)))
+    idx = {n: i for i, n in enumerate(_state_names(with_damper))}
+    beta, zeta, beta_dot, zeta_dot = 0.03, 0.05, 0.4, -0.6
+    x[idx["blade1.flap"]], x[idx["blade1.lag"]] = beta, zeta
+    x[idx["blade1.flap_rate"]], x[idx["blade1.lag_rate"]] = beta_dot, zeta_dot
+    p = np.array([q.default for q in model.parameters.values()])
+    ht = [np.asarray(s["parts"](x, 0.0, p)[2]).ravel() for s in (with_damper, without)]
+    q_damper = ht[0] - ht[1]
+    rates = [n for n in _state_names(with_damper) if n.endswith("_rate")]
+    d = craft.data
+    e, theta = d["main_rotor"]["flap_hinge_offset"], model.parameters["collective"].default
+
+    def length(b, z):
+        rot = _rot((0, -1, 0), b) @ _rot((0, 0, -1), z) @ _rot((1, 0, 0), theta)
+        point = np.array([e, 0, 0]) + rot @ (np.array([0.75, 0.06, 0.0]) - [e, 0, 0])
+        return np.linalg.norm(point - [0.25, 0.20, 0.02])
+    h = 1e-6
+    dl_db = (length(beta + h, zeta) - length(beta - h, zeta)) / (2 * h)
+    dl_dz = (length(beta, zeta + h) - length(beta, zeta - h)) / (2 * h)
+    rows = np.array(curve)
+    rate = dl_db * beta_dot + dl_dz * zeta_dot
+    neutral = np.linalg.norm(np.array([0.75, 0.06, 0.0]) - [0.25, 0.20, 0.02])
+    tension = float(CubicSpline(rows[:, 0], rows[:, 1], bc_type="natural")(rate)) + 2.0e5 * (length(beta, zeta) - neutral)
+    assert q_damper[rates.index("blade1.flap_rate")] == pytest.approx(-tension * dl_db, rel=1e-7, abs=1e-6)
+    assert q_damper[rates.index("blade1.lag_rate")] == pytest.approx(-tension * dl_dz, rel=1e-7, abs=1e-6)
+    others = [i for i, n in enumerate(rates) if not n.startswith("blade1.")]
+    assert np.abs(q_damper[others]).max() <= 1e-9 * abs(tension)
+
+
+def replace_cfg(cfg, **changes):
+    from dataclasses import replace
+
+    return replace(cfg, **changes)
+
+
+def _state_names(sym) -> list[str]:
+    from mbs.backends.info import info_of
+
+    return info_of(sym, {}).state_names
