@@ -14,6 +14,7 @@ import numpy as np
 from mbs.aero import inflow as inf
 from mbs.aero.compressibility import Compressibility
 from mbs.aero.sections import Airfoil, section_force, turn
+from mbs.aero.tables.airfoil import BladeAirfoils, table_section_loads
 from mbs.aero.tiploss import lift_factors
 from mbs.aero.wake import Wake, WakeGeometry
 from mbs.forces import ForceElement, Loads, State
@@ -116,8 +117,10 @@ class RotorAero(ForceElement):
     ``<name>.wake`` (:class:`mbs.aero.wake.Wake`).
     """
 
-    def __init__(self, rotor: Rotor, airfoil: Airfoil, rho: float, kappa: float, model: RotorModel = RotorModel()):
+    def __init__(self, rotor: Rotor, airfoil: Airfoil, rho: float, kappa: float, model: RotorModel = RotorModel(),
+                 tables: BladeAirfoils | None = None):
         self.rotor, self.airfoil, self.rho, self.kappa, self.model = rotor, airfoil, rho, kappa, model
+        self.tables = tables
         self.name = f"{rotor.name} aerodynamics"
         self.inflow = f"{rotor.name}.inflow"
         self.states = model.inflow_states(rotor.name)
@@ -172,8 +175,14 @@ class RotorAero(ForceElement):
             lever = hinge + ca.DM([arm, 0, 0])
             disc_point = (ca.dot(lever, shaft_b[:, 0]) * per_radius, ca.dot(lever, shaft_b[:, 1]) * per_radius)
             velocity = origin + arm * ca.vertcat(0, m.omega[2], -m.omega[1])  # + ω × (arm, 0, 0)
-            f = self._element_force(self._air(disc_point, axis_b, v) - velocity, r, dr, lift)
-            force, torque = force + f, torque + arm * ca.vertcat(0, -f[2], f[1])  # + (arm, 0, 0) × f
+            w = self._air(disc_point, axis_b, v) - velocity
+            if self.tables is None:
+                f = self._element_force(w, r, dr, lift)
+                torque = torque + arm * ca.vertcat(0, -f[2], f[1])  # + (arm, 0, 0) × f
+            else:
+                f, pitching = self._table_element(w, r, dr, lift)
+                torque = torque + ca.vertcat(pitching, -arm * f[2], arm * f[1])
+            force = force + f
             out = out + self._element_loads(f, lever, axis_b, disc_point, self.rotor.sense)
         loads.add_force(blade, force, point=[0.0, 0.0, 0.0], frame="body", rotation=m.rotation)
         loads.add_torque(blade, torque)
@@ -187,6 +196,16 @@ class RotorAero(ForceElement):
                                  lift, self.coefficients)
         f_y, f_z = turn(f_c, f_n, -twist)
         return ca.vertcat(0, sense * f_y, f_z)
+
+    def _table_element(self, w, r: float, dr: float, lift: float):
+        """Element force (3,) (N, blade axes) and pitching moment about the blade's x axis (N m)
+        from the air velocity ``w`` (3,) (m/s, blade axes), with the segment's airfoil tables."""
+        twist, sense, chord = self.rotor.twist * r / self.rotor.radius, self.rotor.sense, self.rotor.chord
+        airfoil = self.tables.at(r / self.rotor.radius)
+        f_c, f_n, moment = table_section_loads(*turn(sense * w[1], w[2], twist), airfoil, self.tables.mach, self.rho,
+                                               chord * dr, chord, lift)
+        f_y, f_z = turn(f_c, f_n, -twist)
+        return ca.vertcat(0, sense * f_y, f_z), sense * moment
 
     @staticmethod
     def _element_loads(force, lever, axis, disc_point, sense: int) -> DiscLoads:

@@ -23,6 +23,7 @@ import difflib
 import math
 import sys
 from dataclasses import dataclass, field
+from pathlib import Path
 
 from mbs.aircraft import units
 from mbs.aircraft.schema import DERIVED, ENTRIES, OPTIONAL_SECTIONS, Entry
@@ -49,8 +50,9 @@ class Reading:
         self.meta.setdefault(section, {})[key] = meta
 
 
-def read(text: str) -> Reading:
-    """Parse the TOML ``text`` of an aircraft file (rules 1–7 of this module)."""
+def read(text: str, base: Path | None = None) -> Reading:
+    """Parse the TOML ``text`` of an aircraft file (rules 1–7 of this module); files it names
+    (C81 airfoil tables) are found from the folder ``base`` (None: the working directory)."""
     out = Reading()
     try:
         raw = tomllib.loads(text)
@@ -64,7 +66,7 @@ def read(text: str) -> Reading:
             out.problems.append(f"{section}: must be a section [{section}] of entries")
         else:
             for key, entry in entries.items():
-                _entry(out, section, key, entry)
+                _entry(out, section, key, entry, base)
     _missing(out, raw)
     return out
 
@@ -74,7 +76,7 @@ def _suggest(name: str, known) -> str:
     return f" (did you mean {close[0]!r}?)" if close else f"; known: {', '.join(known)}"
 
 
-def _entry(out: Reading, section: str, key: str, entry) -> None:
+def _entry(out: Reading, section: str, key: str, entry, base: Path | None = None) -> None:
     where = f"{section}.{key}"
     spec, derived = ENTRIES.get(section, {}).get(key), DERIVED.get(section, {}).get(key)
     if spec is None and derived is None:
@@ -90,7 +92,8 @@ def _entry(out: Reading, section: str, key: str, entry) -> None:
         return
     spec = spec or Entry(derived.unit, derived.text)
     try:
-        value = convert(entry["value"], entry.get("unit"), spec)
+        value = (airfoil_segments(entry["value"], entry.get("unit"), base) if spec.kind == "airfoils"
+                 else convert(entry["value"], entry.get("unit"), spec))
     except ValueError as exc:
         out.problems.append(f"{where}: {exc}")
         return
@@ -188,6 +191,25 @@ def _table(value, unit: str, spec: Entry) -> list:
     if not isinstance(value, list) or not all(isinstance(r, list) and len(r) == len(factors) for r in value):
         raise ValueError(f"must be a list of rows of {len(factors)} numbers ({spec.unit})")
     return [[_number(v) * f for v, f in zip(row, factors)] for row in value]
+
+
+def airfoil_segments(value, unit, base: Path | None) -> tuple:
+    """Rows ``[r/R, "file.c81"]`` as :class:`mbs.aero.tables.AirfoilSegment` (each file read
+    and its interpolant built); ValueError naming the row or the file's line."""
+    from mbs.aero.tables import AirfoilSegment
+
+    if unit is None or units.parse(str(unit)).dims != (0, 0, 0, 0) or units.parse(str(unit)).factor != 1.0:
+        raise ValueError(f"unit {unit!r}: give unit = \"-\" (each segment's start is a fraction r/R of the radius)")
+    rows = value if isinstance(value, list) and value else None
+    if rows is None or not all(isinstance(r, list) and len(r) == 2 and isinstance(r[1], str) for r in rows):
+        raise ValueError("must be a list of rows [r/R, \"file.c81\"], e.g. [[0.0, \"naca0012.c81\"]]")
+    starts = [_number(r[0]) for r in rows]
+    bad = [s for s in starts if not 0.0 <= s < 1.0]
+    if bad:
+        raise ValueError(f"segment start r/R = {bad[0]:g} outside [0, 1)")
+    if any(b <= a for a, b in zip(starts, starts[1:])):
+        raise ValueError(f"segment starts {', '.join(f'{s:g}' for s in starts)} must increase")
+    return tuple(AirfoilSegment.read(s, (base or Path.cwd()) / name, name) for s, (_, name) in zip(starts, rows))
 
 
 def _missing(out: Reading, raw: dict) -> None:

@@ -45,7 +45,7 @@ def check(source) -> Report:
         text = _text(path)
     except AircraftError as exc:
         return Report(exc.path, problems=exc.problems)
-    data, problems = evaluate(text)
+    data, problems = evaluate(text, path.parent)
     report = Report(path, str(data.get("aircraft", {}).get("name", "")), problems)
     if not problems:
         report.derived = _derived_rows(data)

@@ -17,7 +17,7 @@ DEG = math.pi / 180
 @dataclass(frozen=True)
 class Entry:
     """One entry: SI ``unit`` ("-" a pure number, "1/rev" per revolution), ``kind`` (number,
-    integer, choice, text, vector, table), ``low``/``high`` bounds (inclusive unless
+    integer, choice, text, vector, table, airfoils: rows of r/R and a C81 file), ``low``/``high`` bounds (inclusive unless
     ``open_low``/``open_high``), ``choices``, ``length`` of a vector, ``columns`` (units) of
     a table, ``default`` (None: required) and the meaning ``text``."""
 
@@ -83,6 +83,10 @@ def _rotor(what: str) -> dict[str, Entry]:
         "mach_dd": ratio(f"{what} drag-divergence Mach number of the section (with compressibility)", 0.3, 1.0),
         "mach_limit": ratio(f"{what} bound of the Mach number in the Prandtl-Glauert factor", 0.3, 0.95, default=0.8),
         **_airfoil(what),
+        "airfoils": Entry("-", f"{what} airfoil tables per radial segment: rows [r/R where the segment begins, C81 "
+                          "file (path from this file)], the first at or inboard of root_cutout; each segment's "
+                          "c_L, c_D, c_M against alpha (-180..180 deg) and Mach replace the analytic section above "
+                          "(which the estimates still use)", "airfoils", default=()),
     }
 
 

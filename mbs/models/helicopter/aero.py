@@ -6,6 +6,7 @@ import numpy as np
 
 from mbs.aero import (Airfoil, Compressibility, Download, FuselageAero, HubDrag, LiftingSurface, Rotor, RotorAero,
                       RotorModel, WakeGeometry)
+from mbs.aero.tables import BladeAirfoils
 from mbs.models.modal_blade import rotor_pieces
 from mbs.models.helicopter import frames as fr
 from mbs.tree import Model
@@ -68,12 +69,23 @@ def add_rotor_aero(m: Model, d, cfg, trim, parent: str) -> None:
     main_model = rotor_model(d, cfg, "main_rotor")
     _add_inflow_states(m, "main_rotor", main_model, trim.inflow_main)
     m.add_force(RotorAero(main_rotor(d, cfg, parent), airfoil(d["main_rotor"]), rho, d["main_rotor"]["kappa"],
-                          main_model))
+                          main_model, blade_airfoils(d, cfg, "main_rotor")))
     if cfg.tail_rotor:
         tail_model = rotor_model(d, cfg, "tail_rotor")
         _add_inflow_states(m, "tail_rotor", tail_model, trim.inflow_tail)
         m.add_force(RotorAero(tail_rotor(d, parent), airfoil(d["tail_rotor"]), rho, d["tail_rotor"]["kappa"],
-                              tail_model))
+                              tail_model, blade_airfoils(d, cfg, "tail_rotor")))
+
+
+def blade_airfoils(d, cfg, section: str) -> BladeAirfoils | None:
+    """The airfoil tables of the rotor ``section`` per radial segment (None: the analytic
+    section); the tables' Mach dependence with the compressibility switch, their lowest Mach
+    number without."""
+    segments = d[section].get("airfoils", ())
+    if not segments:
+        return None
+    return BladeAirfoils(tuple(s.start for s in segments), tuple(s.airfoil for s in segments),
+                         d["environment"]["speed_of_sound"], cfg.compressibility)
 
 
 def airfoil(sec: dict) -> Airfoil:
