@@ -44,7 +44,9 @@ def _columns(table) -> tuple:
 
 
 def _identifier(text: str) -> str:
-    return "".join(ch if ch.isalnum() else "_" for ch in text).lower()
+    """``text`` as a CasADi function name's part: letters, digits, single underscores."""
+    words = "".join(ch if ch.isalnum() and ch.isascii() else " " for ch in text).split()
+    return "_".join(words).lower() or "table"
 
 
 @dataclass(frozen=True)

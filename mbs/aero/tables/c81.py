@@ -122,7 +122,8 @@ def _numbers(lines: _Lines, line: str, expected: int, first_field: bool) -> list
             pass
     body = line if first_field else line[FIELD:]
     if not first_field and line[:FIELD].strip():
-        raise lines.error(f"a continuation line starts with {FIELD} blank columns; found {line!r}")
+        raise lines.error(f"a line of Mach numbers or a continuation line starts with {FIELD} blank columns; "
+                          f"found {line!r}")
     fields = [body[k:k + FIELD] for k in range(0, len(body.rstrip()), FIELD)]
     try:
         values = [float(f) if f.strip() else 0.0 for f in fields]
@@ -138,12 +139,7 @@ def _row(lines: _Lines, n: int, what: str, leading: bool) -> list[float]:
     """``n`` values of one row (after an angle when ``leading``), 9 a line after the first field."""
     first = min(n, PER_LINE)
     line = lines.next(what)
-    if leading:
-        values = _numbers(lines, line, first + 1, True)
-    else:
-        if line[:FIELD].strip():
-            raise lines.error(f"{what}: the Mach numbers start after {FIELD} blank columns; found {line!r}")
-        values = _numbers(lines, line, first, False)
+    values = _numbers(lines, line, first + leading, leading)
     while len(values) < n + leading:
         left = n + leading - len(values)
         values += _numbers(lines, lines.next(what), min(left, PER_LINE), False)

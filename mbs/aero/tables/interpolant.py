@@ -11,10 +11,10 @@ number, beyond which the end values are held (as C81 programs hold them) without
 
 Both directions together are one bicubic per cell of the grid. The tables of one airfoil (c_L,
 c_D, c_M, each on its own grid) are merged onto the union of their grids, each interpolant's
-pieces unchanged (a piecewise cubic on a grid is one on any finer grid). Evaluating it costs
-about what the analytic section costs: the cell is found without a search (equal bins in alpha,
-a comparison per Mach number), one call node copies the cell's power-basis coefficients from a
-constant array, and the SX graph evaluates the bicubics by Horner's rule, inlined.
+pieces unchanged (a piecewise cubic on a grid is one on any finer grid). The cell is found
+without a search (equal bins in alpha, a comparison per Mach number), call nodes read the cell
+and its power-basis coefficients from constant arrays, and the SX graph evaluates the bicubics
+by Horner's rule, inlined.
 """
 from __future__ import annotations
 
@@ -130,35 +130,34 @@ class Bins:
     """Where a point of the grid ``x`` (n,) lies: equal bins over the grid give its interval as
     ``first[bin]`` plus the number of the bin's inner grid points at or below it."""
 
-    def __init__(self, x: np.ndarray):
+    def __init__(self, name: str, x: np.ndarray):
         self.x0, self.n = float(x[0]), len(x)
         span = float(x[-1] - x[0])
         self.count = int(min(MAX_BINS, np.ceil(span / np.diff(x).min() - 1e-9)))
         self.scale = self.count / span
         edges = x[0] + np.arange(self.count + 1) / self.scale
-        self.first = np.clip(np.searchsorted(x, edges[:-1], side="right") - 1, 0, len(x) - 2)
+        first = np.clip(np.searchsorted(x, edges[:-1], side="right") - 1, 0, len(x) - 2)
         after = np.searchsorted(x, edges[1:], side="left")  # grid points strictly inside each bin follow first
-        inner = [x[f + 1:min(a, len(x) - 1)] for f, a in zip(self.first, after)]
-        self.inner = np.full((self.count, max(len(i) for i in inner)), np.inf)
+        inner = [x[f + 1:min(a, len(x) - 1)] for f, a in zip(first, after)]
+        rows = np.full((self.count, 1 + max(len(i) for i in inner)), np.inf)
+        rows[:, 0] = first
         for k, points in enumerate(inner):
-            self.inner[k, :len(points)] = points
+            rows[k, 1:1 + len(points)] = points
+        self.read = lookup(name, rows)
 
-    def interval(self, x: ca.MX) -> ca.MX:
-        """The index of the interval holding ``x`` (a whole number, MX)."""
-        b = ca.fmin(ca.fmax(ca.floor((x - self.x0) * self.scale), 0), self.count - 1)
-        j = ca.MX(ca.DM(self.first.astype(float)))[b]
-        for column in self.inner.T:
-            j = j + (x >= ca.MX(ca.DM(column))[b])
-        return ca.fmin(j, self.n - 2)
+    def interval(self, x):
+        """The index of the interval holding ``x`` (SX): a whole number, of zero derivative."""
+        row = self.read(ca.fmin(ca.fmax(ca.floor((x - self.x0) * self.scale), 0), self.count - 1))
+        return ca.fmin(row[0] + sum(x >= row[q] for q in range(1, row.numel())), self.n - 2)
 
 
-def lookup(name: str, alpha: np.ndarray, rows: np.ndarray, mach_cells: int) -> ca.Function:
-    """``(alpha, k) -> rows[j mach_cells + k, :]`` with ``j`` the interval of ``alpha`` (rad) in the
-    grid ``alpha`` and ``k`` a Mach interval: a call node that reads constant data, the one thing
-    an SX graph cannot do itself (the generated code copies the row from its offset)."""
-    x, k = ca.MX.sym("alpha"), ca.MX.sym("k")
-    cell = Bins(alpha).interval(x) * mach_cells + ca.fmin(ca.fmax(k, 0), mach_cells - 1)
-    return ca.Function(name, [x, k], [ca.MX(ca.DM(rows.T))[:, cell]], {"never_inline": True})
+def lookup(name: str, rows: np.ndarray) -> ca.Function:
+    """``i -> rows[i, :]`` for a whole number ``i`` within the rows (the caller's to ensure: the read
+    is not checked): a call node that reads constant data, the one thing an SX graph cannot do
+    itself. Its input is always built from ``floor`` and comparisons, so that no derivative
+    passes through the call."""
+    i = ca.MX.sym("i")  # a row read (the column read copies faster, but CasADi's SX VM gets its derivative wrong)
+    return ca.Function(name, [i], [ca.MX(ca.DM(rows))[i, :].T], {"never_inline": True})
 
 
 def cell_rows(alpha: np.ndarray, mach: np.ndarray, data: np.ndarray) -> np.ndarray:
@@ -196,7 +195,8 @@ class TableSpline:
         x = ca.SX.sym("x", 2)
         m = ca.fmin(ca.fmax(x[1], mach[0]), mach[-1]) if len(mach) > 1 else ca.SX(0.0)
         k = sum(m >= v for v in mach[1:-1]) if len(mach) > 2 else 0
-        c = lookup(f"{name}_cells", alpha, cell_rows(alpha, mach, data), max(len(mach) - 1, 1))(x[0], k)
+        j = Bins(f"{name}_bins", alpha).interval(x[0])
+        c = lookup(f"{name}_cells", cell_rows(alpha, mach, data))(j * max(len(mach) - 1, 1) + k)
         t, u = (x[0] - c[-4]) * c[-3], (m - c[-2]) * c[-1]
         out = [_horner([_horner([c[16 * o + 4 * a + b] for b in range(4)], u) if len(mach) > 1 else c[16 * o + 4 * a]
                         for a in range(4)], t) for o in range(self.size)]
