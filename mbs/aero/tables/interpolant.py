@@ -22,6 +22,8 @@ import casadi as ca
 import numpy as np
 from scipy.interpolate import BSpline
 
+from mbs.backends.compiled import COPIED_SUFFIX
+
 CLOSURE_TOLERANCE = 1e-9  # largest difference between the values at -180 and 180 deg
 
 
@@ -157,7 +159,7 @@ def lookup(name: str, rows: np.ndarray) -> ca.Function:
     itself. Its input is always built from ``floor`` and comparisons, so that no derivative
     passes through the call."""
     i = ca.MX.sym("i")  # a row read (the column read copies faster, but CasADi's SX VM gets its derivative wrong)
-    return ca.Function(name, [i], [ca.MX(ca.DM(rows))[i, :].T], {"never_inline": True})
+    return ca.Function(f"{name}{COPIED_SUFFIX}", [i], [ca.MX(ca.DM(rows))[i, :].T], {"never_inline": True})
 
 
 def cell_rows(alpha: np.ndarray, mach: np.ndarray, data: np.ndarray) -> np.ndarray:

@@ -51,3 +51,29 @@ def analytic_c81(airfoil: Airfoil, alpha_deg=None, mach=(0.0,), compressibility:
                   for v in f(grid_a.ravel(order="F")[None, :], grid_m.ravel(order="F")[None, :]))
     return C81(name, Path(f"{name}.c81"), CoefficientTable(alpha_deg, mach, cl_v),
                CoefficientTable(alpha_deg, mach, cd_v), CoefficientTable(alpha_deg, mach, 0 * cl_v))
+
+
+TABLE_SOURCE = "sampled from the analytic section and its compressibility corrections"
+
+
+def with_sampled_tables(aircraft, folder: Path):
+    """``aircraft`` (an :class:`mbs.aircraft.Aircraft`) with both rotors' sections given as C81
+    files sampled from their analytic sections with compressibility (:data:`MACH`), written with
+    a copy of the aircraft file into ``folder``: the aircraft that ``heli bench speed`` flies with
+    tables on, and a starting point for a file of one's own."""
+    from mbs.aero.tables.c81 import COEFFICIENTS, format_c81
+    from mbs.aircraft import load
+
+    d, text = aircraft.data, aircraft.path.read_text()
+    folder.mkdir(parents=True, exist_ok=True)
+    for section in ("main_rotor", "tail_rotor"):
+        sec = d[section]
+        section_airfoil = Airfoil(sec["lift_slope"], sec["cd0"], sec["cd2"], sec["alpha_stall"], sec["cd_stalled"])
+        comp = Compressibility(d["environment"]["speed_of_sound"], sec["mach_dd"], sec["mach_limit"])
+        c81 = analytic_c81(section_airfoil, mach=MACH, compressibility=comp, name=f"{aircraft.key} {section}")
+        (folder / f"{section}.c81").write_text(format_c81(c81.name, {c: c81.table(c) for c in COEFFICIENTS}))
+        entry = (f'airfoils = {{ value = [[0.0, "{section}.c81"]], unit = "-", source = "{TABLE_SOURCE}" }}\n')
+        text = text.replace(f"[{section}]\n", f"[{section}]\n{entry}", 1)
+    path = folder / aircraft.path.name
+    path.write_text(text)
+    return load(path)
