@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 from scipy.interpolate import CubicHermiteSpline, PchipInterpolator
 
+from mbs import aircraft
 from mbs.aero import EPS, Airfoil, Compressibility
 from mbs.aero.tables import C81Error, HermiteTable, TableAirfoil, TableSpline, parse_c81, table_section_loads
 from mbs.aero.tables.c81 import COEFFICIENTS, CoefficientTable, format_c81
@@ -242,3 +243,73 @@ def test_the_ad_derivatives_of_the_section_loads_equal_central_differences():
                                    for e in np.eye(2)])
         exact = np.array(jac(p))
         assert np.abs(exact - central).max() <= 1e-6 * np.abs(exact).max()
+
+
+# -- the aircraft file's entry ------------------------------------------------------------------
+
+def _with_airfoils(tmp_path: Path, value, unit="-", c81: str = PRINTED, section: str = "main_rotor") -> Path:
+    from aircraft_files import entries, write
+
+    (tmp_path / "wing.c81").write_text(c81)
+    raw = entries("bo105")
+    raw[section]["airfoils"] = {"value": value, "unit": unit, "source": "test"}
+    return write(raw, tmp_path / "tabled.toml")
+
+
+BROKEN_AIRFOILS = {  # what is wrong -> (value, unit, C81 text, the words of the one line)
+    "wrong unit": ([[0.0, "wing.c81"]], "m", PRINTED, "main_rotor.airfoils: unit 'm': give unit = \"-\""),
+    "not rows": (["wing.c81"], "-", PRINTED, "main_rotor.airfoils: must be a list of rows [r/R, \"file.c81\"]"),
+    "start beyond the tip": ([[1.2, "wing.c81"]], "-", PRINTED, "main_rotor.airfoils: segment start r/R = 1.2 outside"),
+    "starts not increasing": ([[0.0, "wing.c81"], [0.0, "wing.c81"]], "-", PRINTED, "must increase"),
+    "no such file": ([[0.0, "naca.c81"]], "-", PRINTED, "main_rotor.airfoils: C81 file"),
+    "bad C81 file": ([[0.0, "wing.c81"]], "-", "NACA\n", "main_rotor.airfoils: C81 file"),
+    "table not closed": ([[0.0, "wing.c81"]], "-", TYPED.replace("\n180 0.02", "\n180 0.03"),
+                         "main_rotor.airfoils: wing.c81 CD: the value at -180 deg (0.02) differs"),
+    "first segment outboard of the cut-out": ([[0.5, "wing.c81"]], "-", PRINTED,
+                                              "main_rotor.airfoils: the first segment starts at r/R = 0.5"),
+}
+
+
+@pytest.mark.parametrize("what", list(BROKEN_AIRFOILS))
+def test_a_broken_airfoils_entry_is_one_line_naming_it(what, tmp_path, capsys):
+    from test_cli_errors import run_main
+
+    value, unit, c81, words = BROKEN_AIRFOILS[what]
+    path = _with_airfoils(tmp_path, value, unit, c81)
+    code, err = run_main(["aircraft", "check", str(path)], capsys)
+    lines = err.strip().splitlines()
+    assert code == 2 and words in lines[0] and "Traceback" not in err, err
+    code, err = run_main(["simulate", "hover", "--aircraft", str(path), "--out", str(tmp_path / "out")], capsys)
+    assert code == 2 and len(err.strip().splitlines()) == 1 and words in err, err
+
+
+def test_check_lists_each_airfoil_segment_with_its_file_and_says_what_the_analytic_entries_still_do(tmp_path, capsys):
+    from test_cli_errors import run_main
+
+    from mbs.aircraft.report import check
+
+    path = _with_airfoils(tmp_path, [[0.0, "wing.c81"], [0.8, "wing.c81"]])
+    code, err = run_main(["aircraft", "check", str(path)], capsys)
+    assert code == 0, err
+    report = check(path)
+    figures = {n: v for n, v, _ in report.figures}
+    assert figures["main-rotor airfoil from r/R = 0.8"].startswith("SAMPLE 12% AIRFOIL (1990) from wing.c81 (CL 5 x 12")
+    assert any(w.startswith("main_rotor.airfoils: the blade elements use the tables") for w in report.warnings)
+
+
+def test_a_changed_c81_file_changes_the_aircraft(tmp_path):
+    path = _with_airfoils(tmp_path, [[0.0, "wing.c81"]])
+    before = aircraft.load(path).digest
+    (tmp_path / "wing.c81").write_text(PRINTED.replace("  15.   1.19", "  15.   1.20"))
+    after = aircraft.load(path)
+    assert after.digest != before and after.data["main_rotor"]["airfoils"][0].c81.CL.values[3, 0] == 1.20
+
+
+def test_segments_give_each_blade_element_its_airfoil():
+    from mbs.aero.tables import BladeAirfoils
+
+    a, b = TableAirfoil.from_c81(parse_c81(PRINTED)), TableAirfoil.from_c81(parse_c81(TYPED))
+    blade = BladeAirfoils((0.2, 0.8), (a, b), 340.0)
+    assert blade.at(0.2) is a and blade.at(0.79) is a and blade.at(0.8) is b and blade.at(0.99) is b
+    with pytest.raises(ValueError, match="inboard of the first airfoil segment"):
+        blade.at(0.1)

@@ -16,7 +16,7 @@ MAX_PERIOD_REVS = 12
 def problems(values: dict) -> list[str]:
     """Every physical problem of the completed ``values`` (defaults and derived values in)."""
     out = []
-    for check in (_inertia, _blades, _controls, _rotor_speed, _tail_hub, _airframe_mass, _tip_mach):
+    for check in (_inertia, _blades, _controls, _rotor_speed, _tail_hub, _airframe_mass, _tip_mach, _airfoils):
         out += check(values)
     return out
 
@@ -80,6 +80,16 @@ def _tail_hub(v: dict) -> list[str]:
         return [f"tail_rotor.hub_x: {tr['hub_x']:g} m puts the tail-rotor disc inside the main rotor's "
                 f"({-clearance:.3g} m overlap)"]
     return []
+
+
+def _airfoils(v: dict) -> list[str]:
+    out = []
+    for name in ("main_rotor", "tail_rotor"):
+        segments, cutout = v[name].get("airfoils", ()), v[name]["root_cutout"]
+        if segments and segments[0].start > cutout + 1e-12:
+            out.append(f"{name}.airfoils: the first segment starts at r/R = {segments[0].start:g}, outboard of the "
+                       f"root cut-out {cutout:g}: the blade elements between have no airfoil")
+    return out
 
 
 def rotor_masses(v: dict) -> tuple[float, float]:
