@@ -23,6 +23,8 @@ from mbs.forces import ForceElement, Loads, State
 @dataclass
 class Rotor:
     """Geometry of a rotor for :class:`RotorAero`; stations are equal-width strips.
+    ``chord_table``/``twist_table``: rows (r/R, chord m) and (r/R, twist rad) replacing the
+    constant chord and the linear twist (None: those).
 
     ``shaft_body``/``shaft_frame``: the body carrying the hub joint (``None``: the world) and
     the rotor's azimuth frame in its axes (3, 3): x at ψ = 0, y at ψ = 90° (ψ in the sense of
@@ -43,6 +45,17 @@ class Rotor:
     shaft_frame: np.ndarray = field(default_factory=lambda: np.eye(3))
     speed_ratio: float = 1.0
     pieces: dict = field(default_factory=dict)
+    chord_table: tuple | None = None
+    twist_table: tuple | None = None
+
+    def chord_at(self, r: float) -> float:
+        """Chord (m) at radius ``r`` (m): ``chord``, or ``chord_table`` (rows r/R, m) interpolated."""
+        return self.chord if self.chord_table is None else _interp(self.chord_table, r / self.radius)
+
+    def twist_at(self, r: float) -> float:
+        """Twist (rad) added to the root pitch at radius ``r`` (m): linear, or ``twist_table``
+        (rows r/R, rad) interpolated."""
+        return self.twist * r / self.radius if self.twist_table is None else _interp(self.twist_table, r / self.radius)
 
     @property
     def sense(self) -> int:
@@ -64,6 +77,12 @@ class Rotor:
         radii, ends = self.stations()[0], [r for _, r in parts[1:]] + [np.inf]
         return [(body, r, (radii >= (r if k else -np.inf)) & (radii < end))
                 for k, ((body, r), end) in enumerate(zip(parts, ends))]
+
+
+def _interp(rows, x: float) -> float:
+    """Linear interpolation of the rows ``(x_k, y_k)`` at ``x``, held beyond the ends."""
+    rows = np.asarray(rows, float)
+    return float(np.interp(x, rows[:, 0], rows[:, 1]))
 
 
 @dataclass(frozen=True)
@@ -190,9 +209,9 @@ class RotorAero(ForceElement):
 
     def _element_force(self, w, r: float, dr: float, lift: float):
         """Element force (3,) (N, blade axes) from the air velocity ``w`` (3,) (m/s, blade axes)."""
-        twist = self.rotor.twist * r / self.rotor.radius
+        twist = self.rotor.twist_at(r)
         sense = self.rotor.sense  # blade y along the leading edge (+1) or the trailing edge (-1)
-        f_c, f_n = section_force(*turn(sense * w[1], w[2], twist), self.airfoil, self.rho, self.rotor.chord * dr,
+        f_c, f_n = section_force(*turn(sense * w[1], w[2], twist), self.airfoil, self.rho, self.rotor.chord_at(r) * dr,
                                  lift, self.coefficients)
         f_y, f_z = turn(f_c, f_n, -twist)
         return ca.vertcat(0, sense * f_y, f_z)
@@ -200,7 +219,7 @@ class RotorAero(ForceElement):
     def _table_element(self, w, r: float, dr: float, lift: float):
         """Element force (3,) (N, blade axes) and pitching moment about the blade's x axis (N m)
         from the air velocity ``w`` (3,) (m/s, blade axes), with the segment's airfoil tables."""
-        twist, sense, chord = self.rotor.twist * r / self.rotor.radius, self.rotor.sense, self.rotor.chord
+        twist, sense, chord = self.rotor.twist_at(r), self.rotor.sense, self.rotor.chord_at(r)
         airfoil = self.tables.at(r / self.rotor.radius)
         f_c, f_n, moment = table_section_loads(*turn(sense * w[1], w[2], twist), airfoil, self.tables.mach, self.rho,
                                                chord * dr, chord, lift)

@@ -10,7 +10,7 @@ from pathlib import Path
 
 from mbs.aircraft import checks, derived
 from mbs.aircraft.reader import read
-from mbs.aircraft.schema import DERIVED
+from mbs.aircraft.schema import DERIVED, FROM_TABLES
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -144,7 +144,7 @@ def evaluate(text: str, base: Path | None = None) -> tuple[Data, list[str]]:
     problems = derived.complete(data)
     for section, entries in data.items():
         for k in set(entries) - before.get(section, set()):
-            spec = DERIVED[section][k]
+            spec = DERIVED.get(section, {}).get(k) or FROM_TABLES[section][k]
             data.meta.setdefault(section, {})[k] = {"unit": spec.unit, "source": "DER", "origin": "derived",
                                                     "note": spec.text}
     return data, problems or checks.problems(data)

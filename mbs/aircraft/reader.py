@@ -11,9 +11,11 @@ Rules, in the order they are checked (each problem is one line, ``section.key: w
    angle for a twist): it is converted to SI (``ft``, ``lb``, ``slug ft^2``, ``deg``,
    ``rpm`` ...).
 5. The value has the entry's kind (number, whole number, one of the choices, a vector of
-   its length, a table of its columns) and lies within its bounds.
+   its length, a table of its columns, airfoil segments with their C81 files) and lies
+   within its bounds.
 6. Required entries are present; an entry that applies only with another's value (the
-   seesaw of a teetering tail rotor) is absent otherwise.
+   seesaw of a teetering tail rotor) is absent otherwise; an entry that a distribution
+   replaces (``chord`` by ``chord_table``) is absent when the distribution is given.
 7. A derived entry (:data:`mbs.aircraft.schema.DERIVED`) appears only with
    ``override = true``; ``override`` appears only on derived entries.
 """
@@ -217,9 +219,13 @@ def _missing(out: Reading, raw: dict) -> None:
         if section not in raw and section in OPTIONAL_SECTIONS:
             continue
         given = raw.get(section, {}) if isinstance(raw.get(section), dict) else {}
+        replaced = {spec.replaces: key for key, spec in entries.items() if spec.replaces and key in given}
         for key, spec in entries.items():
             applies = _applies(spec, out.values.get(section, {}))
-            if key not in given and spec.default is None and applies:
+            if key in replaced and key in given:
+                out.problems.append(f"{section}.{replaced[key]}: replaces {section}.{key}, which is computed from "
+                                    f"it; leave {key} out")
+            elif key not in given and spec.default is None and applies and key not in replaced:
                 out.problems.append(f"{section}.{key}: missing ({spec.text}, in {spec.unit})")
             elif key in given and not applies:
                 other, wanted = spec.only_if

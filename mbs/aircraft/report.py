@@ -7,7 +7,7 @@ from pathlib import Path
 
 from mbs.aircraft import checks, derived, performance
 from mbs.aircraft._aircraft import AircraftError, Data, _text, evaluate, resolve
-from mbs.aircraft.schema import DERIVED
+from mbs.aircraft.schema import DERIVED, FROM_TABLES
 
 TEMPLATE_SOURCE = "TEMPLATE"
 OVERRIDE_TOLERANCE = 0.01  # relative difference of an override from its derived value that is worth a warning
@@ -56,7 +56,9 @@ def check(source) -> Report:
 
 def _derived_rows(data: Data) -> list[tuple]:
     rows = []
-    for section, entries in DERIVED.items():
+    for section in [*DERIVED, *(s for s in FROM_TABLES if s not in DERIVED)]:
+        entries = {**DERIVED.get(section, {}), **{k: v for k, v in FROM_TABLES.get(section, {}).items()
+                                                  if data.meta.get(section, {}).get(k, {}).get("origin") == "derived"}}
         for key, spec in entries.items():
             if key not in data.get(section, {}):
                 continue

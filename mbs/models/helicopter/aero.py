@@ -51,7 +51,8 @@ def main_rotor(d, cfg, parent: str) -> Rotor:
     blades = [f"blade{k + 1}" for k in range(cfg.blade_count(mr["n_blades"]))]
     return Rotor("main_rotor", "main_hub", blades, mr["radius"], mr["chord"], mr["twist"], mr["root_cutout"],
                  int(cfg.elements or mr["elements"]), mr["flap_hinge_offset"], None if parent == "world" else parent,
-                 fr.azimuth_frame(fr.shaft_frame(tilt), fr.main_sense(d)), pieces=rotor_pieces(d, cfg))
+                 fr.azimuth_frame(fr.shaft_frame(tilt), fr.main_sense(d)), pieces=rotor_pieces(d, cfg),
+                 **_distributions(mr))
 
 
 def tail_rotor(d, parent: str) -> Rotor:
@@ -60,7 +61,12 @@ def tail_rotor(d, parent: str) -> Rotor:
     return Rotor("tail_rotor", "tail_hub", [f"tail_blade{k + 1}" for k in range(int(tr["n_blades"]))], tr["radius"],
                  tr["chord"], tr["twist"], tr["root_cutout"], int(tr["elements"]), 0.0,
                  None if parent == "world" else parent, fr.azimuth_frame(fr.tail_frame(d), fr.tail_sense(d)),
-                 tr["gear_ratio"])
+                 tr["gear_ratio"], **_distributions(tr))
+
+
+def _distributions(sec: dict) -> dict:
+    """The chord and twist tables of a rotor section that gives them (none: constant chord, linear twist)."""
+    return {k: tuple(map(tuple, sec[k])) for k in ("chord_table", "twist_table") if sec.get(k)}
 
 
 def add_rotor_aero(m: Model, d, cfg, trim, parent: str) -> None:
