@@ -313,3 +313,28 @@ def test_segments_give_each_blade_element_its_airfoil():
     assert blade.at(0.2) is a and blade.at(0.79) is a and blade.at(0.8) is b and blade.at(0.99) is b
     with pytest.raises(ValueError, match="inboard of the first airfoil segment"):
         blade.at(0.1)
+
+
+# -- the generated code -------------------------------------------------------------------------
+
+def test_constant_arrays_do_not_count_towards_the_o1_threshold():
+    from mbs.backends.compiled import CFLAGS, LARGE_SOURCE_BYTES, compile_flags
+
+    data = ", ".join(["1.2345678901234567e+00"] * (LARGE_SOURCE_BYTES // 20))
+    source = f"static const casadi_real casadi_c0[{LARGE_SOURCE_BYTES // 20}] = \n  {{{data}}};\nint f(void) {{ return 0; }}\n"
+    assert len(source) > LARGE_SOURCE_BYTES and compile_flags(source) == CFLAGS
+    assert "-O1" in compile_flags(source + "/*" + "x" * LARGE_SOURCE_BYTES + "*/")
+
+
+def test_table_reads_are_copied_into_each_unit_so_rhs_and_outputs_compile_apart(tmp_path):
+    from mbs import scenes
+    from mbs.backends.compiled import UNIT_SEPARATOR, generate, translation_units
+    from mbs.backends.vm import VMSystem
+    from mbs.dynamics import symbolic
+
+    path = _with_airfoils(tmp_path, [[0.0, "wing.c81"]])
+    vm = VMSystem(symbolic(scenes.get("single-blade-aero").with_aircraft(aircraft.load(path)).model()))
+    units = translation_units({n: f for n, f in vm.functions.items() if n != "parts"}, vm.info.methods)
+    assert not any({"rhs", "outputs"} <= set(u) for u in units)
+    parts = generate(vm.functions, vm.info, "float64").split(UNIT_SEPARATOR)
+    assert sum("_cells_lookup:" in p for p in parts) >= 2
