@@ -117,6 +117,10 @@ def _distributions(v: dict) -> list[str]:
             elif key == "mass_table" and r[-1] != 1.0:
                 out.append(f"{name}.mass_table: the last station is r/R = {r[-1]:g}; give the mass up to the tip, "
                            "r/R = 1")
+    for name in SPAN_TABLES:
+        if v[name]["sweep_start"] != 1.0 and not v[name]["tip_sweep"]:
+            out.append(f"{name}.sweep_start: {v[name]['sweep_start']:g} starts a tip sweep of 0 deg; give "
+                       f"{name}.tip_sweep or leave sweep_start out")
     mr = v["main_rotor"]
     if mr.get("section_inertia_table") and not mr.get("mass_table"):
         out.append("main_rotor.section_inertia_table: applies with main_rotor.mass_table only (the blade without a "

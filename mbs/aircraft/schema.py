@@ -91,6 +91,10 @@ def _rotor(what: str) -> dict[str, Entry]:
                              "(the collective is the pitch where the table reads 0; linear between stations, held "
                              "beyond); replaces twist, which becomes the r^2-weighted straight line through it",
                              "table", columns=("-", "rad"), default=(), replaces="twist"),
+        "tip_sweep": angle(f"{what} sweep of the blade tip: the quarter-chord line swept aft by this angle beyond "
+                           "sweep_start (simple sweep theory: the air velocity normal to the swept line loads the "
+                           "sections)", 45, default=0.0),
+        "sweep_start": ratio(f"{what} where the tip sweep begins, fraction of R", 0.5, 1.0, default=1.0),
         "airfoils": Entry("-", f"{what} airfoil tables per radial segment: rows [r/R where the segment begins, C81 "
                           "file (path from this file)], the first at or inboard of root_cutout; each segment's "
                           "c_L, c_D, c_M against alpha (-180..180 deg) and Mach replace the analytic section above "

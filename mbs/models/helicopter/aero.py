@@ -65,8 +65,12 @@ def tail_rotor(d, parent: str) -> Rotor:
 
 
 def _distributions(sec: dict) -> dict:
-    """The chord and twist tables of a rotor section that gives them (none: constant chord, linear twist)."""
-    return {k: tuple(map(tuple, sec[k])) for k in ("chord_table", "twist_table") if sec.get(k)}
+    """The chord and twist tables and the tip sweep of a rotor section that gives them (none:
+    constant chord, linear twist, a straight blade)."""
+    out = {k: tuple(map(tuple, sec[k])) for k in ("chord_table", "twist_table") if sec.get(k)}
+    if sec.get("tip_sweep"):
+        out.update(sweep_angle=sec["tip_sweep"], sweep_start=sec["sweep_start"])
+    return out
 
 
 def add_rotor_aero(m: Model, d, cfg, trim, parent: str) -> None:
