@@ -134,10 +134,11 @@ def test_a_table_that_does_not_close_over_180_deg_is_refused():
 # -- the interpolant against an independent evaluation ------------------------------------------
 
 def _random_tables():
-    """Three coefficient tables on grids of their own, as C81 decks have them."""
+    """Three coefficient tables on grids of their own, as C81 decks have them (one point, 7.3456°,
+    and one Mach number, .853, off any lattice: the bins then read the interval first)."""
     grids = [(np.r_[-180, -170, -150, -120, -90, -60, -30, -20, -16, -14, -12, -10, -8, -6, -4, -2, -1, 0, 1, 2, 4,
                     6, 8, 10, 12, 14, 16, 20, 30, 60, 90, 120, 150, 170, 180.], np.r_[0, .3, .4, .5, .6, .7, .8, .9, 1.]),
-             (np.r_[-180, -165, -90, -12.5, -3, 0, 0.5, 3, 7, 12, 30, 90, 165, 180.], np.r_[.2, .5, .75, .85]),
+             (np.r_[-180, -165, -90, -12.5, -3, 0, 0.5, 3, 7.3456, 12, 30, 90, 165, 180.], np.r_[.2, .5, .75, .853]),
              (np.r_[-180, -90, -10, 0, 10, 90, 180.], np.r_[.5])]
     out = []
     for alpha, mach in grids:

@@ -12,9 +12,10 @@ number, beyond which the end values are held (as C81 programs hold them) without
 Both directions together are one bicubic per cell of the grid. The tables of one airfoil (c_L,
 c_D, c_M, each on its own grid) are merged onto the union of their grids, each interpolant's
 pieces unchanged (a piecewise cubic on a grid is one on any finer grid). The cell is found
-without a search (equal bins in alpha, a comparison per Mach number), call nodes read the cell
-and its power-basis coefficients from constant arrays, and the SX graph evaluates the bicubics
-by Horner's rule, inlined.
+without a search: equal bins whose edges hold every grid point (a table printed in steps of 0.1°
+and of 0.05 in Mach) give the interval from the bin; one call node reads the cell's power-basis
+coefficients from a constant array (a second first reads the interval when the grid fits no such
+bins), and the SX graph evaluates the bicubics by Horner's rule, inlined.
 """
 from __future__ import annotations
 
@@ -128,29 +129,68 @@ HERMITE = np.array([[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [-3.0, 3.0, -2.0
 1 and its slopes (times the interval) at 0 and 1 (columns)."""
 
 
+LATTICE_TOLERANCE = 1e-9
+"""rad: a grid point this close to a bin edge lies on it."""
+
+
+def lattice(x: np.ndarray) -> int | None:
+    """The fewest equal bins over the grid ``x`` (at most :data:`MAX_BINS`) whose edges hold
+    every grid point (a grid printed in steps of 0.5° or 0.1°), or None."""
+    span, step = float(x[-1] - x[0]), float(np.diff(x).min())
+    for q in range(1, 11):
+        count = int(round(span / (step / q)))
+        if count > MAX_BINS:
+            return None
+        position = (x - x[0]) * count / span
+        if np.abs(position - np.round(position)).max() * span / count <= LATTICE_TOLERANCE:
+            return count
+    return None
+
+
 class Bins:
     """Where a point of the grid ``x`` (n,) lies: equal bins over the grid give its interval as
-    ``first[bin]`` plus the number of the bin's inner grid points at or below it."""
+    ``first[bin]`` plus the number of the bin's inner grid points at or below it. On a grid whose
+    points all lie on bin edges (:func:`lattice`) there are no inner points: the bin alone gives
+    the interval (``aligned``)."""
 
     def __init__(self, name: str, x: np.ndarray):
         self.x0, self.n = float(x[0]), len(x)
         span = float(x[-1] - x[0])
-        self.count = int(min(MAX_BINS, np.ceil(span / np.diff(x).min() - 1e-9)))
+        aligned = lattice(x)
+        self.aligned = aligned is not None
+        self.count = aligned or int(min(MAX_BINS, np.ceil(span / np.diff(x).min() - 1e-9)))
         self.scale = self.count / span
         edges = x[0] + np.arange(self.count + 1) / self.scale
-        first = np.clip(np.searchsorted(x, edges[:-1], side="right") - 1, 0, len(x) - 2)
-        after = np.searchsorted(x, edges[1:], side="left")  # grid points strictly inside each bin follow first
-        inner = [x[f + 1:min(a, len(x) - 1)] for f, a in zip(first, after)]
+        tolerance = LATTICE_TOLERANCE if self.aligned else 0.0
+        self.first = np.clip(np.searchsorted(x, edges[:-1] + tolerance, side="right") - 1, 0, len(x) - 2)
+        after = np.searchsorted(x, edges[1:] - tolerance, side="left")  # points strictly inside follow first
+        inner = [x[f + 1:min(a, len(x) - 1)] for f, a in zip(self.first, after)]
         rows = np.full((self.count, 1 + max(len(i) for i in inner)), np.inf)
-        rows[:, 0] = first
+        rows[:, 0] = self.first
         for k, points in enumerate(inner):
             rows[k, 1:1 + len(points)] = points
-        self.read = lookup(name, rows)
+        self.read = None if self.aligned else lookup(name, rows)
+
+    def bin(self, x):
+        """The bin holding ``x`` (SX): a whole number, of zero derivative."""
+        return ca.fmin(ca.fmax(ca.floor((x - self.x0) * self.scale), 0), self.count - 1)
 
     def interval(self, x):
-        """The index of the interval holding ``x`` (SX): a whole number, of zero derivative."""
-        row = self.read(ca.fmin(ca.fmax(ca.floor((x - self.x0) * self.scale), 0), self.count - 1))
+        """The index of the interval holding ``x`` (SX; not on an aligned grid, whose bins are read
+        with the cells, :func:`cells_by_bin`)."""
+        row = self.read(self.bin(x))
         return ca.fmin(row[0] + sum(x >= row[q] for q in range(1, row.numel())), self.n - 2)
+
+
+def cells_by_bin(name: str, bins: Bins, rows: np.ndarray, mach_cells: int,
+                 mach_bins: Bins | None = None) -> ca.Function:
+    """``(bin, k) -> rows[first[bin] mach_cells + k, :]`` for an aligned grid: the interval and the
+    cell's row in one call node (inputs from ``floor`` and comparisons); with ``mach_bins`` (an
+    aligned Mach grid) ``k`` is a Mach bin, turned into its interval here too."""
+    b, k = ca.MX.sym("bin"), ca.MX.sym("k")
+    interval = ca.MX(ca.DM(mach_bins.first.astype(float)))[k] if mach_bins is not None else k
+    cell = ca.MX(ca.DM(bins.first.astype(float)))[b] * mach_cells + interval
+    return ca.Function(f"{name}{COPIED_SUFFIX}", [b, k], [ca.MX(ca.DM(rows))[cell, :].T], {"never_inline": True})
 
 
 def lookup(name: str, rows: np.ndarray) -> ca.Function:
@@ -196,9 +236,7 @@ class TableSpline:
         data = np.stack([t.corners(alpha, mach) for t in tables], axis=-1)  # (n_alpha, n_mach, 4, n_out)
         x = ca.SX.sym("x", 2)
         m = ca.fmin(ca.fmax(x[1], mach[0]), mach[-1]) if len(mach) > 1 else ca.SX(0.0)
-        k = sum(m >= v for v in mach[1:-1]) if len(mach) > 2 else 0
-        j = Bins(f"{name}_bins", alpha).interval(x[0])
-        c = lookup(f"{name}_cells", cell_rows(alpha, mach, data))(j * max(len(mach) - 1, 1) + k)
+        c = _cell(name, alpha, mach, cell_rows(alpha, mach, data), x[0], m)
         t, u = (x[0] - c[-4]) * c[-3], (m - c[-2]) * c[-1]
         out = [_horner([_horner([c[16 * o + 4 * a + b] for b in range(4)], u) if len(mach) > 1 else c[16 * o + 4 * a]
                         for a in range(4)], t) for o in range(self.size)]
@@ -208,6 +246,19 @@ class TableSpline:
         """The coefficients (n_out,) at ``alpha`` (rad, within ±π) and Mach number ``mach``
         (held at the merged tables' end values outside their Mach range); inlined into an SX graph."""
         return self.function(ca.vertcat(alpha, mach))
+
+
+def _cell(name: str, alpha: np.ndarray, mach: np.ndarray, rows: np.ndarray, a, m):
+    """The row of :func:`cell_rows` of the cell holding ``(a, m)`` (SX): one call node on aligned
+    grids (:func:`lattice`), two otherwise (the bin's interval, then the cell)."""
+    bins, cells = Bins(f"{name}_bins", alpha), max(len(mach) - 1, 1)
+    mach_bins = Bins(f"{name}_mach", mach) if len(mach) > 2 else None
+    if bins.aligned and mach_bins is not None and mach_bins.aligned:
+        return cells_by_bin(f"{name}_cells", bins, rows, cells, mach_bins)(bins.bin(a), mach_bins.bin(m))
+    k = sum(m >= v for v in mach[1:-1]) if len(mach) > 2 else 0
+    if bins.aligned:
+        return cells_by_bin(f"{name}_cells", bins, rows, cells)(bins.bin(a), k)
+    return lookup(f"{name}_cells", rows)(bins.interval(a) * cells + k)
 
 
 def _horner(coefficients: list, t):
