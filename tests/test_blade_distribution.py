@@ -138,6 +138,11 @@ BROKEN = {  # what -> (tables, drop, words of the one line)
     "wrong column unit": ({"chord_table": ([[0.0, 0.27], [1.0, 0.27]], "-, kg")}, ("chord",),
                           "main_rotor.chord_table: unit 'kg' is a mass, not a length"),
     "twist missing": ({}, ("twist",), "main_rotor.twist: missing"),
+    "tail chord and chord_table": ({"tail_rotor__chord_table": ([[0.0, 0.18], [1.0, 0.18]], "-, m")}, (),
+                                   "tail_rotor.chord_table: replaces tail_rotor.chord"),
+    "sweep beyond 45 deg": ({"tip_sweep": (60.0, "deg")}, (), "main_rotor.tip_sweep: 1.0472 rad (60 deg) is outside"),
+    "sweep starting inboard of half the radius": ({"tip_sweep": (20.0, "deg"), "sweep_start": (0.3, "-")}, (),
+                                                  "main_rotor.sweep_start: 0.3 is outside [0.5, 1]"),
 }
 
 

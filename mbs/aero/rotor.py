@@ -23,14 +23,14 @@ from mbs.forces import ForceElement, Loads, State
 @dataclass
 class Rotor:
     """Geometry of a rotor for :class:`RotorAero`; stations are equal-width strips.
-    ``chord_table``/``twist_table``: rows (r/R, chord m) and (r/R, twist rad) replacing the
-    constant chord and the linear twist (None: those); ``sweep_angle`` (rad): the quarter-chord
-    line swept aft beyond ``sweep_start`` (r/R), the tip at ``radius`` along the blade's x axis.
 
     ``shaft_body``/``shaft_frame``: the body carrying the hub joint (``None``: the world) and
     the rotor's azimuth frame in its axes (3, 3): x at ψ = 0, y at ψ = 90° (ψ in the sense of
     rotation), z the thrust axis; left-handed for a rotor turning against its thrust axis
-    (:attr:`sense`); ``speed_ratio``: rotor speed per ``omega``.
+    (:attr:`sense`); ``speed_ratio``: rotor speed per ``omega``. ``chord_table``/``twist_table``:
+    rows (r/R, chord m) and (r/R, twist rad) replacing the constant chord and the linear twist
+    (None: those); ``sweep_angle`` (rad): the quarter-chord line swept aft beyond ``sweep_start``
+    (r/R), the tip at ``radius`` along the blade's x axis.
     """
 
     name: str
