@@ -95,6 +95,13 @@ def test_a_c81_file_typed_by_hand_with_blanks_between_numbers_is_read():
     assert c81.CD.values[:, 0].tolist() == [0.02, 0.008, 0.02] and c81.CM.values[1].tolist() == [0.0, -0.01]
 
 
+def test_a_row_typed_whole_on_one_line_is_read():
+    lines = PRINTED.splitlines()
+    joined = lines[:3] + [lines[3] + " " + lines[4].strip()] + lines[5:]  # the -180 deg row of CL on one line
+    c81 = parse_c81("\n".join(joined))
+    assert np.array_equal(c81.CL.values, parse_c81(PRINTED).CL.values)
+
+
 def test_a_written_c81_file_reads_back_to_its_printed_precision():
     c81 = analytic_c81(Airfoil(6.1, 0.008, 0.2), mach=MACH, compressibility=Compressibility(340.3, 0.75))
     back = parse_c81(format_c81("BACK", {c: c81.table(c) for c in COEFFICIENTS}))

@@ -135,10 +135,21 @@ def _numbers(lines: _Lines, line: str, expected: int, first_field: bool) -> list
     return values
 
 
+def _all_numbers(words: list[str]) -> bool:
+    try:
+        [float(w) for w in words]
+    except ValueError:
+        return False
+    return True
+
+
 def _row(lines: _Lines, n: int, what: str, leading: bool) -> list[float]:
     """``n`` values of one row (after an angle when ``leading``), 9 a line after the first field."""
     first = min(n, PER_LINE)
     line = lines.next(what)
+    words = line.split()
+    if n > PER_LINE and len(words) == n + leading and _all_numbers(words):  # a whole row typed on one line
+        return [float(w) for w in words]
     values = _numbers(lines, line, first + leading, leading)
     while len(values) < n + leading:
         left = n + leading - len(values)
