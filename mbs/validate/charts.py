@@ -30,7 +30,7 @@ def write_all(res, folder: Path) -> list[Path]:
 def _grid(plt, n: int):
     cols = min(COLUMNS, n)
     rows = math.ceil(n / cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 2.9 * rows + 1.2), squeeze=False)
+    fig, axes = plt.subplots(rows, cols, figsize=(max(4.2 * cols, 8.0), 2.9 * rows + 1.2), squeeze=False)
     for ax in axes.flat[n:]:
         ax.set_visible(False)
     return fig, list(axes.flat)
@@ -66,7 +66,8 @@ def series_chart(blocks, res, path: Path, kind: str) -> Path:
 
 def root_locus(res, path: Path) -> Path:
     """Published and model eigenvalues in the complex plane, coloured by speed; lines join each
-    published eigenvalue to the model's paired with it."""
+    published eigenvalue to the model's paired with it; the model's other eigenvalues at the
+    published speeds as dots."""
     from matplotlib import colormaps
 
     plt = _pyplot()
@@ -75,7 +76,10 @@ def root_locus(res, path: Path) -> Path:
     speeds = sorted({p.speed for p in res.pairs})
     cmap = colormaps["viridis"]
     color = {s: cmap(k / max(len(speeds) - 1, 1)) for k, s in enumerate(speeds)}
+    others = _model_eigenvalues(res, set(speeds))
     for a in (ax, zoom):
+        for s, z in others:
+            a.plot(z.real, z.imag, ".", color=color[s], ms=3, alpha=0.6)
         for p in res.pairs:
             c = color[p.speed]
             a.plot([p.published.real, p.ours.real], [p.published.imag, p.ours.imag], "-", color=c, lw=0.5, alpha=0.6)
@@ -94,9 +98,25 @@ def root_locus(res, path: Path) -> Path:
     handles = [plt.Line2D([], [], ls="", marker="o", mfc="white", mec="k", label="published"),
                plt.Line2D([], [], ls="", marker="x", color="k", label="model, within tolerance"),
                plt.Line2D([], [], ls="", marker="s", color="k", label="model, outside"),
+               plt.Line2D([], [], ls="", marker=".", color="k", label="model, not paired"),
                *[plt.Line2D([], [], ls="", marker="o", color=color[s], label=f"{s:g} {v.speed_unit}") for s in speeds]]
     ax.legend(handles=handles, fontsize=7, loc="best")
     return _save(fig, plt, path, f"{v.title}: root locus against speed", v)
+
+
+def _model_eigenvalues(res, speeds: set) -> list[tuple[float, complex]]:
+    """``(published speed, eigenvalue)`` of every model eigenvalue at the published speeds that
+    no published one is paired with."""
+    from mbs.validate.eigen import model_eigenvalues
+
+    paired = {(p.speed, p.ours) for p in res.pairs}
+    out = []
+    for e in res.validation.eigenvalues:
+        point = res.model.at(e.speed)
+        if e.shown_speed in speeds and point.ok and point.derivatives is not None:
+            out += [(e.shown_speed, z) for z in model_eigenvalues(point.derivatives)[0]
+                    if (e.shown_speed, complex(z)) not in paired]
+    return out
 
 
 def _save(fig, plt, path: Path, title: str, v) -> Path:
@@ -106,7 +126,8 @@ def _save(fig, plt, path: Path, title: str, v) -> Path:
     height = fig.get_size_inches()[1]
     bottom = (0.1 + 0.09 * len(lines)) / height
     fig.text(0.01, 0.01, "\n".join(lines), fontsize=5.5, va="bottom", ha="left", color="0.3")
-    fig.suptitle(title, fontsize=10)
+    width = int(fig.get_size_inches()[0] * 12)
+    fig.suptitle("\n".join(textwrap.wrap(title, width)), fontsize=10)
     fig.tight_layout(rect=(0, bottom, 1, 1))
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110)
