@@ -36,14 +36,14 @@ def bo105_helisim():
 
 def rows_of(res, quantity: str):
     rows = [r for r in res.rows if r.quantity == quantity and r.within is not None]
-    print(f"{quantity}: " + ", ".join(f"{r.speed:g}: {r.ours:+.4g}/{r.published:+.4g} = {r.ratio:.2f}"
+    show = (lambda r: f"{r.difference:+.2f} {r.unit}") if rows and rows[0].kind == "trim" else (lambda r: f"x{r.ratio:.2f}")
+    print(f"{quantity}: " + ", ".join(f"{r.speed:g}: {r.ours:+.4g} vs {r.published:+.4g} ({show(r)})"
                                       + ("" if r.within else " OUT") for r in rows))
     return rows
 
 
 def out_of(rows) -> list[str]:
-    return [f"{r.speed:g}: ours {r.ours:+.4g}, published {r.published:+.4g} (ratio {r.ratio:.2f})"
-            for r in rows if not r.within]
+    return [f"{r.speed:g}: ours {r.ours:+.4g}, published {r.published:+.4g}" for r in rows if not r.within]
 
 
 MISSED = "today's Puma file misses it"
