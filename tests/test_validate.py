@@ -66,7 +66,8 @@ def fake_point(speed: float, problem: str = "") -> Point:
                            flapping={"beta0": 0.03}, output_means={"engine.power": 300e3},
                            output_units={"engine.power": "W"})
     modes = [FlightMode(complex(-3.0, 0.0), {}, "pitch subsidence"), FlightMode(complex(0.1, 0.5), {}, "phugoid")]
-    der = SimpleNamespace(table={"M_q": -3.0, "N_θ0T": 9.0}, units={"M_q": "1/s", "N_θ0T": "1/s^2"}, modes=modes)
+    a = np.arange(64.0).reshape(8, 8)
+    der = SimpleNamespace(table={"M_q": -3.0, "N_θ0T": 9.0}, units={"M_q": "1/s", "N_θ0T": "1/s^2"}, modes=modes, A=a)
     return Point(speed, trim, der, problem)
 
 
@@ -101,6 +102,22 @@ def test_ours_factor_flips_a_sign_convention_and_needs_a_note(tmp_path):
     v = load(toml(body + 'note = "the published tail-rotor pitch is positive the other way"\n', tmp_path))
     row, = compare.rows(v.series[0], fake_model([0.0]))
     assert row.ours == pytest.approx(-9.0) and row.ratio == pytest.approx(1.0) and row.within
+
+
+def test_entries_of_a_compare_with_their_units(tmp_path):
+    """``A[w,q]`` is row w, column q of A (Z_q + U_e, m/(s rad)); ``A[φ,p]`` is dimensionless;
+    a unit of another dimension is refused."""
+    from mbs.validate.quantities import derivative_value, entry_unit
+
+    point = fake_point(0.0)
+    assert derivative_value(point.derivatives, "A[w,q]") == (10.0, "m/s rad")
+    assert derivative_value(point.derivatives, "A[φ,p]") == (53.0, "-")
+    assert entry_unit("q", "u") == "rad/m s" and entry_unit("v", "phi") == "m/s^2 rad"
+    body = '[[derivative]]\nquantity = "A[w,q]"\nunit = "UNIT"\nspeed = [0]\nvalue = [10.0]\nsource = "P1"\n'
+    row, = compare.rows(load(toml(body.replace("UNIT", "m/s deg"), tmp_path)).series[0], fake_model([0.0]))
+    assert row.ours == pytest.approx(10.0 * math.pi / 180)
+    with pytest.raises(ValidationError, match="the states of A are u, w, q"):
+        derivative_value(point.derivatives, "A[w,x]")
 
 
 def test_eigenvalues_pair_by_least_distance_and_judge_stability_and_size():
@@ -148,6 +165,7 @@ BAD = [
     (TRIM + "tolerance = 1.0\n", "tolerance must be { absolute = x }"),
     (TRIM + "tolerance = { relative = -0.1 }\n", "tolerance relative = -0.1 must be a positive number"),
     (TRIM + "colour = 3\n", "unknown key(s) colour"),
+    (TRIM.replace("14.0, 12.0", "0.0, 12.0") + "tolerance = { relative = 0.1 }\n", "cannot judge the published value 0"),
     (TRIM.replace('source = "P1"\n', ""), "source must be a non-empty text"),
     ("[[eigenvalues]]\nspeed = 0\nvalue = [[1.0]]\nsource = \"P1\"\n", "list of [real, imaginary] pairs"),
     ("[eigenvalue_tolerance]\nfrequency = -1\n" + TRIM, "frequency = -1 must be a number >= 0"),

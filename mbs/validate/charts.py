@@ -126,9 +126,9 @@ def _save(fig, plt, path: Path, title: str, v) -> Path:
     height = fig.get_size_inches()[1]
     bottom = (0.1 + 0.09 * len(lines)) / height
     fig.text(0.01, 0.01, "\n".join(lines), fontsize=5.5, va="bottom", ha="left", color="0.3")
-    width = int(fig.get_size_inches()[0] * 12)
-    fig.suptitle("\n".join(textwrap.wrap(title, width)), fontsize=10)
-    fig.tight_layout(rect=(0, bottom, 1, 1))
+    heading = textwrap.wrap(title, int(fig.get_size_inches()[0] * 12))
+    fig.suptitle("\n".join(heading), fontsize=10)
+    fig.tight_layout(rect=(0, bottom, 1, 1 - (0.15 + 0.2 * len(heading)) / height))
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110)
     plt.close(fig)

@@ -223,9 +223,12 @@ def series(entry: dict, kind: str, where: str, default_speed, factor: float) -> 
         raise ValidationError(f"{where} ({quantity}): ours_factor = {ours_factor!r} must be a non-zero number")
     if ours_factor != 1.0 and not entry.get("note"):
         raise ValidationError(f"{where} ({quantity}): ours_factor = {ours_factor:g} needs a note saying why")
-    return Series(kind, quantity, unit, speed * factor, speed, value, unc, _text(entry, "source", where),
-                  tolerance(entry.get("tolerance"), f"{where} ({quantity})"), float(ours_factor),
-                  str(entry.get("note", "")))
+    tol = tolerance(entry.get("tolerance"), f"{where} ({quantity})")
+    if tol is not None and tol.relative is not None and (value == 0).any():
+        raise ValidationError(f"{where} ({quantity}): a relative tolerance cannot judge the published value 0 at "
+                              f"{speed[value == 0][0]:g}; give {{ absolute = x }} in {unit}")
+    return Series(kind, quantity, unit, speed * factor, speed, value, unc, _text(entry, "source", where), tol,
+                  float(ours_factor), str(entry.get("note", "")))
 
 
 def tolerance(raw, where: str) -> Tolerance | None:

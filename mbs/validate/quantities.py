@@ -6,11 +6,15 @@ Trim quantities: the controls by name (``collective``, ``longitudinal_cyclic``,
 flapping ``beta0``, ``beta1c``, ``beta1s`` (rad) and every period-mean output of the trim
 (``engine.power``, ``main_rotor.power`` ...). Derivative quantities: the names of
 :attr:`mbs.analysis.derivatives.Derivatives.table` (``X_u``, ``M_q``, ``L_θ1c``, ``N_θ0T`` ...;
-``theta0``, ``theta1s``, ``theta1c``, ``theta0T`` may be written for the Greek symbols).
+``theta0``, ``theta1s``, ``theta1c``, ``theta0T`` may be written for the Greek symbols), and the
+entries of the state matrix ``A[row,column]`` with Padfield's states ``u w q θ v p φ r``
+(``theta``, ``phi`` may be written): the derivatives with the kinematic and gravity terms of
+the linearised equations (``A[w,q] = Z_q + U_e``), as some publications chart them.
 """
 from __future__ import annotations
 
 import math
+import re
 
 from mbs.aircraft import units
 from mbs.validate.data import ValidationError, _plain
@@ -40,8 +44,47 @@ def trim_value(trim, quantity: str) -> tuple[float, str]:
     raise ValidationError(f"trim quantity {quantity!r} is not one of the model's: {', '.join(known)}")
 
 
+ENTRY = re.compile(r"^A\[\s*(\w+)\s*,\s*(\w+)\s*\]$")
+GREEK = {"θ": "theta", "φ": "phi"}
+LINEAR = ("u", "w", "v")
+ANGULAR = ("q", "p", "r")
+
+
+def entry(quantity: str) -> tuple[int, int] | None:
+    """Row and column of ``A[row,column]`` in Padfield's state order, None for another name."""
+    from mbs.analysis.flight_modes import STATES
+
+    m = ENTRY.match(quantity.strip())
+    if not m:
+        return None
+    row, col = (GREEK.get(s, s) for s in m.groups())
+    if row not in STATES or col not in STATES:
+        raise ValidationError(f"{quantity!r}: the states of A are {', '.join(STATES)} (θ, φ for theta, phi)")
+    return STATES.index(row), STATES.index(col)
+
+
+def entry_unit(row: str, col: str) -> str:
+    """SI unit of the entry ``A[row,col]``: (rate of the row's state) per (the column's state)."""
+    num = {**{s: "m/s^2" for s in LINEAR}, **{s: "rad/s^2" for s in ANGULAR}}.get(row, "rad/s")
+    den = {**{s: "m/s" for s in LINEAR}, **{s: "rad/s" for s in ANGULAR}}.get(col, "rad")
+    return _divide(num, den)
+
+
+def _divide(num: str, den: str) -> str:
+    pairs = {("m/s^2", "m/s"): "1/s", ("rad/s^2", "rad/s"): "1/s", ("rad/s", "rad"): "1/s",
+             ("m/s^2", "rad/s"): "m/s rad", ("rad/s^2", "m/s"): "rad/m s", ("rad/s", "m/s"): "rad/m",
+             ("m/s^2", "rad"): "m/s^2 rad", ("rad/s^2", "rad"): "1/s^2", ("rad/s", "rad/s"): "-"}
+    return pairs[(num, den)]
+
+
 def derivative_value(derivatives, quantity: str) -> tuple[float, str]:
-    """``(value, SI unit)`` of the derivative ``quantity`` (Padfield's name) of ``derivatives``."""
+    """``(value, SI unit)`` of the derivative ``quantity`` (Padfield's name, or an entry
+    ``A[row,column]``) of ``derivatives``."""
+    at = entry(quantity)
+    if at is not None:
+        from mbs.analysis.flight_modes import STATES
+
+        return float(derivatives.A[at]), entry_unit(STATES[at[0]], STATES[at[1]])
     name = canonical(quantity)
     if name not in derivatives.table:
         raise ValidationError(f"derivative {quantity!r} is not one of the model's: {', '.join(derivatives.table)}")
@@ -78,13 +121,24 @@ def model_units(info) -> dict[str, dict[str, str]]:
     return {"trim": trim, "derivative": deriv}
 
 
+def _known_unit(known: dict, kind: str, quantity: str) -> str | None:
+    """The model's SI unit of ``quantity`` of ``kind``, None when the model has no such quantity."""
+    from mbs.analysis.flight_modes import STATES
+
+    if kind == "derivative" and entry(quantity) is not None:
+        row, col = entry(quantity)
+        return entry_unit(STATES[row], STATES[col])
+    return known[kind].get(canonical(quantity) if kind == "derivative" else quantity)
+
+
 def check(validation, info) -> None:
     """Every series of ``validation`` names a quantity of the model in a unit of its dimension
     (:class:`ValidationError` naming the first that does not), before any trim is run."""
     known = model_units(info)
     for s in validation.series:
-        name = canonical(s.quantity) if s.kind == "derivative" else s.quantity
-        if name not in known[s.kind]:
+        unit = _known_unit(known, s.kind, s.quantity)
+        if unit is None:
+            extra = " and A[row,column]" if s.kind == "derivative" else ""
             raise ValidationError(f"{validation.path}: {s.kind} {s.quantity!r} is not one of the model's "
-                                  f"{s.kind} quantities: {', '.join(known[s.kind])}")
-        converter(known[s.kind][name], s.unit, f"{validation.path}: {s.kind} {s.quantity}")
+                                  f"{s.kind} quantities: {', '.join(known[s.kind])}{extra}")
+        converter(unit, s.unit, f"{validation.path}: {s.kind} {s.quantity}")
