@@ -44,7 +44,7 @@ def test_packaged_files_read_and_every_source_is_named(name):
     assert {"axes", "controls"} <= set(v.conventions)
 
 
-def test_the_issues_tolerances_are_the_packaged_ones():
+def test_the_sign_off_tolerances_are_the_packaged_ones():
     """Puma: every main derivative within 25 %; Bo105: collective 1 deg, cyclic 1.5, tail
     collective 2.5, pitch attitude 1 deg."""
     puma = {s.quantity: s.tolerance for s in load("puma_helisim").series if s.tolerance}
