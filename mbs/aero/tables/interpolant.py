@@ -190,7 +190,7 @@ def cells_by_bin(name: str, bins: Bins, rows: np.ndarray, mach_cells: int,
     b, k = ca.MX.sym("bin"), ca.MX.sym("k")
     interval = ca.MX(ca.DM(mach_bins.first.astype(float)))[k] if mach_bins is not None else k
     cell = ca.MX(ca.DM(bins.first.astype(float)))[b] * mach_cells + interval
-    return ca.Function(f"{name}{COPIED_SUFFIX}", [b, k], [ca.MX(ca.DM(rows))[cell, :].T], {"never_inline": True})
+    return ca.Function(f"{name}{COPIED_SUFFIX}", [b, k], [_read(rows, cell)], {"never_inline": True})
 
 
 def lookup(name: str, rows: np.ndarray) -> ca.Function:
@@ -198,8 +198,17 @@ def lookup(name: str, rows: np.ndarray) -> ca.Function:
     is not checked): a call node that reads constant data, the one thing an SX graph cannot do
     itself. Its input is always built from ``floor`` and comparisons, so that no derivative
     passes through the call."""
-    i = ca.MX.sym("i")  # a row read (the column read copies faster, but CasADi's SX VM gets its derivative wrong)
-    return ca.Function(f"{name}{COPIED_SUFFIX}", [i], [ca.MX(ca.DM(rows))[i, :].T], {"never_inline": True})
+    i = ca.MX.sym("i")
+    return ca.Function(f"{name}{COPIED_SUFFIX}", [i], [_read(rows, i)], {"never_inline": True})
+
+
+def _read(rows: np.ndarray, i: ca.MX) -> ca.MX:
+    """Row ``i`` of the constant ``rows`` as a column, copied from its offset; its derivative is
+    structurally zero (a read by a whole-number index; a row read of ``rows`` would clear an array
+    the size of the table in each directional derivative). The zero added (an ``if_else`` that
+    never takes its other branch) gives the call a derivative that is zero in value but not in
+    structure: CasADi's SX differentiation turns a call's structurally zero derivative into NaN."""
+    return ca.MX(ca.DM(rows.T))[:, i] + ca.if_else(i >= 0, 0, i)
 
 
 def cell_rows(alpha: np.ndarray, mach: np.ndarray, data: np.ndarray) -> np.ndarray:
