@@ -54,8 +54,15 @@ def combine(parts: list[Part]) -> Part:
 
 
 def main_blade(d) -> Part:
-    """A main-rotor blade in its frame (x along the span from its flap hinge): a uniform box."""
+    """A main-rotor blade in its frame (x along the span from its flap hinge): integrated from its
+    mass table (:class:`mbs.aircraft.blade.Distribution`), else the uniform box of the blade's
+    mass, span, chord and thickness."""
     mr = d["main_rotor"]
+    if mr.get("mass_table"):
+        from mbs.aircraft.blade import Distribution
+
+        mass, com, inertia = Distribution(mr).body()
+        return Part(mass, np.asarray(com, dtype=float), np.asarray(inertia, dtype=float))
     span = mr["radius"] - mr["flap_hinge_offset"]
     return Part(mr["blade_mass"], np.array([span / 2, 0.0, 0.0]),
                 box_inertia(mr["blade_mass"], span, mr["chord"], mr["blade_thickness"]))

@@ -13,7 +13,8 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
-from mbs.aircraft import mass as parts
+from mbs.aircraft import mass as mass_props
+from mbs.aircraft.mass import box_inertia  # noqa: F401 (re-exported)
 from mbs.joints import DrivenHinge, Fixed, FreeJoint, Hinge, Serial
 from mbs.models.elastic_blade import add_elastic_blade
 from mbs.models.modal_blade import add_modal_blade
@@ -30,7 +31,7 @@ def add_fuselage(m: Model, d, cfg) -> str:
     if cfg.fuselage == "none":
         return "world"
     joint = FreeJoint() if cfg.fuselage == "free" else Fixed()
-    body = parts.airframe(d)
+    body = mass_props.airframe(d)
     m.add_body("fuselage", "world", joint, mass=body.mass, com=body.com, inertia=body.inertia,
                shape=_fuselage_shape(d), physical=d["aircraft"]["inertia"] == "airframe")
     return "fuselage"
@@ -80,12 +81,12 @@ def add_main_rotor(m: Model, d, cfg, parent: str) -> None:
     mr, sense = d["main_rotor"], fr.main_sense(d)
     tilt = mr["shaft_tilt"] if cfg.shaft_tilt else 0.0
     at = fr.main_hub_position(d) if parent != "world" else np.zeros(3)
-    hub = parts.main_hub(d)
+    hub = mass_props.main_hub(d)
     m.add_body("main_hub", parent, _azimuth_joint(cfg, 1.0, sense), mass=hub.mass, inertia=hub.inertia, at=at,
                frame=fr.shaft_frame(tilt), shape={"kind": "cylinder", "radius": mr["hub_radius"], "length": d["geometry"]["hub_height"], "axis": [0, 0, 1],
                       "color": "#50565e"})
     big_r, c, t = mr["radius"], mr["chord"], mr["blade_thickness"]
-    e, blade = mr["flap_hinge_offset"], parts.main_blade(d)
+    e, blade = mr["flap_hinge_offset"], mass_props.main_blade(d)
     for k, psi0 in enumerate(fr.blade_azimuths(mr["n_blades"])[:cfg.blade_count(mr["n_blades"])]):
         frame = fr.rz(sense * psi0)
         if (cfg.blade_segments or cfg.blade_modes) and has_damper(d) and cfg.dampers:
@@ -107,7 +108,7 @@ def add_main_rotor(m: Model, d, cfg, parent: str) -> None:
 def add_tail_rotor(m: Model, d, cfg, parent: str) -> None:
     tr, sense = d["tail_rotor"], fr.tail_sense(d)
     radius, length = d["geometry"]["tail_hub"]
-    hub = parts.tail_hub(d)
+    hub = mass_props.tail_hub(d)
     m.add_body("tail_hub", parent, _azimuth_joint(cfg, tr["gear_ratio"], sense), mass=hub.mass,
                inertia=hub.inertia, at=fr.tail_hub_position(d),
                frame=fr.tail_frame(d),
@@ -115,11 +116,11 @@ def add_tail_rotor(m: Model, d, cfg, parent: str) -> None:
     blades_on = "tail_hub"
     if tr["hub_type"] == "teetering":
         m.add_body("seesaw", "tail_hub", Hinge((0, -1, 0), name="teeter", stiffness=tr["teeter_stiffness"]),
-                   mass=tr["seesaw_mass"], inertia=parts.seesaw(d).inertia,
+                   mass=tr["seesaw_mass"], inertia=mass_props.seesaw(d).inertia,
                    shape={"kind": "box", "size": tr["seesaw_size"], "color": "#50565e"})
         blades_on = "seesaw"
     big_r, c, t = tr["radius"], tr["chord"], tr["blade_thickness"]
-    blade = parts.tail_blade(d)
+    blade = mass_props.tail_blade(d)
     for k, psi0 in enumerate(fr.blade_azimuths(tr["n_blades"])):
         pitch = (DrivenHinge((sense, 0, 0), lambda t, p: p["tail_collective"], name="pitch")
                  if cfg.rotors == "driven" else Hinge((sense, 0, 0), name="pitch"))
