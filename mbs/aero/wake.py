@@ -7,8 +7,11 @@ the depth ``h`` below the disc plane its centre lies ``h a / λ`` downstream of 
 in-plane distance ``e`` from that centre is inside the tube's radius; the edge is smoothed over
 ``width`` (m) by ``K = ½ (1 − tanh((e − R_w)/width))``, times ``½ (1 + tanh(h/width))`` so that
 nothing above the disc is reached. Along the wake the induced velocity develops as on the axis of
-a semi-infinite vortex cylinder, ``v(s) = v_disc (1 + s / sqrt(s² + R²))`` at the distance
-``s = h V_T / λ`` along the skewed axis (``2 v_disc`` far downstream, Glauert). The tube's
+a semi-infinite vortex cylinder, ``v(s) = v0 (1 + g) + (v_disc − v0)(1 − g)``, ``g = s / sqrt(s² + R²)``
+at the distance ``s = h V_T / λ`` along the skewed axis: the mean doubles to momentum theory's
+``2 v0`` far downstream (Glauert) while the disc's first harmonics fade, so the wake never exceeds
+``2 v0`` (Heyson and Katzoff found the flow well behind the rotor like that behind a uniformly
+loaded wing, NACA Rep. 1319, 1957). The tube's
 radius is that of the tip vortices: in hover Landgrebe's prescribed wake, which contracts to
 0.87 R within 0.13 R below the disc (much faster than the far-wake 1/√2 of momentum theory
 suggests), blended towards no contraction as the wake skews, ``R_w = R (1 − (1 − r_L(h)) cos² χ)``
@@ -118,7 +121,7 @@ class Wake:
         immersion = self.immersion(ca.sqrt(e2 + 1e-12), depth, self.cos_skew)
         swirl = self.swirl / (e2 + self.geometry.core**2)
         tangential = e_x * self.shaft[:, 1] - e_y * self.shaft[:, 0]  # along increasing azimuth: the rotation
-        return immersion * (-(1 + grow) * self._disc_inflow(e_x, e_y) * axis + swirl * tangential)
+        return immersion * (-self._developed(grow, e_x, e_y) * axis + swirl * tangential)
 
     def immersion(self, distance, depth, cos_skew):
         """Share (0..1) of the wake's velocity at a point ``distance`` (m) from its centre,
@@ -133,9 +136,13 @@ class Wake:
         lam = -ca.dot(self.air, axis) + self.inflow[0]
         return 0.5 * (lam + ca.sqrt(lam**2 + 4 * MIN_THROUGH_FLOW**2))
 
-    def _disc_inflow(self, x, y):
-        """Induced velocity (m/s) at the disc point ``(x, y)`` (m, shaft frame)."""
+    def _developed(self, grow, x, y):
+        """Induced velocity (m/s) along the wake from the disc point ``(x, y)`` (m, shaft frame),
+        ``grow`` (0 at the disc, 1 far downstream) of the way to the fully developed far wake: the
+        mean ``v0`` doubles (momentum theory's far wake), the first harmonics of the disc
+        (Pitt–Peters' ``v1s``, ``v1c``, the near field of the skewed wake's vorticity) fade, so
+        that the wake never exceeds twice the rotor's mean induced velocity."""
         if len(self.inflow) == 1:
-            return self.inflow[0]
+            return (1 + grow) * self.inflow[0]
         v0, v1s, v1c = self.inflow
-        return v0 + (v1s * y + v1c * x) / self.radius
+        return (1 + grow) * v0 + (1 - grow) * (v1s * y + v1c * x) / self.radius

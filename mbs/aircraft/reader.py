@@ -128,6 +128,9 @@ def convert(value, unit: str | None, spec: Entry):
                          "unit)" if kind != "table" else f"no unit: give unit = \"{spec.unit}\"")
     if kind == "table":
         return _table(value, unit, spec)
+    if kind in ("series", "lookup"):
+        from mbs.aircraft import airframe_data
+        return (airframe_data.read_series if kind == "series" else airframe_data.read_lookup)(value, unit, spec)
     factor = units.factor_to(str(unit), spec.unit)
     if kind == "vector":
         if not (isinstance(value, list) and len(value) == spec.length):
@@ -196,7 +199,7 @@ def _missing(out: Reading, raw: dict) -> None:
             continue
         given = raw.get(section, {}) if isinstance(raw.get(section), dict) else {}
         for key, spec in entries.items():
-            applies = _applies(spec, out.values.get(section, {}))
+            applies = _applies(spec, out.values.get(section, {}), entries)
             if key not in given and spec.default is None and applies:
                 out.problems.append(f"{section}.{key}: missing ({spec.text}, in {spec.unit})")
             elif key in given and not applies:
@@ -205,8 +208,8 @@ def _missing(out: Reading, raw: dict) -> None:
                                     f"leave it out")
 
 
-def _applies(spec: Entry, values: dict) -> bool:
+def _applies(spec: Entry, values: dict, specs: dict) -> bool:
     if not spec.only_if:
         return True
     other, wanted = spec.only_if
-    return values.get(other, wanted) == wanted
+    return values.get(other, specs[other].default if specs[other].default is not None else wanted) == wanted

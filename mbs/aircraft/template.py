@@ -48,7 +48,7 @@ def template(name: str, source: str = "TEMPLATE") -> str:
 
 
 def _toml(value) -> str:
-    return json.dumps(value) if isinstance(value, (str, list)) else repr(float(value)) if isinstance(value, float) \
+    return json.dumps(value) if isinstance(value, (str, list, tuple)) else repr(float(value)) if isinstance(value, float) \
         else str(value)
 
 

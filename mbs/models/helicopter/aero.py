@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from mbs.aero import (Airfoil, Compressibility, Download, FuselageAero, HubDrag, LiftingSurface, Rotor, RotorAero,
-                      RotorModel, WakeGeometry)
+from mbs.aero import (Airfoil, Compressibility, Download, FuselageAero, FuselageTables, HubDrag, LiftingSurface, Rotor,
+                      RotorAero, RotorModel, WakeGeometry)
+from mbs.aircraft.airframe_data import fuselage_table
 from mbs.models.modal_blade import rotor_pieces
 from mbs.models.helicopter import frames as fr
 from mbs.tree import Model
@@ -83,7 +84,10 @@ def airfoil(sec: dict) -> Airfoil:
 def add_airframe_aero(m: Model, d, cfg) -> None:
     fa, ht, fin, rho = d["fuselage_aero"], d["horizontal_tail"], d["vertical_fin"], d["environment"]["rho"]
     wake = "main_rotor" if cfg.tail_wake else None
-    m.add_force(FuselageAero("fuselage", {k: fa[k] for k in "XYZMN"}, fa["v_ref"], fa["angle_limit"]))
+    if fa["model"] == "tables":
+        m.add_force(FuselageTables("fuselage", fuselage_table(d), rho))
+    else:
+        m.add_force(FuselageAero("fuselage", {k: fa[k] for k in "XYZMN"}, fa["v_ref"], fa["angle_limit"]))
     m.add_force(LiftingSurface("horizontal tail", "fuselage", (ht["x"], 0, ht["z"]), (1, 0, 0), (0, 0, -1),
                                ht["incidence"], ht["area"], airfoil(ht), rho, wake))
     m.add_force(LiftingSurface("fin", "fuselage", (fin["x"], 0, fin["z"]), (1, 0, 0), (0, 1, 0),
