@@ -126,4 +126,5 @@ class TailSurface(LiftingSurface):
         else:  # downwash: the air moving aft is turned down
             turned = ca.vertcat(c * air[0] + s * air[2], air[1], -s * air[0] + c * air[2])
         state.signals[f"{self.name}.interference"] = ca.vertcat(scale, turn)
+        state.signals[f"{self.name}.wake"] = scale * turned - air  # what the interference adds (body axes)
         return scale * turned

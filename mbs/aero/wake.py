@@ -100,28 +100,58 @@ class Wake:
 
     def __post_init__(self):
         """The rotor's flow, shared by every point: thrust axis, through-flow ``λ``, the in-plane
-        air velocity per ``λ`` (the wake centre's drift per metre of depth), ``V_T/λ``,
-        ``cos χ`` and the swirl's ``Q/(ρ A λ)``."""
+        air velocity ``a`` (shaft frame x, y), ``V_T/λ``, the first harmonic of the inflow along
+        ``a`` at the disc edge and the swirl's ``Q/(ρ A λ)``."""
         self.axis = self.shaft[:, 2]
-        lam = self._through_flow(self.axis)
+        self.lam = self._through_flow(self.axis)
         air_xy = self.air - ca.dot(self.air, self.axis) * self.axis
-        v_total = ca.sqrt(ca.dot(air_xy, air_xy) + lam**2)
-        self.drift, self.stretch, self.cos_skew = air_xy / lam, v_total / lam, lam / v_total
-        self.swirl = self.torque / (self.rho * np.pi * self.radius**2 * lam)
+        self.a_x, self.a_y = ca.dot(air_xy, self.shaft[:, 0]), ca.dot(air_xy, self.shaft[:, 1])
+        speed2 = self.a_x**2 + self.a_y**2
+        self.stretch = ca.sqrt(speed2 + self.lam**2) / self.lam
+        self.edge_harmonic = 0 if len(self.inflow) == 1 else \
+            (self.inflow[2] * self.a_x + self.inflow[1] * self.a_y) / ca.sqrt(speed2 + MIN_THROUGH_FLOW**2)
+        self.swirl = self.torque / (self.rho * np.pi * self.radius**2 * self.lam)
 
     def velocity(self, point):
         """Induced air velocity (3,) (m/s, world) of the wake at ``point`` (3,) (m, world)."""
         axis, r = self.axis, point - self.hub
         depth = -ca.dot(r, axis)
-        offset = r + depth * (axis - self.drift)  # in-plane, from the wake's centre
-        e_x, e_y = ca.dot(offset, self.shaft[:, 0]), ca.dot(offset, self.shaft[:, 1])
-        e2 = e_x**2 + e_y**2
         along = depth * self.stretch
         grow = along / ca.sqrt(along**2 + self.radius**2)
-        immersion = self.immersion(ca.sqrt(e2 + 1e-12), depth, self.cos_skew)
+        rear, front = self._edge_flows(along)
+        centre = 0.5 * depth * (1 / rear + 1 / front)  # drift of the wake's centre per in-plane air speed
+        e_x = ca.dot(r, self.shaft[:, 0]) - centre * self.a_x
+        e_y = ca.dot(r, self.shaft[:, 1]) - centre * self.a_y
+        e2 = e_x**2 + e_y**2
+        shrink = 0.5 * depth * (1 / front - 1 / rear)  # the front edge drifts faster than the rear one
+        immersion = self.immersion(self._edge_distance(e_x, e_y, shrink), depth, rear / ca.sqrt(
+            rear**2 + self.a_x**2 + self.a_y**2))
         swirl = self.swirl / (e2 + self.geometry.core**2)
         tangential = e_x * self.shaft[:, 1] - e_y * self.shaft[:, 0]  # along increasing azimuth: the rotation
         return immersion * (-self._developed(grow, e_x, e_y) * axis + swirl * tangential)
+
+    def _edge_flows(self, along):
+        """Mean through-flow (m/s) carrying the wake's rear and front edges from the disc down to
+        the distance ``along`` (m): ``λ`` plus ``v0`` times the development's mean over the way,
+        ``(sqrt(s² + R²) − R)/s``, and ± the disc edge's first harmonic, fading likewise."""
+        mean = along / (ca.sqrt(along**2 + self.radius**2) + self.radius)
+        lam = self.lam + self.inflow[0] * mean
+        if len(self.inflow) == 1:
+            return lam, lam
+        harmonic = self.edge_harmonic * (1 - mean)
+        front = lam - harmonic
+        return lam + harmonic, 0.5 * (front + ca.sqrt(front**2 + 4 * MIN_THROUGH_FLOW**2))
+
+    def _edge_distance(self, e_x, e_y, shrink):
+        """Distance (m) of the in-plane offset ``(e_x, e_y)`` from the wake's centre, the part
+        along the in-plane flow stretched by ``R/(R − a shrink)`` (the section shortened by the
+        edges' different drifts; at least a tenth of R long)."""
+        speed = ca.sqrt(self.a_x**2 + self.a_y**2 + MIN_THROUGH_FLOW**2)
+        e_d = (e_x * self.a_x + e_y * self.a_y) / speed
+        e_p2 = e_x**2 + e_y**2 - e_d**2
+        half = self.radius - speed * shrink
+        half = 0.5 * (half + 0.1 * self.radius + ca.sqrt((half - 0.1 * self.radius) ** 2 + 1e-6))
+        return ca.sqrt((e_d * self.radius / half) ** 2 + e_p2 + 1e-12)
 
     def immersion(self, distance, depth, cos_skew):
         """Share (0..1) of the wake's velocity at a point ``distance`` (m) from its centre,

@@ -31,6 +31,14 @@ def read_series(value, unit: str, spec) -> list[float]:
     return out
 
 
+def read_curve(value, unit: str, spec) -> list[float]:
+    """Values on breakpoints given elsewhere: at least two numbers, in SI."""
+    factor = units.factor_to(str(unit), spec.unit)
+    if not (isinstance(value, list) and len(value) >= 2 and all(_is_number(v) for v in value)):
+        raise ValueError("must be a list of at least two numbers (one per breakpoint)")
+    return [float(v) * factor for v in value]
+
+
 def read_lookup(value, unit: str, spec) -> dict:
     """A component table (a list, or a list of rows) with its form: ``{"form", "unit", "values"}``
     (values in SI of that form: m², m³, N, N m or a pure number)."""
@@ -49,6 +57,9 @@ def read_lookup(value, unit: str, spec) -> dict:
         raise ValueError("rows of different lengths: a two-argument table has one row per alpha, one column per beta")
     scaled = (np.asarray(rows if rows is not None else value, dtype=float) * have.factor).tolist()
     return {"form": FORMS[have.dims], "unit": str(unit), "values": scaled}
+
+
+READERS = {"series": read_series, "curve": read_curve, "lookup": read_lookup}
 
 
 def _is_number(v) -> bool:
@@ -115,6 +126,37 @@ def _form_problems(fa: dict, key: str, form: str, moment: bool) -> list[str]:
     return [f"fuselage_aero.{key}: coefficients need fuselage_aero.{n}" for n in need if fa[n] <= 0]
 
 
+def has_stabilator(values: dict) -> bool:
+    """Whether the file gives a ``[stabilator]`` (its defaults alone do not make one)."""
+    return "airspeed" in (values.get("stabilator") or {})
+
+
+def tail_problems(values: dict) -> list[str]:
+    """Interference tables and the stabilator's schedule against their breakpoints and stops."""
+    out = []
+    for section, arg, flow in (("horizontal_tail", "alpha", "downwash"), ("vertical_fin", "beta", "sidewash")):
+        sec, key = values[section], f"interference_{arg}"
+        for name in ("q_ratio", flow):
+            if len(sec[name]) and len(sec[name]) != len(sec[key]):
+                out.append(f"{section}.{name}: {len(sec[name])} values for {len(sec[key])} breakpoints "
+                           f"({section}.{key})")
+        if len(sec[key]) and not (len(sec["q_ratio"]) or len(sec[flow])):
+            out.append(f"{section}.{key}: breakpoints without tables (q_ratio, {flow})")
+        if any(q <= 0 for q in sec["q_ratio"]):
+            out.append(f"{section}.q_ratio: dynamic-pressure ratios must be positive")
+    st = values.get("stabilator") or {}
+    if has_stabilator(values):
+        if len(st["incidence"]) != len(st["airspeed"]):
+            out.append(f"stabilator.incidence: {len(st['incidence'])} values for {len(st['airspeed'])} airspeeds")
+        if st["incidence_min"] >= st["incidence_max"]:
+            out.append("stabilator.incidence_max: must exceed incidence_min")
+        outside = [i for i in st["incidence"] if not st["incidence_min"] <= i <= st["incidence_max"]]
+        if outside:
+            out.append(f"stabilator.incidence: {np.degrees(outside[0]):.4g} deg lies beyond the stops "
+                       f"[{np.degrees(st['incidence_min']):.4g}, {np.degrees(st['incidence_max']):.4g}] deg")
+    return out
+
+
 def reference_point(fa: dict) -> np.ndarray:
     """The moments' reference point (3,) (m, body axes from the CG): as given, or from the
     stations (fuselage station aft, butt line starboard, water line up)."""
@@ -178,3 +220,27 @@ def converted(data) -> list[tuple]:
                  "m^2, m^3", f"X, Y, Z per q and L, M, N per q about the CG, body axes, from {fa['axes']} axes about "
                  f"the reference point {np.round(reference_point(fa), 4).tolist()} m", "DER"))
     return rows
+
+
+def stabilator_schedule(d):
+    """The :class:`mbs.aero.empennage.Schedule` of the file's ``[stabilator]``, or None."""
+    from mbs.aero.empennage import Schedule
+
+    if not has_stabilator(d):
+        return None
+    st = d["stabilator"]
+    return Schedule(tuple(st["airspeed"]), tuple(st["incidence"]), st["collective_gain"], st["collective_reference"],
+                    st["pitch_rate_gain"], st["incidence_min"], st["incidence_max"])
+
+
+def interference_tables(d, section: str):
+    """The :class:`mbs.aero.empennage.Interference` of ``section`` ("horizontal_tail" or
+    "vertical_fin"), or None where the file gives none."""
+    from mbs.aero.empennage import Interference
+
+    sec, lateral = d[section], section == "vertical_fin"
+    key, flow = ("interference_beta", "sidewash") if lateral else ("interference_alpha", "downwash")
+    if not len(sec[key]):
+        return None
+    return Interference(tuple(sec[key]), tuple(sec["q_ratio"]) if len(sec["q_ratio"]) else None,
+                        tuple(sec[flow]) if len(sec[flow]) else None, lateral)

@@ -128,9 +128,9 @@ def convert(value, unit: str | None, spec: Entry):
                          "unit)" if kind != "table" else f"no unit: give unit = \"{spec.unit}\"")
     if kind == "table":
         return _table(value, unit, spec)
-    if kind in ("series", "lookup"):
+    if kind in ("series", "curve", "lookup"):
         from mbs.aircraft import airframe_data
-        return (airframe_data.read_series if kind == "series" else airframe_data.read_lookup)(value, unit, spec)
+        return airframe_data.READERS[kind](value, unit, spec)
     factor = units.factor_to(str(unit), spec.unit)
     if kind == "vector":
         if not (isinstance(value, list) and len(value) == spec.length):

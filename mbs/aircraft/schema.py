@@ -92,11 +92,35 @@ def _controls(prefix: str, what: str) -> dict[str, Entry]:
             f"{prefix}_max": angle(f"largest {what} the control reaches", 60)}
 
 
-def _surface(what: str) -> dict[str, Entry]:
+def _surface(what: str, arg: str = "alpha", flow: str = "downwash") -> dict[str, Entry]:
     return {"area": positive("m^2", f"{what} area"), "incidence": angle(f"{what} incidence", 30),
             "x": num("m", f"{what} aerodynamic centre, x (forward) from the CG"),
             "z": num("m", f"{what} aerodynamic centre, z (down) from the CG"),
-            "chord": positive("m", f"{what} chord (display only)"), **_airfoil(what, cd2_default=0.0)}
+            "chord": positive("m", f"{what} chord (display only)"), **_airfoil(what, cd2_default=0.0),
+            **_interference(what, arg, flow)}
+
+
+def _interference(what: str, arg: str, flow: str) -> dict[str, Entry]:
+    """Published interference at a tail surface: it replaces the main rotor's wake model there."""
+    side = "to starboard" if flow == "sidewash" else "down"
+    return {f"interference_{arg}": Entry("rad", f"fuselage {arg} breakpoints of {what} interference tables",
+                                         "series", default=()),
+            "q_ratio": Entry("-", f"{what} dynamic-pressure ratio q_surface/q against interference_{arg}", "curve",
+                             default=()),
+            flow: Entry("rad", f"{what} {flow} angle ({side}) against interference_{arg}", "curve", default=())}
+
+
+def _stabilator() -> dict[str, Entry]:
+    return {
+        "airspeed": Entry("m/s", "airspeed breakpoints of the incidence schedule", "series"),
+        "incidence": Entry("rad", "scheduled incidence at those airspeeds, leading edge up (trailing edge down) "
+                           "positive", "curve"),
+        "collective_gain": num("-", "incidence per collective (rad/rad) about collective_reference", default=0.0),
+        "collective_reference": angle("collective at which the collective term is zero", 60, default=0.0),
+        "pitch_rate_gain": num("s", "incidence per pitch rate (rad per rad/s, nose up positive)", default=0.0),
+        "incidence_min": angle("stop: least incidence (trailing edge up)", 90),
+        "incidence_max": angle("stop: largest incidence (trailing edge down)", 90),
+    }
 
 
 def _fuselage_tables() -> dict[str, Entry]:
@@ -198,7 +222,8 @@ ENTRIES: dict[str, dict[str, Entry]] = {
         **_fuselage_tables(),
     },
     "horizontal_tail": _surface("horizontal tail"),
-    "vertical_fin": _surface("fin"),
+    "vertical_fin": _surface("fin", "beta", "sidewash"),
+    "stabilator": _stabilator(),
     "wake": {"width": positive("m", "edge smoothing of the main rotor's wake tube (tail wake, download)")},
     "download": {"panels": Entry("m, m, m, m^2, -", "fuselage panels in the wake: rows x, y, z (from the CG), plan "
                                  "area, drag coefficient in vertical flow", "table", columns=("m", "m", "m", "m^2", "-"))},
@@ -247,7 +272,7 @@ ENTRIES: dict[str, dict[str, Entry]] = {
     },
 }
 
-OPTIONAL_SECTIONS = ("environment", "geometry", "elastic_blade", "swashplate")
+OPTIONAL_SECTIONS = ("environment", "geometry", "elastic_blade", "swashplate", "stabilator")
 """Sections a file may leave out: ISA, display sizes scaled from the rotor, no elastic blades, no
 swashplate mechanism (the blade pitch then only driven)."""
 
