@@ -105,45 +105,20 @@ def test_two_argument_spline_is_the_tensor_product_of_natural_splines():
     assert spline(a, b) == pytest.approx(float(CubicSpline(BETA, cols, bc_type="natural")(b)), abs=1e-12)
 
 
-def polynomial_tables_file(tmp_path) -> "Path":
-    """The Bo105 file with its fuselage polynomials sampled every 2 deg over +-20 deg as body-axis
-    tables of loads (N, N m) at the polynomials' speed, about the CG."""
-    import re
-    from mbs import aircraft
-
-    fa = aircraft.load("bo105").data["fuselage_aero"]
-    grid = np.arange(-20.0, 20.01, 2.0)
-    rad = np.radians(grid)
-    entry = lambda key, unit: (f"{key} = {{ value = {[round(float(np.polyval(fa[key[0]][::-1], a)), 12) for a in rad]}, "
-                               f"unit = \"{unit}\", source = \"S1 sampled\" }}")
-    section = "\n".join([
-        "[fuselage_aero]", 'model = { value = "tables", unit = "-", source = "TEST" }',
-        'axes = { value = "body", unit = "-", source = "S1" }',
-        'reference_point = { value = [0.0, 0.0, 0.0], unit = "m", source = "S1" }',
-        f'alpha = {{ value = {grid.tolist()}, unit = "deg", source = "TEST" }}',
-        f'beta = {{ value = {grid.tolist()}, unit = "deg", source = "TEST" }}',
-        f'reference_speed = {{ value = {fa["v_ref"]}, unit = "m/s", source = "S1" }}',
-        entry("X_alpha", "N"), entry("Z_alpha", "N"), entry("M_alpha", "N m"), entry("Y_beta", "N"),
-        entry("N_beta", "N m"), ""])
-    text = aircraft.resolve("bo105").read_text()
-    text = re.sub(r"\[fuselage_aero\].*?(?=\n\[horizontal_tail\])", section, text, flags=re.S)
-    path = tmp_path / "bo105_tables.toml"
-    path.write_text(text)
-    return path
-
-
 def test_tables_sampling_the_padfield_polynomials_reproduce_the_trim(tmp_path):
-    """Forward flight at 30 m/s, every switch on: the trim with the sampled tables equals the
-    polynomials' within 0.01 deg in every control and attitude; aircraft check lists the tables'
-    conversion (loads at 30.48 m/s over q) with their source."""
+    """Forward flight at 30 m/s, every switch on: the trim with the Bo105's polynomials sampled
+    every 5 deg over ±90 deg (clipped as the model clips them) as body-axis loads at their speed
+    equals the polynomials' within 0.01 deg in every control and attitude; aircraft check lists
+    the tables' conversion (loads at 30.48 m/s over q) with their source."""
     from mbs import aircraft, scenes
+    from mbs.aircraft.airframe_data import with_polynomial_tables
     from mbs.analysis.trim import periodic_solution
 
-    path = polynomial_tables_file(tmp_path)
+    path = with_polynomial_tables("bo105", tmp_path)
     report = aircraft.check(path)
     assert report.ok, report.problems
     rows = {r[0]: r for r in report.converted}
-    assert "30.48 m/s" in rows["fuselage_aero.X_alpha"][3] and rows["fuselage_aero.X_alpha"][4] == "S1 sampled"
+    assert "30.48 m/s" in rows["fuselage_aero.X_alpha"][3] and rows["fuselage_aero.X_alpha"][4] == "polynomials sampled"
     base = periodic_solution(scenes.get("forward-flight"), 30.0)
     tab = periodic_solution(scenes.get("forward-flight").with_aircraft(str(path)), 30.0)
     assert base.converged and tab.converged

@@ -244,3 +244,43 @@ def interference_tables(d, section: str):
         return None
     return Interference(tuple(sec[key]), tuple(sec["q_ratio"]) if len(sec["q_ratio"]) else None,
                         tuple(sec[flow]) if len(sec[flow]) else None, lateral)
+
+
+def tables_from_polynomials(fa: dict, step_deg: float = 5.0, limit_deg: float = 90.0) -> str:
+    """The ``[fuselage_aero]`` section of tables sampling a file's Padfield polynomials ``fa``
+    (their angles clipped as the model clips them) every ``step_deg`` over ±``limit_deg``: body
+    axes about the CG, loads at the polynomials' ``v_ref``."""
+    from mbs.aero.sections import soft_clip
+
+    grid = np.arange(-limit_deg, limit_deg + step_deg / 2, step_deg)
+    clipped = [float(soft_clip(a, fa["angle_limit"])) for a in np.radians(grid)]
+
+    def entry(key: str, unit: str) -> str:
+        values = [round(float(np.polyval(fa[key[0]][::-1], a)), 9) for a in clipped]
+        return f'{key} = {{ value = {values}, unit = "{unit}", source = "polynomials sampled" }}'
+
+    return "\n".join([
+        "[fuselage_aero]", 'model = { value = "tables", unit = "-", source = "polynomials sampled" }',
+        'axes = { value = "body", unit = "-", source = "polynomials sampled" }',
+        'reference_point = { value = [0.0, 0.0, 0.0], unit = "m", source = "polynomials sampled" }',
+        f'alpha = {{ value = {grid.tolist()}, unit = "deg", source = "polynomials sampled" }}',
+        f'beta = {{ value = {grid.tolist()}, unit = "deg", source = "polynomials sampled" }}',
+        f'reference_speed = {{ value = {fa["v_ref"]}, unit = "m/s", source = "polynomials sampled" }}',
+        entry("X_alpha", "N"), entry("Z_alpha", "N"), entry("M_alpha", "N m"), entry("Y_beta", "N"),
+        entry("N_beta", "N m"), ""])
+
+
+def with_polynomial_tables(source, directory) -> "Path":
+    """A copy of the aircraft file ``source`` in ``directory`` whose fuselage polynomials are
+    replaced by :func:`tables_from_polynomials`."""
+    import re
+    from pathlib import Path
+
+    from mbs import aircraft
+
+    craft = aircraft.load(source)
+    text = re.sub(r"\[fuselage_aero\].*?(?=\n\[horizontal_tail\])", lambda _: tables_from_polynomials(
+        craft.data["fuselage_aero"]), craft.path.read_text(), flags=re.S)
+    path = Path(directory) / f"{craft.path.stem}_fuselage_tables.toml"
+    path.write_text(text)
+    return path
