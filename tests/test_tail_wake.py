@@ -100,3 +100,22 @@ def test_bo105_trim_pitch_has_the_low_speed_hump_with_the_tail_wake():
     assert off.argmax() <= 1 and off[2] < off[0]
     increment = on - off
     assert abs(increment[0]) < 0.02 and np.all(increment[speeds / kt >= 20] > 0.2)
+
+
+def test_wake_ad_jacobian_equals_central_differences():
+    """The wake velocity's exact AD Jacobian in the point, the air velocity and the inflow states
+    equals central differences at 50 random points around the tail (no kink for Newton)."""
+    p, air, inflow = ca.SX.sym("p", 3), ca.SX.sym("a", 3), ca.SX.sym("v", 3)
+    wake = Wake(ca.DM.zeros(3), ca.DM.eye(3), [inflow[0], inflow[1], inflow[2]], air, 3000.0, RADIUS, RHO,
+                helicopter.main_rotor_wake(aircraft.load().data))
+    args = ca.vertcat(p, air, inflow)
+    fn = ca.Function("w", [args], [wake.velocity(p)])
+    jac = ca.Function("j", [args], [ca.jacobian(wake.velocity(p), args)])
+    rng = np.random.default_rng(7)
+    for _ in range(50):
+        x = np.concatenate([[rng.uniform(3.0, 7.0), rng.uniform(-1, 1), -rng.uniform(0.3, 2.0)],
+                            [rng.uniform(2.0, 30.0), rng.uniform(-3, 3), rng.uniform(-3, 1)],
+                            [rng.uniform(4.0, 11.0), rng.uniform(-1, 1), rng.uniform(0, 5)]])
+        h = 1e-6
+        fd = np.column_stack([(np.array(fn(x + h * e)) - np.array(fn(x - h * e))).ravel() / (2 * h) for e in np.eye(9)])
+        assert np.abs(np.array(jac(x)) - fd).max() <= 1e-5 * max(1.0, np.abs(fd).max())

@@ -21,7 +21,7 @@ HEADER = """\
 # gravity, x forward, y starboard, z down. Check the file with:  heli aircraft check FILE
 """
 
-COMMENTED = ("elastic_blade", "swashplate")
+COMMENTED = ("elastic_blade", "swashplate", "stabilator")
 """Optional sections written commented out (their entries are required once the section is there)."""
 
 
@@ -37,14 +37,20 @@ def template(name: str, source: str = "TEMPLATE") -> str:
                    + ("  # optional: leave the section out for the defaults" if optional else ""))
         for key, spec in entries.items():
             value = name if key == "name" else base.get(section, {}).get(key, spec.default)
+            value = (spec.choices[0] if spec.choices else "...") if value is None else value
             line = f"{key} = {{ value = {_toml(value)}, unit = \"{spec.unit}\", source = \"{source}\" }}"
-            commented = section in COMMENTED or spec.default is not None
+            commented = section in COMMENTED or spec.default is not None or _elsewhere(spec, base.get(section, {}))
             if spec.only_if:
                 line += f"  # only with {spec.only_if[0]} = \"{spec.only_if[1]}\""
             out += [f"# {spec.text} ({spec.unit}" + (f"; default {spec.default})" if spec.default is not None else ")"),
                     ("# " if commented else "") + line]
         out += _derived_comment(section) + [""]
     return "\n".join(out)
+
+
+def _elsewhere(spec, values: dict) -> bool:
+    """Whether ``spec`` applies only with another value of its section's switch than the template's."""
+    return bool(spec.only_if) and spec.only_if[0] in values and values[spec.only_if[0]] != spec.only_if[1]
 
 
 def _toml(value) -> str:
