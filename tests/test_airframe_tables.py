@@ -125,3 +125,84 @@ def test_tables_sampling_the_padfield_polynomials_reproduce_the_trim(tmp_path):
     for key, value in base.controls.items():
         assert np.degrees(abs(tab.controls[key] - value)) < 0.01, key
     assert np.degrees(abs(tab.pitch - base.pitch)) < 0.01 and np.degrees(abs(tab.roll - base.roll)) < 0.01
+
+
+WIND_SECTION = """[fuselage_aero]
+model = { value = "tables", unit = "-", source = "R1" }
+axes = { value = "wind", unit = "-", source = "R1" }
+reference_station = { value = [345.5, 2.0, 234.0], unit = "in", source = "R1 table 2" }
+cg_station = { value = [360.0, 0.0, 247.2], unit = "in", source = "R1 table 1" }
+alpha = { value = [-20, -10, 0, 10, 20], unit = "deg", source = "R1" }
+beta = { value = [-20, 0, 20], unit = "deg", source = "R1" }
+reference_area = { value = 100.0, unit = "ft^2", source = "R1" }
+reference_length = { value = 10.0, unit = "ft", source = "R1" }
+drag_alpha = { value = [40.1, 35.2, 33.0, 35.9, 42.4], unit = "ft^2", source = "R1 D/q" }
+lift_alpha_beta = { value = [[-0.3, -0.3, -0.3], [-0.15, -0.14, -0.15], [0.0, 0.01, 0.0], [0.15, 0.16, 0.15], [0.3, 0.31, 0.3]], unit = "-", source = "R1 CL" }
+pitch_alpha = { value = [-1200, -600, 0, 600, 1200], unit = "ft^3", source = "R1 M/q" }
+side_beta = { value = [30.0, 0.0, -30.0], unit = "ft^2", source = "R1 Y/q" }
+roll_beta = { value = [-0.01, 0.0, 0.01], unit = "-", source = "R1 Cl" }
+"""
+
+
+def _with_section(tmp_path, section: str, name: str = "wind.toml"):
+    import re
+    from mbs import aircraft
+
+    text = re.sub(r"\[fuselage_aero\].*?(?=\n\[horizontal_tail\])", lambda _: section,
+                  aircraft.resolve("bo105").read_text(), flags=re.S)
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def test_a_report_table_in_wind_axes_about_stations_is_converted_and_listed(tmp_path):
+    """Tables as printed (ft², ft³, coefficients on 100 ft² and 10 ft, wind axes, moments about a
+    station): aircraft check is clean, lists the reference point from the CG (x = −(FS − FS_cg),
+    y = BL − BL_cg, z = −(WL − WL_cg), in m) and each table's factor with its source; the model's
+    body-axis loads about the CG equal the hand conversion at 20 random (α, β) to 1e-12."""
+    from mbs import aircraft
+    from mbs.aircraft.airframe_data import fuselage_table
+
+    report = aircraft.check(_with_section(tmp_path, WIND_SECTION))
+    assert report.ok, report.problems
+    rows = {r[0]: r for r in report.converted}
+    ref = np.array([360.0 - 345.5, 2.0, 247.2 - 234.0]) * 0.0254
+    assert rows["fuselage_aero.reference_station"][1] == pytest.approx(ref.tolist(), abs=1e-6)
+    assert rows["fuselage_aero.lift_alpha_beta"][4] == "R1 CL" and "coefficients times 9.2903" in \
+        rows["fuselage_aero.lift_alpha_beta"][3]
+    table = fuselage_table(aircraft.load(_with_section(tmp_path, WIND_SECTION)).data)
+    ft2, ft3, s, sl = 0.3048**2, 0.3048**3, 100 * 0.3048**2, 1000 * 0.3048**3
+    grid_a, grid_b = np.radians([-20, -10, 0, 10, 20]), np.radians([-20, 0, 20])
+    lift = np.array([[-0.3, -0.3, -0.3], [-0.15, -0.14, -0.15], [0.0, 0.01, 0.0], [0.15, 0.16, 0.15],
+                     [0.3, 0.31, 0.3]])
+    for a, b in RNG.uniform(-0.3, 0.3, (20, 2)):
+        nat = lambda x, y, t: float(CubicSpline(x, y, bc_type="natural")(t))
+        drag = nat(grid_a, ft2 * np.array([40.1, 35.2, 33.0, 35.9, 42.4]), a)
+        rows_b = [nat(grid_b, s * row, b) for row in lift]
+        c = [drag, nat(grid_b, ft2 * np.array([30.0, 0.0, -30.0]), b), nat(grid_a, rows_b, a),
+             nat(grid_b, sl * np.array([-0.01, 0.0, 0.01]), b), nat(grid_a, ft3 * np.array([-1200, -600, 0, 600, 1200]), a), 0.0]
+        x = np.array([np.cos(a) * np.cos(b), np.sin(b), np.sin(a) * np.cos(b)])
+        z = np.array([-np.sin(a), 0.0, np.cos(a)])
+        y = np.cross(z, x)
+        f = -c[0] * x + c[1] * y - c[2] * z
+        m = c[3] * x + c[4] * y + c[5] * z + np.cross(ref, f)
+        force, moment = table.body_per_q(a, b)
+        got = np.concatenate([force.full().ravel(), moment.full().ravel()])
+        want = np.concatenate([f, m])
+        assert np.abs(got - want).max() <= 1e-12 * np.abs(want).max()
+
+
+@pytest.mark.parametrize("change, words", [
+    (("reference_station", "ref_station"), "unknown entry"),
+    (('side_beta = {', 'Y_beta = {'), "Y is not a component in wind axes"),
+    (("[30.0, 0.0, -30.0]", "[30.0, 0.0]"), "side_beta: 2 values for 3 breakpoints"),
+    (('reference_area = { value = 100.0, unit = "ft^2", source = "R1" }\n', ""), "coefficients need fuselage_aero.reference_area"),
+    (('unit = "ft^3", source = "R1 M/q"', 'unit = "ft^2", source = "R1 M/q"'), "unit 'ft^2' is an area; give a volume (M/q)"),
+    (('[-20, -10, 0, 10, 20], unit = "deg"', '[-20, -10, 10, 0, 20], unit = "deg"'), "breakpoints must increase"),
+    (('cg_station = { value = [360.0, 0.0, 247.2], unit = "in", source = "R1 table 1" }\n', ""), "reference_point: missing"),
+])
+def test_bad_tables_are_named(tmp_path, change, words):
+    from mbs import aircraft
+
+    report = aircraft.check(_with_section(tmp_path, WIND_SECTION.replace(*change)))
+    assert any(words in p for p in report.problems), report.problems

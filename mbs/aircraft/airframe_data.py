@@ -113,11 +113,7 @@ def _shape_problems(fa: dict, key: str, arg: str, values: np.ndarray) -> list[st
 
 
 def _form_problems(fa: dict, key: str, form: str, moment: bool) -> list[str]:
-    if form == "per_q":
-        unit = fa[key]["unit"]
-        if (units.parse(unit).dims == (3, 0, 0, 0)) != moment:
-            return [f"fuselage_aero.{key}: unit {unit!r}: a {'moment' if moment else 'force'} per dynamic pressure "
-                    f"is {'a volume (m^3)' if moment else 'an area (m^2)'}"]
+    if form == "per_q":  # its dimension was checked when the entry was read
         return []
     if form == "load":
         return [] if fa["reference_speed"] > 0 else [f"fuselage_aero.{key}: loads at a speed need "
@@ -212,7 +208,7 @@ def converted(data) -> list[tuple]:
                "load": f"loads in {table['unit']} at {fa['reference_speed']:.4g} m/s over q = {1 / factor:.6g} Pa",
                "coefficient": f"coefficients times {factor:.6g} {unit}"}[table["form"]]
         values = np.asarray(table["values"]) * factor
-        rows.append((f"fuselage_aero.{key}", f"{values.min():.6g} .. {values.max():.6g}", unit, how,
+        rows.append((f"fuselage_aero.{key}", [float(f"{v:.9g}") for v in values.ravel()], unit, how,
                      meta[key]["source"]))
     force, moment = fuselage_table(data).body_per_q(0.0, 0.0)
     rows.append(("fuselage_aero (alpha = beta = 0)", np.round(np.concatenate([force.full().ravel(),

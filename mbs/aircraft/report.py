@@ -133,9 +133,16 @@ def lines(report: Report) -> list[str]:
     out += ["  derived values:"] + [f"    {e:34s} {_fmt(v)} {u}  ({h})" for e, v, u, h in report.derived]
     out += ["  figures:"] + [f"    {n:40s} {_fmt(v)} {u}" for n, v, u in report.figures]
     if report.converted:
-        out += ["  converted by the program:"] + [f"    {e:34s} {_fmt(v)} {u}  ({h}; source {s})"
+        out += ["  converted by the program:"] + [f"    {e:34s} {_brief(v)} {u}  ({h}; source {s})"
                                                   for e, v, u, h, s in report.converted]
     return out + [f"  warning: {w}" for w in report.warnings]
+
+
+def _brief(v) -> str:
+    """A converted table in one line: its range and length (``--json`` gives every value)."""
+    if isinstance(v, list) and len(v) > 6:
+        return f"{min(v):.6g} .. {max(v):.6g} ({len(v)} values; --json lists them)"
+    return _fmt(v)
 
 
 def _fmt(v) -> str:
