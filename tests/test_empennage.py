@@ -94,7 +94,7 @@ def test_trimmed_stabilator_follows_its_schedule_and_interference_tables(tmp_pat
     assert any("stabilator: at its stop +35.0 deg" in w for w in trim_warnings(stop, d5))
 
 
-def test_airframe_warnings_fire_where_they_should():
+def test_airframe_warnings_fire_where_they_should(tmp_path):
     d = aircraft.load("bo105").data
     calm = {"main_rotor.inflow": 8.0, "horizontal_tail.downwash": 2.0, "fin.sidewash": 1.0,
             "fuselage.u": 20.0, "fuselage.v": 0.0, "fuselage.w": 0.5}
@@ -103,3 +103,11 @@ def test_airframe_warnings_fire_where_they_should():
     assert any("horizontal tail: 17 m/s of main-rotor wake, more than" in w for w in airframe_warnings(strong, d))
     stalled = {**calm, "horizontal_tail.downwash": 0.0, "fuselage.w": 8.0}  # 22 deg nose-up flow at the tail
     assert any("horizontal tail: angle of attack" in w and "stall" in w for w in airframe_warnings(stalled, d))
+    from mbs.aircraft.airframe_data import with_polynomial_tables
+
+    tables = aircraft.load(with_polynomial_tables("bo105", tmp_path)).data
+    assert airframe_warnings(calm, tables) == []
+    steep = {**calm, "fuselage.u": 1.0, "fuselage.w": -20.0}  # descending steeply: alpha -87 deg
+    assert not any("beyond the breakpoints" in w for w in airframe_warnings(steep, tables))
+    sideways = {**calm, "fuselage.u": -20.0, "fuselage.w": 0.0}  # flying backwards: alpha 180 deg
+    assert any("alpha +180.0 deg beyond the breakpoints [-90, 90] deg" in w for w in airframe_warnings(sideways, tables))

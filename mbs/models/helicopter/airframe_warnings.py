@@ -1,5 +1,6 @@
 """What a trim's airframe aerodynamics should tell its user: a tail surface in more wake than a
-rotor can make, a surface at its stall, a stabilator at its stop.
+rotor can make, a surface at its stall, a stabilator at its stop, fuselage tables used beyond
+their breakpoints.
 
 :func:`airframe_warnings` reads the period means of a trim's outputs and states (names as the
 model's: ``horizontal_tail.downwash``, ``fin.sidewash``, ``main_rotor.inflow``,
@@ -19,7 +20,7 @@ WAKE_MARGIN = 0.02
 def airframe_warnings(values: dict, d) -> list[str]:
     """Warnings (one line each) about the airframe at a trim: ``values`` the period means of its
     outputs and states by name (SI), ``d`` the aircraft data."""
-    return _wake(values) + _stall(values, d) + _stops(values, d)
+    return _wake(values) + _stall(values, d) + _stops(values, d) + _table_range(values, d)
 
 
 def trim_warnings(trim, d) -> list[str]:
@@ -61,6 +62,23 @@ def _stops(values: dict, d) -> list[str]:
             return [f"stabilator: at its stop {np.degrees(stop):+.1f} deg (stabilator.{name}); the schedule asks for "
                     f"{np.degrees(raw):+.1f} deg"]
     return []
+
+
+def _table_range(values: dict, d) -> list[str]:
+    """Fuselage tables used beyond their breakpoints (continued linearly there)."""
+    fa = d["fuselage_aero"]
+    if fa["model"] != "tables" or "fuselage.u" not in values or "fuselage.w" not in values:
+        return []
+    u, v, w = values["fuselage.u"], values.get("fuselage.v", 0.0), values["fuselage.w"]
+    angles = {"alpha": np.arctan2(w, u), "beta": np.arcsin(v / max(np.sqrt(u * u + v * v + w * w), 1e-9))}
+    out = []
+    for name, angle in angles.items():
+        grid = fa[name]
+        if len(grid) and not grid[0] <= angle <= grid[-1]:
+            out.append(f"fuselage tables: {name} {np.degrees(angle):+.1f} deg beyond the breakpoints "
+                       f"[{np.degrees(grid[0]):.4g}, {np.degrees(grid[-1]):.4g}] deg (fuselage_aero.{name}); the tables "
+                       "are continued linearly there: give them over the range flown")
+    return out
 
 
 def _estimated_alpha(values: dict, d, section: str):
