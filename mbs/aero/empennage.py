@@ -113,7 +113,9 @@ class TailSurface(LiftingSurface):
         return self._interfered(state, air_velocity(state, self.body, self.point, rot))
 
     def _interfered(self, state, air):
-        """``air`` (body axes) scaled by ``sqrt η`` and turned by ``ε`` (down) or ``σ`` (starboard)."""
+        """``air`` (body axes) scaled by ``sqrt η`` and turned by ``ε`` (down) or ``σ`` (starboard),
+        the tables read at the angle of attack (sideslip) of ``air``: the fuselage's in steady
+        flight, where the surface moves with the CG."""
         table = self.interference
         u, v, w = (-air[i] for i in range(3))
         alpha, beta, _ = flow_angles(u, v, w)
