@@ -5,7 +5,7 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from mbs.aircraft import checks, derived, performance
+from mbs.aircraft import airframe_data, checks, derived, performance
 from mbs.aircraft._aircraft import AircraftError, Data, _text, evaluate, resolve
 from mbs.aircraft.schema import DERIVED, FROM_TABLES
 
@@ -25,6 +25,7 @@ class Report:
     warnings: list[str] = field(default_factory=list)
     derived: list[tuple] = field(default_factory=list)
     figures: list[tuple] = field(default_factory=list)
+    converted: list[tuple] = field(default_factory=list)
 
     @property
     def ok(self) -> bool:
@@ -34,7 +35,9 @@ class Report:
         return {"file": str(self.path), "name": self.name, "ok": self.ok, "problems": self.problems,
                 "warnings": self.warnings,
                 "derived": [{"entry": e, "value": v, "unit": u, "how": h} for e, v, u, h in self.derived],
-                "figures": {n: {"value": v, "unit": u} for n, v, u in self.figures}}
+                "figures": {n: {"value": v, "unit": u} for n, v, u in self.figures},
+                "converted": [{"entry": e, "value": v, "unit": u, "how": h, "source": s}
+                              for e, v, u, h, s in self.converted]}
 
 
 def check(source) -> Report:
@@ -51,6 +54,7 @@ def check(source) -> Report:
         report.derived = _derived_rows(data)
         report.figures = figures(data)
         report.warnings = _warnings(data, report.derived)
+        report.converted = airframe_data.converted(data)
     return report
 
 
@@ -145,7 +149,17 @@ def lines(report: Report) -> list[str]:
     out = [f"{report.path}: {report.name}: no problems"]
     out += ["  derived values:"] + [f"    {e:34s} {_fmt(v)} {u}  ({h})" for e, v, u, h in report.derived]
     out += ["  figures:"] + [f"    {n:40s} {_fmt(v)} {u}" for n, v, u in report.figures]
+    if report.converted:
+        out += ["  converted by the program:"] + [f"    {e:34s} {_brief(v)} {u}  ({h}; source {s})"
+                                                  for e, v, u, h, s in report.converted]
     return out + [f"  warning: {w}" for w in report.warnings]
+
+
+def _brief(v) -> str:
+    """A converted table in one line: its range and length (``--json`` gives every value)."""
+    if isinstance(v, list) and len(v) > 6:
+        return f"{min(v):.6g} .. {max(v):.6g} ({len(v)} values; --json lists them)"
+    return _fmt(v)
 
 
 def _fmt(v) -> str:
