@@ -10,12 +10,13 @@
 * :mod:`mbs.aero.tiploss`: tip loss as an effective blade radius ``B R``;
 * :mod:`mbs.aero.compressibility`: Prandtl–Glauert lift slope and drag divergence;
 * :mod:`mbs.aero.wake`: the main rotor's wake at the airframe (downwash, swirl, immersion);
-* :mod:`mbs.aero.airframe`: Padfield's Bo105 fuselage polynomials, one-section tail surfaces in
-  the free stream or the rotor's wake, the fuselage download and the hub drag.
+* :mod:`mbs.aero.airframe`: Padfield's Bo105 fuselage polynomials or published tables
+  (:mod:`mbs.aero.airframe_tables`, splines of :mod:`mbs.aero.interpolation`), one-section tail
+  surfaces in the free stream or the rotor's wake, the fuselage download and the hub drag.
 
 Units: SI, angles in rad. All forces act in still air (no wind, no gust).
 """
-from mbs.aero.airframe import Download, FuselageAero, HubDrag, LiftingSurface
+from mbs.aero.airframe import Download, FuselageAero, FuselageTables, HubDrag, LiftingSurface
 from mbs.aero.compressibility import Compressibility
 from mbs.aero.inflow import momentum_inflow, pitt_peters_rates, uniform_rate, wake_skew
 from mbs.aero.rotor import DiscLoads, Rotor, RotorAero, RotorModel
@@ -23,6 +24,6 @@ from mbs.aero.sections import EPS, Airfoil, section_force, soft_clip, turn
 from mbs.aero.tiploss import effective_radius_factor, lift_factors
 from mbs.aero.wake import Wake, WakeGeometry
 
-__all__ = ["EPS", "Airfoil", "Compressibility", "DiscLoads", "Download", "FuselageAero", "HubDrag", "LiftingSurface",
+__all__ = ["EPS", "Airfoil", "Compressibility", "DiscLoads", "Download", "FuselageAero", "FuselageTables", "HubDrag", "LiftingSurface",
            "Rotor", "RotorAero", "RotorModel", "Wake", "WakeGeometry", "effective_radius_factor", "lift_factors",
            "momentum_inflow", "pitt_peters_rates", "section_force", "soft_clip", "turn", "uniform_rate", "wake_skew"]

@@ -12,6 +12,7 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
+from mbs.aero.airframe_tables import flow_angles
 from mbs.aero.sections import EPS, Airfoil, section_force, soft_clip, turn
 from mbs.forces import ForceElement
 
@@ -41,6 +42,31 @@ class FuselageAero(ForceElement):
         torque = scale * ca.vertcat(0, self._poly("M", alpha), self._poly("N", beta))
         loads.add_force(self.body, force, point=[0, 0, 0], frame="body", rotation=m.rotation)
         loads.add_torque(self.body, torque)
+
+
+class FuselageTables(ForceElement):
+    """Fuselage loads from published tables (:class:`mbs.aero.airframe_tables.AirframeTable`)
+    at the dynamic pressure ``½ ρ V²`` of the CG's velocity through the air; force at the CG and
+    the moment moved there, body axes. Signals ``fuselage.alpha``, ``fuselage.beta`` (rad)."""
+
+    def __init__(self, body: str, table, rho: float):
+        self.name, self.body, self.table, self.rho = "fuselage aerodynamics", body, table, rho
+
+    def apply(self, state, loads):
+        rot = state.body(self.body).rotation
+        u, v, w = (-air_velocity(state, self.body, (0, 0, 0), rot)[i] for i in range(3))
+        alpha, beta, speed2 = flow_angles(u, v, w)
+        force, moment = self.table.body_per_q(alpha, beta)
+        q = 0.5 * self.rho * speed2
+        state.signals["fuselage.alpha"], state.signals["fuselage.beta"] = alpha, beta
+        loads.add_force(self.body, q * force, point=[0, 0, 0], frame="body", rotation=rot)
+        loads.add_torque(self.body, q * moment)
+
+
+def air_velocity(state, body: str, point, rotation, wake=0):
+    """Velocity (3,) (m/s, body axes) of the air relative to ``point`` (m) of ``body``: still air,
+    plus ``wake`` (3,) (m/s, world) where a rotor's wake reaches the point."""
+    return ca.mtimes(rotation.T, wake - state.point_velocity(body, point))
 
 
 def wake_velocity(state, rotor: str | None, body: str, point):
@@ -73,7 +99,7 @@ class LiftingSurface(ForceElement):
         wake = wake_velocity(state, self.wake, self.body, self.point)
         if self.wake is not None:
             state.signals[f"{self.name}.wake"] = ca.mtimes(rot.T, wake)
-        w = ca.mtimes(rot.T, wake - state.point_velocity(self.body, self.point))
+        w = air_velocity(state, self.body, self.point, rot, wake)
         w_c, w_n = ca.dot(w, ca.DM(self.c)), ca.dot(w, ca.DM(self.n))
         f_c, f_n = turn(*section_force(*turn(w_c, w_n, self.incidence), self.airfoil, self.rho, self.area),
                            -self.incidence)

@@ -1,30 +1,41 @@
 """The main rotor's wake at points of the airframe: downwash, swirl, and whether it reaches them.
 
-The wake is the skewed tube that leaves the disc with the total through-flow ``λ = V_normal + v0``
-(m/s, down through the disc) and the in-plane air velocity ``a`` (m/s, relative to the hub): at
-the depth ``h`` below the disc plane its centre lies ``h a / λ`` downstream of the hub (wake skew
-``tan χ = |a| / λ``, the angle of the Pitt–Peters gains). A point is in the wake when its
-in-plane distance ``e`` from that centre is inside the tube's radius; the edge is smoothed over
-``width`` (m) by ``K = ½ (1 − tanh((e − R_w)/width))``, times ``½ (1 + tanh(h/width))`` so that
-nothing above the disc is reached. Along the wake the induced velocity develops as on the axis of
-a semi-infinite vortex cylinder, ``v(s) = v_disc (1 + s / sqrt(s² + R²))`` at the distance
-``s = h V_T / λ`` along the skewed axis (``2 v_disc`` far downstream, Glauert). The tube's
-radius is that of the tip vortices: in hover Landgrebe's prescribed wake, which contracts to
-0.87 R within 0.13 R below the disc (much faster than the far-wake 1/√2 of momentum theory
-suggests), blended towards no contraction as the wake skews, ``R_w = R (1 − (1 − r_L(h)) cos² χ)``
-(:func:`landgrebe_radius`). ``v_disc`` is the rotor's
-induced velocity where the streamline left the disc (Pitt–Peters: ``v0 + v1s y/R + v1c x/R`` at
-the point ``e``), so the longitudinal gradient reaches the tail. The downwash is along the shaft
-axis (the rings of a vortex cylinder induce no in-plane velocity inside it). The swirl is the
-angular momentum the rotor torque ``Q`` puts into the wake, ``v_θ = Q e / (ρ A λ (e² + r_c²))``
-about the wake's centre in the rotor's sense of rotation, with a core ``r_c`` at the root cut-out
-(no torque is produced inboard of it); it gives the sidewash at the fin.
+The wake is the skewed tube that leaves the disc with the through-flow ``λ = V_normal + v0``
+(m/s, down through the disc) and the in-plane air velocity ``a`` (m/s, relative to the hub).
+Its edges are the tip vortices, carried down by the through-flow where they left the disc and
+aft by ``a``: the rear edge with the rear of the disc's inflow ``λ + v_1`` (``v_1`` the
+Pitt–Peters first harmonic along ``a`` at the disc edge), the front edge with ``λ − v_1``, both
+growing on the way down as the wake develops (``v0`` times the mean of ``g`` over the way,
+``(sqrt(s² + R²) − R)/s``). At the depth ``h`` the wake's section is therefore centred
+``h a (1/λ_rear + 1/λ_front)/2`` downstream and shortened along ``a`` by the edges' different
+drifts: the rear edge is less skewed than the mean wake (the tip vortices leave the rear of the
+disc almost normal to it at low advance ratio, as flow visualisation shows), the front one more.
+Laterally the section keeps the disc's radius less Landgrebe's hover contraction (0.87 R within
+0.13 R below the disc, :func:`landgrebe_radius`) times the share of it the momentum stream tube
+keeps in forward flight, ``(1 − sqrt(V_disc/V_far)) / (1 − 1/√2)`` with ``V_disc = sqrt(a² + λ²)``
+and ``V_far = sqrt(a² + (λ + v0)²)`` (1 in hover, tending to 0 edgewise). A point is in the wake
+by the smoothed edge ``K = ½ (1 − tanh((e − R_w)/width))``, times ``½ (1 + tanh(h/width))`` so
+that nothing above the disc is reached.
+
+Along the wake the induced velocity develops as on the axis of a semi-infinite vortex cylinder,
+``v(s) = v0 (1 + g) + (v_disc − v0)(1 − g)``, ``g = s / sqrt(s² + R²)`` at the distance
+``s = h V_T / λ`` along the skewed axis: the mean doubles to momentum theory's ``2 v0`` far
+downstream (Glauert) while the disc's first harmonics (``v_disc`` the Pitt–Peters inflow where
+the streamline left the disc) fade, so the wake never exceeds ``2 v0``; far behind a cruising
+rotor it is the ``2 v0`` behind a uniformly loaded wing that Heyson and Katzoff measured (NACA
+Rep. 1319, 1957). The downwash is along the shaft axis (the rings of a vortex cylinder induce
+no in-plane velocity inside it). The swirl is the angular momentum the rotor torque ``Q`` puts
+into the wake, ``v_θ = Q e / (ρ A λ (e² + r_c²))`` about the wake's centre in the rotor's sense
+of rotation, with a core ``r_c`` at the root cut-out (no torque is produced inboard of it); it
+gives the sidewash at the fin.
 
 Sources: H. Glauert, *Aerodynamic Theory* IV (1935), wake velocity; W. Johnson, *Helicopter
 Theory* §2.2 and §5.2 (momentum theory, the vortex-cylinder wake and its skew); G.D. Padfield,
 *Helicopter Flight Dynamics* §3.2.5 (the tailplane in the wake beyond a transition speed, set by
 the wake-skew geometry); A.J. Landgrebe, J. AHS 17(4) (1972) 3-15, the contraction of the
-hovering rotor's tip-vortex wake. Units: SI, rad; vectors in world components.
+hovering rotor's tip-vortex wake; H.H. Heyson and S. Katzoff, NACA Rep. 1319 (1957), induced
+velocities near a lifting rotor, measured and computed. Units: SI, rad; vectors in world
+components.
 """
 from __future__ import annotations
 
@@ -97,35 +108,75 @@ class Wake:
 
     def __post_init__(self):
         """The rotor's flow, shared by every point: thrust axis, through-flow ``λ``, the in-plane
-        air velocity per ``λ`` (the wake centre's drift per metre of depth), ``V_T/λ``,
-        ``cos χ`` and the swirl's ``Q/(ρ A λ)``."""
+        air velocity ``a`` (shaft frame x, y), ``V_T/λ``, the first harmonic of the inflow along
+        ``a`` at the disc edge and the swirl's ``Q/(ρ A λ)``."""
         self.axis = self.shaft[:, 2]
-        lam = self._through_flow(self.axis)
+        self.lam = self._through_flow(self.axis)
         air_xy = self.air - ca.dot(self.air, self.axis) * self.axis
-        v_total = ca.sqrt(ca.dot(air_xy, air_xy) + lam**2)
-        self.drift, self.stretch, self.cos_skew = air_xy / lam, v_total / lam, lam / v_total
-        self.swirl = self.torque / (self.rho * np.pi * self.radius**2 * lam)
+        self.a_x, self.a_y = ca.dot(air_xy, self.shaft[:, 0]), ca.dot(air_xy, self.shaft[:, 1])
+        speed2 = self.a_x**2 + self.a_y**2
+        self.stretch = ca.sqrt(speed2 + self.lam**2) / self.lam
+        self.edge_harmonic = 0 if len(self.inflow) == 1 else \
+            (self.inflow[2] * self.a_x + self.inflow[1] * self.a_y) / ca.sqrt(speed2 + MIN_THROUGH_FLOW**2)
+        self.swirl = self.torque / (self.rho * np.pi * self.radius**2 * self.lam)
+        self.hover_share = self._hover_share(speed2)
+
+    def _hover_share(self, speed2):
+        """Share of the hover contraction left in forward flight: the momentum stream tube's
+        contraction ``1 − sqrt(V_disc / V_far)`` (``V_disc = sqrt(a² + λ²)``, ``V_far = sqrt(a² +
+        (λ + v0)²)``, its cross-section normal to the flow falls as the flow speeds up) over its
+        hover value ``1 − 1/√2``."""
+        disc = ca.sqrt(speed2 + self.lam**2)
+        far = ca.sqrt(speed2 + (self.lam + self.inflow[0]) ** 2)
+        return (1 - ca.sqrt(disc / far)) / (1 - np.sqrt(0.5))
 
     def velocity(self, point):
         """Induced air velocity (3,) (m/s, world) of the wake at ``point`` (3,) (m, world)."""
         axis, r = self.axis, point - self.hub
         depth = -ca.dot(r, axis)
-        offset = r + depth * (axis - self.drift)  # in-plane, from the wake's centre
-        e_x, e_y = ca.dot(offset, self.shaft[:, 0]), ca.dot(offset, self.shaft[:, 1])
-        e2 = e_x**2 + e_y**2
         along = depth * self.stretch
         grow = along / ca.sqrt(along**2 + self.radius**2)
-        immersion = self.immersion(ca.sqrt(e2 + 1e-12), depth, self.cos_skew)
+        rear, front = self._edge_flows(along)
+        centre = 0.5 * depth * (1 / rear + 1 / front)  # drift of the wake's centre per in-plane air speed
+        e_x = ca.dot(r, self.shaft[:, 0]) - centre * self.a_x
+        e_y = ca.dot(r, self.shaft[:, 1]) - centre * self.a_y
+        e2 = e_x**2 + e_y**2
+        shrink = 0.5 * depth * (1 / front - 1 / rear)  # the front edge drifts faster than the rear one
+        immersion = self.immersion(self._edge_distance(e_x, e_y, shrink), depth, self.hover_share)
         swirl = self.swirl / (e2 + self.geometry.core**2)
         tangential = e_x * self.shaft[:, 1] - e_y * self.shaft[:, 0]  # along increasing azimuth: the rotation
-        return immersion * (-(1 + grow) * self._disc_inflow(e_x, e_y) * axis + swirl * tangential)
+        return immersion * (-self._developed(grow, e_x, e_y) * axis + swirl * tangential)
 
-    def immersion(self, distance, depth, cos_skew):
+    def _edge_flows(self, along):
+        """Mean through-flow (m/s) carrying the wake's rear and front edges from the disc down to
+        the distance ``along`` (m): ``λ`` plus ``v0`` times the development's mean over the way,
+        ``(sqrt(s² + R²) − R)/s``, and ± the disc edge's first harmonic, fading likewise."""
+        mean = along / (ca.sqrt(along**2 + self.radius**2) + self.radius)
+        lam = self.lam + self.inflow[0] * mean
+        if len(self.inflow) == 1:
+            return lam, lam
+        harmonic = self.edge_harmonic * (1 - mean)
+        front = lam - harmonic
+        return lam + harmonic, 0.5 * (front + ca.sqrt(front**2 + 4 * MIN_THROUGH_FLOW**2))
+
+    def _edge_distance(self, e_x, e_y, shrink):
+        """Distance (m) of the in-plane offset ``(e_x, e_y)`` from the wake's centre, the part
+        along the in-plane flow stretched by ``R/(R − a shrink)`` (the section shortened by the
+        edges' different drifts; at least a tenth of R long)."""
+        speed = ca.sqrt(self.a_x**2 + self.a_y**2 + MIN_THROUGH_FLOW**2)
+        e_d = (e_x * self.a_x + e_y * self.a_y) / speed
+        e_p2 = e_x**2 + e_y**2 - e_d**2
+        half = self.radius - speed * shrink
+        half = 0.5 * (half + 0.1 * self.radius + ca.sqrt((half - 0.1 * self.radius) ** 2 + 1e-6))
+        return ca.sqrt((e_d * self.radius / half) ** 2 + e_p2 + 1e-12)
+
+    def immersion(self, distance, depth, hover_share):
         """Share (0..1) of the wake's velocity at a point ``distance`` (m) from its centre,
-        ``depth`` (m) below the disc, wake skew ``χ``: the smoothed edge of the tube."""
+        ``depth`` (m) below the disc: the smoothed edge of the tube, contracted by ``hover_share``
+        (1 in hover, 0 in edgewise flow) of Landgrebe's hover contraction."""
         geo = self.geometry
         contraction = 1 - landgrebe_radius(depth / self.radius, geo)
-        edge = self.radius * (1 - contraction * cos_skew**2)
+        edge = self.radius * (1 - contraction * hover_share)
         return 0.25 * (1 - ca.tanh((distance - edge) / geo.width)) * (1 + ca.tanh(depth / geo.width))
 
     def _through_flow(self, axis):
@@ -133,9 +184,13 @@ class Wake:
         lam = -ca.dot(self.air, axis) + self.inflow[0]
         return 0.5 * (lam + ca.sqrt(lam**2 + 4 * MIN_THROUGH_FLOW**2))
 
-    def _disc_inflow(self, x, y):
-        """Induced velocity (m/s) at the disc point ``(x, y)`` (m, shaft frame)."""
+    def _developed(self, grow, x, y):
+        """Induced velocity (m/s) along the wake from the disc point ``(x, y)`` (m, shaft frame),
+        ``grow`` (0 at the disc, 1 far downstream) of the way to the fully developed far wake: the
+        mean ``v0`` doubles (momentum theory's far wake), the first harmonics of the disc
+        (Pitt–Peters' ``v1s``, ``v1c``, the near field of the skewed wake's vorticity) fade, so
+        that the wake never exceeds twice the rotor's mean induced velocity."""
         if len(self.inflow) == 1:
-            return self.inflow[0]
+            return (1 + grow) * self.inflow[0]
         v0, v1s, v1c = self.inflow
-        return v0 + (v1s * y + v1c * x) / self.radius
+        return (1 + grow) * v0 + (1 - grow) * (v1s * y + v1c * x) / self.radius

@@ -16,8 +16,10 @@ MAX_PERIOD_REVS = 12
 def problems(values: dict) -> list[str]:
     """Every physical problem of the completed ``values`` (defaults and derived values in)."""
     out = []
+    from mbs.aircraft.airframe_data import table_problems, tail_problems
+
     for check in (_inertia, _blades, _controls, _rotor_speed, _tail_hub, _airframe_mass, _tip_mach, _airframe_inertia,
-                  _rigging, _lag_damper, _airfoils, _distributions):
+                  _rigging, _lag_damper, _airfoils, _distributions, table_problems, tail_problems):
         out += check(values)
     return out
 

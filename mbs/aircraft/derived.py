@@ -33,7 +33,7 @@ def _default(section: str, key: str, default, values: dict):
         scale = values["main_rotor"]["radius"] / BO105_RADIUS
         base = BO105_GEOMETRY[key]
         return [scale * b for b in base] if isinstance(base, list) else scale * base
-    if isinstance(default, str):  # "<factor> omega"
+    if isinstance(default, str) and " " in default:  # "<factor> omega"
         factor, _, name = default.partition(" ")
         return float(factor) * values[section][name]
     return default

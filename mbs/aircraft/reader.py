@@ -135,6 +135,9 @@ def convert(value, unit: str | None, spec: Entry):
         return _table(value, unit, spec)
     if kind in ("travel", "mixing"):
         return _pilot(value, str(unit), spec)
+    if kind in ("series", "curve", "lookup"):
+        from mbs.aircraft import airframe_data
+        return airframe_data.READERS[kind](value, unit, spec)
     factor = units.factor_to(str(unit), spec.unit)
     if kind == "vector":
         if not (isinstance(value, list) and len(value) == spec.length):
@@ -262,7 +265,7 @@ def _missing(out: Reading, raw: dict) -> None:
         given = raw.get(section, {}) if isinstance(raw.get(section), dict) else {}
         replaced = {spec.replaces: key for key, spec in entries.items() if spec.replaces and key in given}
         for key, spec in entries.items():
-            applies = _applies(spec, out.values.get(section, {}))
+            applies = _applies(spec, out.values.get(section, {}), entries)
             if key in replaced and key in given:
                 out.problems.append(f"{section}.{replaced[key]}: replaces {section}.{key}, which is computed from "
                                     f"it; leave {key} out")
@@ -274,8 +277,8 @@ def _missing(out: Reading, raw: dict) -> None:
                                     f"leave it out")
 
 
-def _applies(spec: Entry, values: dict) -> bool:
+def _applies(spec: Entry, values: dict, specs: dict) -> bool:
     if not spec.only_if:
         return True
     other, wanted = spec.only_if
-    return values.get(other, wanted) == wanted
+    return values.get(other, specs[other].default if specs[other].default is not None else wanted) == wanted

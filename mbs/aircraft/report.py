@@ -7,7 +7,7 @@ import numpy as np
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from mbs.aircraft import checks, derived, performance
+from mbs.aircraft import airframe_data, checks, derived, performance
 from mbs.aircraft._aircraft import AircraftError, Data, _text, evaluate, resolve
 from mbs.aircraft.schema import DERIVED, FROM_TABLES
 
@@ -38,7 +38,8 @@ class Report:
                 "warnings": self.warnings,
                 "derived": [{"entry": e, "value": v, "unit": u, "how": h} for e, v, u, h in self.derived],
                 "figures": {n: {"value": v, "unit": u} for n, v, u in self.figures},
-                "converted": [{"entry": e, "as_written": w, "si": v, "source": src} for e, w, v, src in self.converted]}
+                "converted": [{"entry": e, "value": v, "unit": u, "how": h, "source": s}
+                              for e, v, u, h, s in self.converted]}
 
 
 def check(source) -> Report:
@@ -53,9 +54,9 @@ def check(source) -> Report:
     report = Report(path, str(data.get("aircraft", {}).get("name", "")), problems)
     if not problems:
         report.derived = _derived_rows(data)
-        report.converted = converted_rows(data)
         report.figures = figures(data)
         report.warnings = _warnings(data, report.derived)
+        report.converted = converted_rows(data) + airframe_data.converted(data)
     return report
 
 
@@ -73,8 +74,9 @@ def _derived_rows(data: Data) -> list[tuple]:
 
 
 def converted_rows(data: Data) -> list[tuple]:
-    """Every entry the program converted on loading: ``(entry, as written, SI value, source)``:
-    units to SI (``in`` to m, ``deg`` to rad, ``slug ft^2`` to kg m^2 ...)."""
+    """Rows ``(entry, value, unit, how, source)`` of the entries converted on loading: units to SI
+    (``in`` to m, ``deg`` to rad, ``slug ft^2`` to kg m^2 ...) and a whole-aircraft inertia to the
+    airframe's (the tables' conversions: :func:`mbs.aircraft.airframe_data.converted`)."""
     from mbs.aircraft.schema import ENTRIES
 
     rows = []
@@ -86,8 +88,9 @@ def converted_rows(data: Data) -> list[tuple]:
                 continue
             if written.replace(" ", "") == spec.unit.replace(" ", "") or written in ("-", "1", ""):
                 continue
-            rows.append((f"{section}.{key}", f"{meta.get('value', '')} {written}".strip(),
-                         _si(data[section][key], spec), meta.get("source", "")))
+            unit = {"travel": "m, rad or -", "mixing": "rad, rad per position"}.get(spec.kind, spec.unit)
+            rows.append((f"{section}.{key}", data[section][key], unit,
+                         f"from {meta.get('value', '')} {written}".strip(), meta.get("source", "")))
     return rows + _inertia_conversion(data)
 
 
@@ -98,19 +101,10 @@ def _inertia_conversion(data: Data) -> list[tuple]:
     from mbs.aircraft import mass
 
     frame = mass.airframe(data).inertia
-    return [(f"aircraft.{n}", f"{data['aircraft'][n]:.6g} kg m^2 of the whole aircraft about the CG",
-             f"{s * frame[i, j]:.6g} kg m^2 of the airframe about its centre of mass (the rotors' parts subtracted)",
-             data.meta["aircraft"][n]["source"])
+    return [(f"aircraft.{n}", float(s * frame[i, j]), "kg m^2",
+             f"the airframe's about its centre of mass: the whole aircraft's {data['aircraft'][n]:.6g} kg m^2 about "
+             "the CG less the rotors' hubs and blades (averaged over a revolution)", data.meta["aircraft"][n]["source"])
             for n, i, j, s in (("Ixx", 0, 0, 1), ("Iyy", 1, 1, 1), ("Izz", 2, 2, 1), ("Ixz", 0, 2, -1))]
-
-
-def _si(value, spec) -> str:
-    unit = {"travel": "SI (m, rad or fraction)", "mixing": "rad, rad per SI position"}.get(spec.kind, spec.unit)
-    return f"{_numbers(value)} {unit}"
-
-
-def _numbers(value) -> str:
-    return "[" + ", ".join(_numbers(v) for v in value) + "]" if isinstance(value, list) else f"{value:.6g}"
 
 
 def _recomputed(data: Data, entry: str) -> float | None:
@@ -217,12 +211,19 @@ def lines(report: Report) -> list[str]:
     if not report.ok:
         return [f"{report.path}: {p}" for p in report.problems]
     out = [f"{report.path}: {report.name}: no problems"]
-    if report.converted:
-        out += ["  converted on loading (as written -> SI, source):"]
-        out += [f"    {e:34s} {w} -> {v}  ({src})" for e, w, v, src in report.converted]
     out += ["  derived values:"] + [f"    {e:34s} {_fmt(v)} {u}  ({h})" for e, v, u, h in report.derived]
     out += ["  figures:"] + [f"    {n:40s} {_fmt(v)} {u}" for n, v, u in report.figures]
+    if report.converted:
+        out += ["  converted by the program:"] + [f"    {e:34s} {_brief(v)} {u}  ({h}; source {s})"
+                                                  for e, v, u, h, s in report.converted]
     return out + [f"  warning: {w}" for w in report.warnings]
+
+
+def _brief(v) -> str:
+    """A converted table in one line: its range and length (``--json`` gives every value)."""
+    if isinstance(v, list) and len(v) > 6:
+        return f"{min(v):.6g} .. {max(v):.6g} ({len(v)} values; --json lists them)"
+    return _fmt(v)
 
 
 def _fmt(v) -> str:

@@ -12,6 +12,7 @@ import math
 from dataclasses import dataclass
 
 DEG = math.pi / 180
+AIRFRAME_AXES = ("body", "stability", "wind")
 
 
 @dataclass(frozen=True)
@@ -124,11 +125,67 @@ def _controls(prefix: str, what: str) -> dict[str, Entry]:
             f"{prefix}_max": angle(f"largest {what} the control reaches", 60)}
 
 
-def _surface(what: str) -> dict[str, Entry]:
+def _surface(what: str, arg: str = "alpha", flow: str = "downwash") -> dict[str, Entry]:
     return {"area": positive("m^2", f"{what} area"), "incidence": angle(f"{what} incidence", 30),
             "x": num("m", f"{what} aerodynamic centre, x (forward) from the CG"),
             "z": num("m", f"{what} aerodynamic centre, z (down) from the CG"),
-            "chord": positive("m", f"{what} chord (display only)"), **_airfoil(what, cd2_default=0.0)}
+            "chord": positive("m", f"{what} chord (display only)"), **_airfoil(what, cd2_default=0.0),
+            **_interference(what, arg, flow)}
+
+
+def _interference(what: str, arg: str, flow: str) -> dict[str, Entry]:
+    """Published interference at a tail surface: it replaces the main rotor's wake model there."""
+    side = "to starboard" if flow == "sidewash" else "down"
+    return {f"interference_{arg}": Entry("rad", f"fuselage {arg} breakpoints of {what} interference tables",
+                                         "series", default=()),
+            "q_ratio": Entry("-", f"{what} dynamic-pressure ratio q_surface/q against interference_{arg}", "curve",
+                             default=()),
+            flow: Entry("rad", f"{what} {flow} angle ({side}) against interference_{arg}", "curve", default=())}
+
+
+def _stabilator() -> dict[str, Entry]:
+    return {
+        "airspeed": Entry("m/s", "airspeed breakpoints of the incidence schedule", "series"),
+        "incidence": Entry("rad", "scheduled incidence at those airspeeds, leading edge up (trailing edge down) "
+                           "positive", "curve"),
+        "collective_gain": num("-", "incidence per collective (rad/rad) about collective_reference", default=0.0),
+        "collective_reference": angle("collective at which the collective term is zero", 60, default=0.0),
+        "pitch_rate_gain": num("s", "incidence per pitch rate (rad per rad/s, nose up positive)", default=0.0),
+        "incidence_min": angle("stop: least incidence (trailing edge up)", 90),
+        "incidence_max": angle("stop: largest incidence (trailing edge down)", 90),
+    }
+
+
+def _fuselage_tables() -> dict[str, Entry]:
+    """Tables as a report prints them (:mod:`mbs.aircraft.airframe_data`, :mod:`mbs.aero.airframe_tables`)."""
+    tables = ("model", "tables")
+    out = {
+        "axes": choice("axes of the tables: body (X, Y, Z, L, M, N), stability or wind (drag, side, lift, roll, "
+                       "pitch, yaw; wind axes turned by alpha and beta from the body axes, stability by alpha only)",
+                       *AIRFRAME_AXES, only_if=tables),
+        "reference_point": Entry("m", "point the moments are about: x (forward), y (starboard), z (down) from the CG",
+                                 "vector", length=3, default=(), only_if=tables),
+        "reference_station": Entry("m", "point the moments are about as fuselage station (aft), butt line "
+                                   "(starboard), water line (up); with cg_station", "vector", length=3, default=(),
+                                   only_if=tables),
+        "cg_station": Entry("m", "the CG as fuselage station, butt line, water line", "vector", length=3, default=(),
+                            only_if=tables),
+        "alpha": Entry("rad", "angle-of-attack breakpoints, atan2(w, u), increasing", "series", default=(),
+                       only_if=tables),
+        "beta": Entry("rad", "sideslip breakpoints, asin(v / V), increasing", "series", default=(), only_if=tables),
+        "reference_speed": positive("m/s", "speed of tables given as loads (N, N m)", default=0.0, only_if=tables),
+        "reference_area": positive("m^2", "area of tables given as coefficients", default=0.0, only_if=tables),
+        "reference_length": positive("m", "length of moment tables given as coefficients", default=0.0,
+                                     only_if=tables),
+    }
+    for names in (("drag", "side", "lift", "roll", "pitch", "yaw"), ("X", "Y", "Z", "L", "M", "N")):
+        for i, name in enumerate(names):
+            unit = "m^3" if i >= 3 else "m^2"
+            for arg, over in (("alpha", "alpha"), ("beta", "beta"), ("alpha_beta", "alpha (rows) and beta (columns)")):
+                out[f"{name}_{arg}"] = Entry(unit, f"{name} against {over}: per dynamic pressure ({unit}), loads at "
+                                             "reference_speed or coefficients (-); the parts of a component add up",
+                                             "lookup", default=(), only_if=tables)
+    return out
 
 
 ENTRIES: dict[str, dict[str, Entry]] = {
@@ -240,15 +297,21 @@ ENTRIES: dict[str, dict[str, Entry]] = {
         "sideslip_max": angle("largest sideslip of the published flight envelope", 90),
     },
     "fuselage_aero": {
-        "v_ref": positive("m/s", "speed at which the polynomials give the loads; loads scale with (V/v_ref)^2"),
-        **{k: Entry(u, f"{k} {what}: coefficients of {arg}^0..3", "vector", length=4)
+        "model": choice("Padfield's cubic polynomials in body axes about the CG, or tables as published",
+                        "polynomials", "tables", default="polynomials"),
+        "v_ref": positive("m/s", "speed at which the polynomials give the loads; loads scale with (V/v_ref)^2",
+                          only_if=("model", "polynomials")),
+        **{k: Entry(u, f"{k} {what}: coefficients of {arg}^0..3", "vector", length=4, only_if=("model", "polynomials"))
            for k, u, what, arg in (("X", "N", "force", "alpha"), ("Y", "N", "force", "beta"),
                                    ("Z", "N", "force", "alpha"), ("M", "N m", "moment", "alpha"),
                                    ("N", "N m", "moment", "beta"))},
-        "angle_limit": num("rad", "angles of attack and sideslip are clipped here", 0.0, math.pi / 2, open_low=True),
+        "angle_limit": num("rad", "angles of attack and sideslip are clipped here", 0.0, math.pi / 2, open_low=True,
+                           only_if=("model", "polynomials")),
+        **_fuselage_tables(),
     },
     "horizontal_tail": _surface("horizontal tail"),
-    "vertical_fin": _surface("fin"),
+    "vertical_fin": _surface("fin", "beta", "sidewash"),
+    "stabilator": _stabilator(),
     "wake": {"width": positive("m", "edge smoothing of the main rotor's wake tube (tail wake, download)")},
     "download": {"panels": Entry("m, m, m, m^2, -", "fuselage panels in the wake: rows x, y, z (from the CG), plan "
                                  "area, drag coefficient in vertical flow", "table", columns=("m", "m", "m", "m^2", "-"))},
@@ -297,8 +360,8 @@ ENTRIES: dict[str, dict[str, Entry]] = {
     },
 }
 
-OPTIONAL_SECTIONS = ("environment", "geometry", "elastic_blade", "swashplate", "controls", "conventions",
-                     "envelope", "lag_damper")
+OPTIONAL_SECTIONS = ("environment", "geometry", "elastic_blade", "swashplate", "stabilator", "controls",
+                     "conventions", "envelope", "lag_damper")
 """Sections a file may leave out: ISA, display sizes scaled from the rotor, no elastic blades, no
 swashplate mechanism (the blade pitch then only driven), no pilot-control rigging (the controls are
 the blade angles), the model's own conventions."""

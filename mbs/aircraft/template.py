@@ -21,7 +21,7 @@ HEADER = """\
 # gravity, x forward, y starboard, z down. Check the file with:  heli aircraft check FILE
 """
 
-COMMENTED = ("elastic_blade", "swashplate", "controls", "conventions", "envelope", "lag_damper")
+COMMENTED = ("elastic_blade", "swashplate", "stabilator", "controls", "conventions", "envelope", "lag_damper")
 EXAMPLES = {"airfoils": [[0.0, "root_airfoil.c81"], [0.85, "tip_airfoil.c81"]],
             "chord_table": [[0.2, 0.27], [0.9, 0.27], [1.0, 0.2]],
             "twist_table": [[0.0, 0.07], [0.7, 0.0], [1.0, -0.03]],
@@ -45,8 +45,9 @@ def template(name: str, source: str = "TEMPLATE") -> str:
             value = name if key == "name" else base.get(section, {}).get(key, spec.default)
             if key in EXAMPLES:
                 value = EXAMPLES[key]
+            value = (spec.choices[0] if spec.choices else "...") if value is None else value
             line = f"{key} = {{ value = {_toml(value)}, unit = \"{spec.unit}\", source = \"{source}\" }}"
-            commented = section in COMMENTED or spec.default is not None
+            commented = section in COMMENTED or spec.default is not None or _elsewhere(spec, base.get(section, {}))
             if spec.only_if:
                 line += f"  # only with {spec.only_if[0]} = \"{spec.only_if[1]}\""
             shown = {"airfoils": "none: the analytic section", "table": "none"}.get(spec.kind, spec.default)
@@ -56,8 +57,13 @@ def template(name: str, source: str = "TEMPLATE") -> str:
     return "\n".join(out)
 
 
+def _elsewhere(spec, values: dict) -> bool:
+    """Whether ``spec`` applies only with another value of its section's switch than the template's."""
+    return bool(spec.only_if) and spec.only_if[0] in values and values[spec.only_if[0]] != spec.only_if[1]
+
+
 def _toml(value) -> str:
-    return json.dumps(value) if isinstance(value, (str, list)) else repr(float(value)) if isinstance(value, float) \
+    return json.dumps(value) if isinstance(value, (str, list, tuple)) else repr(float(value)) if isinstance(value, float) \
         else str(value)
 
 

@@ -2,8 +2,10 @@
 
 Each check returns lines that name what to look at: a control at (or within 1 % of) a stop, a
 pilot control at the end of its travel, an attitude outside the aircraft's envelope (or outside
-what any helicopter trims at), a tail surface in more downwash than a rotor's wake can carry, and
-inertias that belong to no real airframe. Angles in rad, speeds in m/s.
+what any helicopter trims at), the airframe's findings (a tail surface in more wake than the rotor
+makes, a surface at its stall, a stabilator at its stop, fuselage tables beyond their breakpoints:
+:mod:`mbs.models.helicopter.airframe_warnings`) and inertias that belong to no real airframe.
+Angles in rad, speeds in m/s.
 """
 from __future__ import annotations
 
@@ -24,8 +26,9 @@ def warnings(res, d, pilot: dict | None = None) -> list[str]:
     if not res.converged:
         return []
     from mbs.aircraft.checks import inertia_warnings
+    from mbs.models.helicopter.airframe_warnings import trim_warnings
 
-    return [*control_stops(res.controls, d), *pilot_stops(pilot or {}, d), *attitude(res, d), *tail_wake(res, d),
+    return [*control_stops(res.controls, d), *pilot_stops(pilot or {}, d), *attitude(res, d), *trim_warnings(res, d),
             *inertia_warnings(d)]
 
 
@@ -67,16 +70,3 @@ def attitude(res, d) -> list[str]:
             out.append(f"{name} {np.degrees(value):+.2f} deg is outside {where} ({np.degrees(low):+.1f} to "
                        f"{np.degrees(high):+.1f} deg): look at the controls and the aircraft data before using it")
     return out
-
-
-def tail_wake(res, d) -> list[str]:
-    """A horizontal tail in more downwash than the main rotor's fully developed wake (twice the
-    mean induced velocity at the disc, momentum theory) can carry."""
-    down, inflow = res.output_means.get("horizontal_tail.downwash"), res.state.get("main_rotor.inflow")
-    if down is None or inflow is None or inflow <= 0:
-        return []
-    if down <= 2 * inflow * (1 + 1e-6):
-        return []
-    return [f"the horizontal tail sits in {down:.3g} m/s of downwash, more than the {2 * inflow:.3g} m/s of the main "
-            f"rotor's fully developed wake (twice its induced velocity {inflow:.3g} m/s): the wake model overstates "
-            "the tail's downwash here, so the trim's pitch attitude and longitudinal cyclic are doubtful"]

@@ -187,11 +187,24 @@ def deep_tree_speed(name: str) -> dict:
     return {"row": name, **conservative_tree_speed(chain(DEEP_TREES[name]), h=CHAIN_STEP)}
 
 
+def fuselage_tables_speed() -> dict:
+    """:func:`scene_speed` of forward flight with the Bo105's fuselage polynomials sampled as
+    tables every 5 deg over ±90 deg (:func:`mbs.aircraft.airframe_data.with_polynomial_tables`)."""
+    import tempfile
+
+    from mbs import scenes
+    from mbs.aircraft.airframe_data import with_polynomial_tables
+
+    with tempfile.TemporaryDirectory() as tmp:
+        scene = scenes.get("forward-flight").with_aircraft(str(with_polynomial_tables("bo105", tmp)))
+        return {**scene_speed(scene), "scene": "forward-flight, fuselage tables"}
+
+
 def scene_speed(name, steps_per_rev: int = STEPS_PER_REV, run_steps: int = 200) -> dict:
-    """One Bo105 scene (a name or a :class:`mbs.scenes.Scene`), compiled, float64: DOF, rhs and
-    RK4 step medians (µs) and the real-time factor (simulated time / wall time) at
-    ``steps_per_rev`` steps per revolution, from the step time inside a C run of ``run_steps``
-    steps; ``_cpu``: the same from the CPU time of the run (other jobs on the machine do not count)."""
+    """One Bo105 scene, compiled, float64: DOF, rhs and RK4 step medians (µs) and the
+    real-time factor (simulated time / wall time) at ``steps_per_rev`` steps per revolution,
+    from the step time inside a C run of ``run_steps`` steps; ``_cpu``: the same from the
+    CPU time of the run (other jobs on the machine do not count)."""
     from mbs import scenes
 
     scene = scenes.get(name) if isinstance(name, str) else name
@@ -206,7 +219,7 @@ def scene_speed(name, steps_per_rev: int = STEPS_PER_REV, run_steps: int = 200) 
     def run():
         system.run(x, 0.0, h, run_steps, every=run_steps, p=p)
     in_run, in_run_cpu = (median_time(run, clock=c) / run_steps for c in (time.perf_counter, time.thread_time))
-    return {"scene": name, "dof": system.info.nv, "nx": system.info.nx, "h_s": h,
+    return {"scene": scene.name, "dof": system.info.nv, "nx": system.info.nx, "h_s": h,
             "compile_s": system.info.extra.get("compile_s"), "rhs_us": 1e6 * median_time(lambda: rhs_raw(x, t, p)),
             "rk4_step_us": 1e6 * median_time(lambda: rk4_raw(x, t, h, p)),
             "rk4_step_in_run_us": 1e6 * in_run, "real_time_factor": h / in_run,
@@ -256,7 +269,7 @@ def toolchain() -> dict:
 
 def run(progress: Callable[[int, int], None] | None = None) -> dict:
     """Every measurement of ``heli bench speed`` in one run; ``progress(done, total)``."""
-    jobs = [*((lambda n=n: scene_speed(n)) for n in BO105_SCENES), conservative_tree_speed,
+    jobs = [*((lambda n=n: scene_speed(n)) for n in BO105_SCENES), fuselage_tables_speed, conservative_tree_speed,
             lambda: conservative_tree_speed(bo105_tree(), _bo105_omega()),
             *((lambda n=n: deep_tree_speed(n)) for n in DEEP_TREES), elastic_rotor_speed, tables_speed]
     done = []
@@ -264,7 +277,7 @@ def run(progress: Callable[[int, int], None] | None = None) -> dict:
         done.append(job())
         if progress:
             progress(len(done), len(jobs))
-    n = len(BO105_SCENES)
+    n = len(BO105_SCENES) + 1
     return {"benchmark": "speed", "machine": {**machine(), **toolchain()}, "steps_per_rev": STEPS_PER_REV,
             "bo105": done[:n], "conservative_tree": done[n], "bo105_tree": done[n + 1], "trees": done[n + 2:-1],
             "tables": done[-1]}

@@ -4,8 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from mbs.aero import (Airfoil, Compressibility, Download, FuselageAero, HubDrag, LiftingSurface, Rotor, RotorAero,
-                      RotorModel, WakeGeometry)
+from mbs.aero import (Airfoil, Compressibility, Download, FuselageAero, FuselageTables, HubDrag, LiftingSurface, Rotor,
+                      RotorAero, RotorModel, WakeGeometry)
+from mbs.aero.empennage import TailSurface
+from mbs.aircraft.airframe_data import fuselage_table, interference_tables, stabilator_schedule
 from mbs.aero.tables import BladeAirfoils
 from mbs.models.modal_blade import rotor_pieces
 from mbs.models.helicopter import frames as fr
@@ -102,14 +104,29 @@ def airfoil(sec: dict) -> Airfoil:
     return Airfoil(sec["lift_slope"], sec["cd0"], sec["cd2"], sec["alpha_stall"], sec["cd_stalled"])
 
 
+def tail_surface(d, cfg, section: str, name: str, normal, wake: str | None) -> LiftingSurface:
+    """The horizontal tail or the fin: of fixed incidence in the free stream or the wake, or a
+    :class:`mbs.aero.empennage.TailSurface` with the file's stabilator schedule (horizontal tail)
+    or, with the wake switched on, its published interference tables in place of the wake."""
+    sec, rho = d[section], d["environment"]["rho"]
+    schedule = stabilator_schedule(d) if section == "horizontal_tail" else None
+    interference = interference_tables(d, section) if cfg.tail_wake else None
+    args = (name, "fuselage", (sec["x"], 0, sec["z"]), (1, 0, 0), normal, sec["incidence"], sec["area"], airfoil(sec),
+            rho, None if interference else wake)
+    if schedule is None and interference is None:
+        return LiftingSurface(*args)
+    return TailSurface(*args, schedule=schedule, interference=interference)
+
+
 def add_airframe_aero(m: Model, d, cfg) -> None:
     fa, ht, fin, rho = d["fuselage_aero"], d["horizontal_tail"], d["vertical_fin"], d["environment"]["rho"]
     wake = "main_rotor" if cfg.tail_wake else None
-    m.add_force(FuselageAero("fuselage", {k: fa[k] for k in "XYZMN"}, fa["v_ref"], fa["angle_limit"]))
-    m.add_force(LiftingSurface("horizontal tail", "fuselage", (ht["x"], 0, ht["z"]), (1, 0, 0), (0, 0, -1),
-                               ht["incidence"], ht["area"], airfoil(ht), rho, wake))
-    m.add_force(LiftingSurface("fin", "fuselage", (fin["x"], 0, fin["z"]), (1, 0, 0), (0, 1, 0),
-                               fin["incidence"], fin["area"], airfoil(fin), rho, wake))
+    if fa["model"] == "tables":
+        m.add_force(FuselageTables("fuselage", fuselage_table(d), rho))
+    else:
+        m.add_force(FuselageAero("fuselage", {k: fa[k] for k in "XYZMN"}, fa["v_ref"], fa["angle_limit"]))
+    m.add_force(tail_surface(d, cfg, "horizontal_tail", "horizontal tail", (0, 0, -1), wake))
+    m.add_force(tail_surface(d, cfg, "vertical_fin", "fin", (0, 1, 0), wake))
     if cfg.download:
         m.add_force(Download("fuselage", "main_rotor", d["download"]["panels"], rho))
     if cfg.hub_drag:

@@ -34,6 +34,15 @@ class TrimEstimate:
     tail_thrust: float
 
 
+def _fuselage_drag(d, speed: float) -> float:
+    """Fuselage drag (N) at zero angle of attack and sideslip."""
+    fa = d["fuselage_aero"]
+    if fa["model"] == "tables":
+        from mbs.aircraft.airframe_data import drag_area
+        return drag_area(d) * 0.5 * d["environment"]["rho"] * speed**2
+    return -fa["X"][0] * (speed / fa["v_ref"]) ** 2
+
+
 def estimate_trim(d, speed: float) -> TrimEstimate:
     """Classical closed-form estimates (uniform inflow, linear twist, small angles) for the
     aircraft data ``d`` at ``speed`` (m/s)."""
@@ -42,7 +51,7 @@ def estimate_trim(d, speed: float) -> TrimEstimate:
     rho, big_r, omega = env["rho"], mr["radius"], mr["omega"]
     tip, area = omega * big_r, np.pi * big_r**2
     sigma = mr["n_blades"] * mr["chord"] / (np.pi * big_r)
-    drag = -d["fuselage_aero"]["X"][0] * (speed / d["fuselage_aero"]["v_ref"]) ** 2
+    drag = _fuselage_drag(d, speed)
     drag += 0.5 * rho * d["hub_drag"]["flat_plate_area"] * speed**2
     tilt = drag / weight
     ct, mu = weight / (rho * area * tip**2), speed / tip

@@ -21,6 +21,8 @@ def add_outputs(m: Model, d, cfg) -> None:
         if cfg.tail_rotor:
             _add_rotor_outputs(m, d, cfg, "tail_rotor", gear)
     _add_airframe_outputs(m, cfg)
+    if cfg.airframe_aero and cfg.fuselage == "free":
+        _add_tail_outputs(m, d, cfg)
 
 
 def _add_azimuth(m: Model, cfg, rotor: str, hub: str, ratio: float, sense: int, text: str) -> None:
@@ -41,6 +43,23 @@ def _add_airframe_outputs(m: Model, cfg) -> None:
     if cfg.download:
         m.add_output("fuselage.download", lambda s: s.signals["fuselage.download"], "N",
                      "vertical drag of the fuselage in the main-rotor wake (positive down)")
+
+
+def _add_tail_outputs(m: Model, d, cfg) -> None:
+    """A stabilator's incidence, and each scheduled or interfered surface's angle of attack."""
+    from mbs.aircraft.airframe_data import has_stabilator, interference_tables
+
+    if has_stabilator(d):
+        m.add_output("stabilator.incidence", lambda s: s.signals["horizontal tail.incidence"], "rad",
+                     "stabilator incidence from its schedule, leading edge up positive")
+        m.add_output("stabilator.incidence_unlimited", lambda s: s.signals["horizontal tail.incidence_raw"], "rad",
+                     "stabilator incidence the schedule asks for before the stops")
+    for section, name, key in (("horizontal_tail", "horizontal tail", "horizontal_tail"), ("vertical_fin", "fin", "fin")):
+        special = (section == "horizontal_tail" and has_stabilator(d)) or (
+            cfg.tail_wake and interference_tables(d, section) is not None)
+        if special:
+            m.add_output(f"{key}.alpha", lambda s, n=name: s.signals[f"{n}.alpha"], "rad",
+                         f"angle of attack of the {name} section")
 
 
 def _add_rotor_outputs(m: Model, d, cfg, name: str, speed_ratio: float) -> None:

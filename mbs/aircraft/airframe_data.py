@@ -1,0 +1,282 @@
+"""Airframe aerodynamic tables of the aircraft file, as a report prints them, brought to the model.
+
+A component table (``[fuselage_aero] lift_alpha``, ``yaw_beta``, ``drag_alpha_beta`` ...) is
+read with its unit deciding what it is: an area or volume (``ft^2``, ``m^3``: per dynamic
+pressure, ``D/q``), a force or moment (``lbf``, ``N m``: loads at ``reference_speed``) or ``-``
+(coefficients on ``reference_area`` and, for moments, ``reference_length``). Each becomes SI
+per dynamic pressure once (:func:`per_q`), about the reference point from the CG
+(:func:`reference_point`); :func:`converted` lists every such conversion with its source for
+``heli aircraft check``.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from mbs.aircraft import units
+
+FORMS = {(2, 0, 0, 0): "per_q", (3, 0, 0, 0): "per_q", (1, 1, -2, 0): "load", (2, 1, -2, 0): "load",
+         (0, 0, 0, 0): "coefficient"}
+FORCE_DIMS, MOMENT_DIMS = {(2, 0, 0, 0), (1, 1, -2, 0)}, {(3, 0, 0, 0), (2, 1, -2, 0)}
+
+
+def read_series(value, unit: str, spec) -> list[float]:
+    """Breakpoints: at least two strictly increasing numbers, in SI."""
+    factor = units.factor_to(str(unit), spec.unit)
+    if not (isinstance(value, list) and len(value) >= 2 and all(_is_number(v) for v in value)):
+        raise ValueError("must be a list of at least two numbers (the breakpoints)")
+    out = [float(v) * factor for v in value]
+    bad = next((i for i in range(1, len(out)) if out[i] <= out[i - 1]), None)
+    if bad is not None:
+        raise ValueError(f"breakpoints must increase: {value[bad]!r} follows {value[bad - 1]!r}")
+    return out
+
+
+def read_curve(value, unit: str, spec) -> list[float]:
+    """Values on breakpoints given elsewhere: at least two numbers, in SI."""
+    factor = units.factor_to(str(unit), spec.unit)
+    if not (isinstance(value, list) and len(value) >= 2 and all(_is_number(v) for v in value)):
+        raise ValueError("must be a list of at least two numbers (one per breakpoint)")
+    return [float(v) * factor for v in value]
+
+
+def read_lookup(value, unit: str, spec) -> dict:
+    """A component table (a list, or a list of rows) with its form: ``{"form", "unit", "values"}``
+    (values in SI of that form: m², m³, N, N m or a pure number)."""
+    have = units.parse(str(unit))
+    moment = spec.unit.startswith("m^3")
+    allowed = MOMENT_DIMS if moment else FORCE_DIMS
+    if have.dims not in allowed | {(0, 0, 0, 0)} or have.per_rev:
+        want = "a volume (M/q), a moment at reference_speed or -" if moment else \
+            "an area (D/q), a force at reference_speed or -"
+        raise ValueError(f"unit {unit!r} is {have.describe()}; give {want}")
+    rows = value if isinstance(value, list) and value and isinstance(value[0], list) else None
+    flat = [v for r in rows for v in r] if rows is not None else value
+    if not (isinstance(flat, list) and flat and all(_is_number(v) for v in flat)):
+        raise ValueError("must be a list of numbers (one per breakpoint) or a list of rows (alpha x beta)")
+    if rows is not None and len({len(r) for r in rows}) != 1:
+        raise ValueError("rows of different lengths: a two-argument table has one row per alpha, one column per beta")
+    scaled = (np.asarray(rows if rows is not None else value, dtype=float) * have.factor).tolist()
+    return {"form": FORMS[have.dims], "unit": str(unit), "values": scaled}
+
+
+READERS = {"series": read_series, "curve": read_curve, "lookup": read_lookup}
+
+
+def _is_number(v) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool) and np.isfinite(v)
+
+
+COMPONENTS = {"body": ("X", "Y", "Z", "L", "M", "N"), "stability": ("drag", "side", "lift", "roll", "pitch", "yaw")}
+COMPONENTS["wind"] = COMPONENTS["stability"]
+ARGUMENTS = ("alpha", "beta", "alpha_beta")
+
+
+def given(fa: dict) -> dict[str, dict]:
+    """The component tables the section gives: ``"lift_alpha" -> {"form", "unit", "values"}``."""
+    return {k: v for k, v in fa.items() if isinstance(v, dict) and "form" in v}
+
+
+def table_problems(values: dict) -> list[str]:
+    """Problems of ``[fuselage_aero]`` tables: names of the stated axes, lengths against the
+    breakpoints, the reference point, the reference speed, area and length the forms need."""
+    fa = values["fuselage_aero"]
+    if fa.get("model") != "tables":
+        return []
+    out, tables = [], given(fa)
+    names = COMPONENTS[fa["axes"]]
+    if not tables:
+        out.append("fuselage_aero: model = \"tables\" but no table given (e.g. lift_alpha, drag_alpha)")
+    for key, table in tables.items():
+        name, _, arg = key.partition("_")
+        if name not in names:
+            out.append(f"fuselage_aero.{key}: {name} is not a component in {fa['axes']} axes "
+                       f"({', '.join(names)})")
+        out += _shape_problems(fa, key, arg, np.asarray(table["values"]))
+        out += _form_problems(fa, key, table["form"], names.index(name) >= 3 if name in names else False)
+    if not len(fa["reference_point"]) and not (len(fa["reference_station"]) and len(fa["cg_station"])):
+        out.append("fuselage_aero.reference_point: missing; give the point the moments are about (x, y, z from "
+                   "the CG), or reference_station and cg_station")
+    if len(fa["reference_point"]) and len(fa["reference_station"]):
+        out.append("fuselage_aero.reference_station: give the reference point once (reference_point or stations)")
+    return out
+
+
+def _shape_problems(fa: dict, key: str, arg: str, values: np.ndarray) -> list[str]:
+    want = tuple(len(fa[a]) for a in arg.split("_") if a in ("alpha", "beta"))
+    missing = [a for a in ("alpha", "beta") if a in arg and len(fa[a]) < 2]
+    if missing:
+        return [f"fuselage_aero.{key}: needs the breakpoints fuselage_aero.{missing[0]}"]
+    if values.shape != want:
+        return [f"fuselage_aero.{key}: {' x '.join(map(str, values.shape))} values for "
+                f"{' x '.join(map(str, want))} breakpoints ({arg.replace('_', ' x ')})"]
+    return []
+
+
+def _form_problems(fa: dict, key: str, form: str, moment: bool) -> list[str]:
+    if form == "per_q":  # its dimension was checked when the entry was read
+        return []
+    if form == "load":
+        return [] if fa["reference_speed"] > 0 else [f"fuselage_aero.{key}: loads at a speed need "
+                                                     "fuselage_aero.reference_speed"]
+    need = ["reference_area"] + (["reference_length"] if moment else [])
+    return [f"fuselage_aero.{key}: coefficients need fuselage_aero.{n}" for n in need if fa[n] <= 0]
+
+
+def has_stabilator(values: dict) -> bool:
+    """Whether the file gives a ``[stabilator]`` (its defaults alone do not make one)."""
+    return "airspeed" in (values.get("stabilator") or {})
+
+
+def tail_problems(values: dict) -> list[str]:
+    """Interference tables and the stabilator's schedule against their breakpoints and stops."""
+    out = []
+    for section, arg, flow in (("horizontal_tail", "alpha", "downwash"), ("vertical_fin", "beta", "sidewash")):
+        sec, key = values[section], f"interference_{arg}"
+        for name in ("q_ratio", flow):
+            if len(sec[name]) and len(sec[name]) != len(sec[key]):
+                out.append(f"{section}.{name}: {len(sec[name])} values for {len(sec[key])} breakpoints "
+                           f"({section}.{key})")
+        if len(sec[key]) and not (len(sec["q_ratio"]) or len(sec[flow])):
+            out.append(f"{section}.{key}: breakpoints without tables (q_ratio, {flow})")
+        if any(q <= 0 for q in sec["q_ratio"]):
+            out.append(f"{section}.q_ratio: dynamic-pressure ratios must be positive")
+    st = values.get("stabilator") or {}
+    if has_stabilator(values):
+        if len(st["incidence"]) != len(st["airspeed"]):
+            out.append(f"stabilator.incidence: {len(st['incidence'])} values for {len(st['airspeed'])} airspeeds")
+        if st["incidence_min"] >= st["incidence_max"]:
+            out.append("stabilator.incidence_max: must exceed incidence_min")
+        outside = [i for i in st["incidence"] if not st["incidence_min"] <= i <= st["incidence_max"]]
+        if outside:
+            out.append(f"stabilator.incidence: {np.degrees(outside[0]):.4g} deg lies beyond the stops "
+                       f"[{np.degrees(st['incidence_min']):.4g}, {np.degrees(st['incidence_max']):.4g}] deg")
+    return out
+
+
+def reference_point(fa: dict) -> np.ndarray:
+    """The moments' reference point (3,) (m, body axes from the CG): as given, or from the
+    stations (fuselage station aft, butt line starboard, water line up)."""
+    if len(fa["reference_point"]):
+        return np.asarray(fa["reference_point"], dtype=float)
+    ref, cg = np.asarray(fa["reference_station"]), np.asarray(fa["cg_station"])
+    return np.array([-(ref[0] - cg[0]), ref[1] - cg[1], -(ref[2] - cg[2])])
+
+
+def scale(fa: dict, key: str, rho: float) -> float:
+    """The factor taking the table ``key`` to SI per dynamic pressure (m², m³)."""
+    form, moment = fa[key]["form"], key.split("_")[0] in ("roll", "pitch", "yaw", "L", "M", "N")
+    if form == "per_q":
+        return 1.0
+    if form == "load":
+        return 1.0 / (0.5 * rho * fa["reference_speed"] ** 2)
+    return fa["reference_area"] * (fa["reference_length"] if moment else 1.0)
+
+
+def fuselage_table(d):
+    """The :class:`mbs.aero.airframe_tables.AirframeTable` of ``d["fuselage_aero"]``."""
+    from mbs.aero.airframe_tables import AirframeTable
+
+    fa, rho = d["fuselage_aero"], d["environment"]["rho"]
+    names, parts = COMPONENTS[fa["axes"]], {}
+    for key, table in given(fa).items():
+        name, _, arg = key.partition("_")
+        parts.setdefault(names.index(name), []).append((arg, scale(fa, key, rho) * np.asarray(table["values"])))
+    grid = {a: np.asarray(fa[a]) if len(fa[a]) else None for a in ("alpha", "beta")}
+    return AirframeTable(fa["axes"], tuple(reference_point(fa)), grid["alpha"], grid["beta"], parts)
+
+
+def drag_area(d) -> float:
+    """Fuselage drag per dynamic pressure (m²) at zero angle of attack and sideslip."""
+    force, _ = fuselage_table(d).body_per_q(0.0, 0.0)
+    return -float(force.full()[0, 0])
+
+
+def converted(data) -> list[tuple]:
+    """Rows ``(entry, value, unit, how, source)`` of every value the program converted."""
+    fa = data["fuselage_aero"]
+    if fa.get("model") != "tables":
+        return []
+    meta, rho, rows = data.meta["fuselage_aero"], data["environment"]["rho"], []
+    if not len(fa["reference_point"]):
+        rows.append(("fuselage_aero.reference_station", reference_point(fa).round(6).tolist(), "m",
+                     "x, y, z from the CG: -(FS - FS_cg), BL - BL_cg, -(WL - WL_cg)",
+                     meta["reference_station"]["source"]))
+    for key, table in given(fa).items():
+        factor = scale(fa, key, rho)
+        unit = "m^3" if key.split("_")[0] in ("roll", "pitch", "yaw", "L", "M", "N") else "m^2"
+        how = {"per_q": f"per dynamic pressure, from {table['unit']}",
+               "load": f"loads in {table['unit']} at {fa['reference_speed']:.4g} m/s over q = {1 / factor:.6g} Pa",
+               "coefficient": f"coefficients times {factor:.6g} {unit}"}[table["form"]]
+        values = np.asarray(table["values"]) * factor
+        rows.append((f"fuselage_aero.{key}", [float(f"{v:.9g}") for v in values.ravel()], unit, how,
+                     meta[key]["source"]))
+    force, moment = fuselage_table(data).body_per_q(0.0, 0.0)
+    rows.append(("fuselage_aero (alpha = beta = 0)", np.round(np.concatenate([force.full().ravel(),
+                                                                              moment.full().ravel()]), 6).tolist(),
+                 "m^2, m^3", f"X, Y, Z per q and L, M, N per q about the CG, body axes, from {fa['axes']} axes about "
+                 f"the reference point {np.round(reference_point(fa), 4).tolist()} m", "DER"))
+    return rows
+
+
+def stabilator_schedule(d):
+    """The :class:`mbs.aero.empennage.Schedule` of the file's ``[stabilator]``, or None."""
+    from mbs.aero.empennage import Schedule
+
+    if not has_stabilator(d):
+        return None
+    st = d["stabilator"]
+    return Schedule(tuple(st["airspeed"]), tuple(st["incidence"]), st["collective_gain"], st["collective_reference"],
+                    st["pitch_rate_gain"], st["incidence_min"], st["incidence_max"])
+
+
+def interference_tables(d, section: str):
+    """The :class:`mbs.aero.empennage.Interference` of ``section`` ("horizontal_tail" or
+    "vertical_fin"), or None where the file gives none."""
+    from mbs.aero.empennage import Interference
+
+    sec, lateral = d[section], section == "vertical_fin"
+    key, flow = ("interference_beta", "sidewash") if lateral else ("interference_alpha", "downwash")
+    if not len(sec[key]):
+        return None
+    return Interference(tuple(sec[key]), tuple(sec["q_ratio"]) if len(sec["q_ratio"]) else None,
+                        tuple(sec[flow]) if len(sec[flow]) else None, lateral)
+
+
+def tables_from_polynomials(fa: dict, step_deg: float = 5.0, limit_deg: float = 90.0) -> str:
+    """The ``[fuselage_aero]`` section of tables sampling a file's Padfield polynomials ``fa``
+    (their angles clipped as the model clips them) every ``step_deg`` over ±``limit_deg``: body
+    axes about the CG, loads at the polynomials' ``v_ref``."""
+    from mbs.aero.sections import soft_clip
+
+    grid = np.arange(-limit_deg, limit_deg + step_deg / 2, step_deg)
+    clipped = [float(soft_clip(a, fa["angle_limit"])) for a in np.radians(grid)]
+
+    def entry(key: str, unit: str) -> str:
+        values = [round(float(np.polyval(fa[key[0]][::-1], a)), 9) for a in clipped]
+        return f'{key} = {{ value = {values}, unit = "{unit}", source = "polynomials sampled" }}'
+
+    return "\n".join([
+        "[fuselage_aero]", 'model = { value = "tables", unit = "-", source = "polynomials sampled" }',
+        'axes = { value = "body", unit = "-", source = "polynomials sampled" }',
+        'reference_point = { value = [0.0, 0.0, 0.0], unit = "m", source = "polynomials sampled" }',
+        f'alpha = {{ value = {grid.tolist()}, unit = "deg", source = "polynomials sampled" }}',
+        f'beta = {{ value = {grid.tolist()}, unit = "deg", source = "polynomials sampled" }}',
+        f'reference_speed = {{ value = {fa["v_ref"]}, unit = "m/s", source = "polynomials sampled" }}',
+        entry("X_alpha", "N"), entry("Z_alpha", "N"), entry("M_alpha", "N m"), entry("Y_beta", "N"),
+        entry("N_beta", "N m"), ""])
+
+
+def with_polynomial_tables(source, directory) -> "Path":
+    """A copy of the aircraft file ``source`` in ``directory`` whose fuselage polynomials are
+    replaced by :func:`tables_from_polynomials`."""
+    import re
+    from pathlib import Path
+
+    from mbs import aircraft
+
+    craft = aircraft.load(source)
+    text = re.sub(r"\[fuselage_aero\].*?(?=\n\[horizontal_tail\])", lambda _: tables_from_polynomials(
+        craft.data["fuselage_aero"]), craft.path.read_text(), flags=re.S)
+    path = Path(directory) / f"{craft.path.stem}_fuselage_tables.toml"
+    path.write_text(text)
+    return path

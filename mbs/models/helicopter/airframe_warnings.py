@@ -1,0 +1,98 @@
+"""What a trim's airframe aerodynamics should tell its user: a tail surface in more wake than a
+rotor can make, a surface at its stall, a stabilator at its stop, fuselage tables used beyond
+their breakpoints.
+
+:func:`airframe_warnings` reads the period means of a trim's outputs and states (names as the
+model's: ``horizontal_tail.downwash``, ``fin.sidewash``, ``main_rotor.inflow``,
+``horizontal_tail.alpha``, ``stabilator.incidence_unlimited``, ``fuselage.u`` ...; SI, rad) with
+the aircraft data, and returns one sentence per finding.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from mbs.aero.empennage import CLAMP_SMOOTHING
+
+WAKE_MARGIN = 0.02
+"""A surface's wake may exceed the fully developed 2 v0 by this share before it is reported."""
+
+
+def airframe_warnings(values: dict, d) -> list[str]:
+    """Warnings (one line each) about the airframe at a trim: ``values`` the period means of its
+    outputs and states by name (SI), ``d`` the aircraft data."""
+    return _wake(values) + _stall(values, d) + _stops(values, d) + _table_range(values, d)
+
+
+def trim_warnings(trim, d) -> list[str]:
+    """:func:`airframe_warnings` of a :class:`mbs.analysis.trim.Trim`."""
+    return airframe_warnings({**dict(trim.state), **dict(trim.output_means)}, d)
+
+
+def _wake(values: dict) -> list[str]:
+    v0 = values.get("main_rotor.inflow")
+    out = []
+    for key, what in (("horizontal_tail.downwash", "horizontal tail"), ("fin.sidewash", "fin")):
+        if key in values and v0 is not None and abs(values[key]) > 2 * abs(v0) * (1 + WAKE_MARGIN):
+            out.append(f"{what}: {abs(values[key]):.3g} m/s of main-rotor wake, more than the fully developed wake's "
+                       f"2 v0 = {2 * abs(v0):.3g} m/s: the wake model is past its validity here (check the surface's "
+                       "position and the wake data)")
+    return out
+
+
+def _stall(values: dict, d) -> list[str]:
+    out = []
+    for section, key, what in (("horizontal_tail", "horizontal_tail", "horizontal tail"), ("vertical_fin", "fin", "fin")):
+        alpha = values.get(f"{key}.alpha", _estimated_alpha(values, d, section))
+        stall = d[section]["alpha_stall"]
+        if alpha is not None and abs(alpha) >= stall:
+            out.append(f"{what}: angle of attack {np.degrees(alpha):+.1f} deg at or beyond its stall angle "
+                       f"{np.degrees(stall):.1f} deg ({section}.alpha_stall): its lift is only bounded there, not "
+                       "modelled")
+    return out
+
+
+def _stops(values: dict, d) -> list[str]:
+    raw = values.get("stabilator.incidence_unlimited")
+    if raw is None:
+        return []
+    st = d["stabilator"]
+    for stop, name, beyond in ((st["incidence_max"], "incidence_max", raw > st["incidence_max"] - CLAMP_SMOOTHING),
+                               (st["incidence_min"], "incidence_min", raw < st["incidence_min"] + CLAMP_SMOOTHING)):
+        if beyond:
+            return [f"stabilator: at its stop {np.degrees(stop):+.1f} deg (stabilator.{name}); the schedule asks for "
+                    f"{np.degrees(raw):+.1f} deg"]
+    return []
+
+
+def _table_range(values: dict, d) -> list[str]:
+    """Fuselage tables used beyond their breakpoints (continued linearly there)."""
+    fa = d["fuselage_aero"]
+    if fa["model"] != "tables" or "fuselage.u" not in values or "fuselage.w" not in values:
+        return []
+    u, v, w = values["fuselage.u"], values.get("fuselage.v", 0.0), values["fuselage.w"]
+    angles = {"alpha": np.arctan2(w, u), "beta": np.arcsin(v / max(np.sqrt(u * u + v * v + w * w), 1e-9))}
+    out = []
+    for name, angle in angles.items():
+        grid = fa[name]
+        if len(grid) and not grid[0] <= angle <= grid[-1]:
+            out.append(f"fuselage tables: {name} {np.degrees(angle):+.1f} deg beyond the breakpoints "
+                       f"[{np.degrees(grid[0]):.4g}, {np.degrees(grid[-1]):.4g}] deg (fuselage_aero.{name}); the tables "
+                       "are continued linearly there: give them over the range flown")
+    return out
+
+
+def _estimated_alpha(values: dict, d, section: str):
+    """Angle of attack (rad) of a fixed surface from the trim's body velocity and the wake at it
+    (rates zero in a trim); None without the velocity."""
+    if "fuselage.u" not in values or "fuselage.w" not in values:
+        return None
+    air = -np.array([values["fuselage.u"], values.get("fuselage.v", 0.0), values["fuselage.w"]])
+    if section == "horizontal_tail":
+        air[2] += values.get("horizontal_tail.downwash", 0.0)
+        w_c, w_n = air[0], -air[2]
+    else:
+        air[1] += values.get("fin.sidewash", 0.0)
+        w_c, w_n = air[0], air[1]
+    inc = d[section]["incidence"]
+    w_c, w_n = np.cos(inc) * w_c + np.sin(inc) * w_n, -np.sin(inc) * w_c + np.cos(inc) * w_n
+    return 0.5 * np.arctan2(-2 * w_n * w_c, w_c**2 - w_n**2)

@@ -1,0 +1,208 @@
+"""Airframe tables as published: splines against scipy, wind/stability axes about a reference
+point turned to body axes about the CG against a hand computation, AD against differences."""
+import casadi as ca
+import numpy as np
+import pytest
+from scipy.interpolate import CubicSpline
+
+from mbs.aero.airframe_tables import AirframeTable, flow_angles
+from mbs.aero.interpolation import Spline, Spline2
+from mbs.aero.sections import EPS
+
+RHO = 1.225
+RNG = np.random.default_rng(30)
+ALPHA = np.radians(np.array([-180, -90, -40, -20, -10, -5, 0, 5, 10, 20, 40, 90, 180.0]))
+BETA = np.radians(np.array([-90, -30, -15, -5, 0, 5, 15, 30, 90.0]))
+
+
+def _random_table(axes: str) -> tuple[AirframeTable, dict]:
+    parts = {i: [("alpha", RNG.normal(size=len(ALPHA))), ("beta", RNG.normal(size=len(BETA))),
+                 ("alpha_beta", RNG.normal(size=(len(ALPHA), len(BETA))))] for i in range(6)}
+    reference = tuple(RNG.normal(size=3))
+    return AirframeTable(axes, reference, ALPHA, BETA, parts), parts
+
+
+def _hand(parts, reference, axes, u, v, w):
+    """Body-axis force (N) and moment about the CG (N m) by scipy's natural splines and numpy."""
+    speed2 = u * u + v * v + w * w
+    a, b = np.arctan2(w, u + EPS), np.arcsin(v / np.sqrt(speed2 + EPS**2))
+    c = []
+    for i in range(6):
+        one = {"alpha": CubicSpline(ALPHA, parts[i][0][1], bc_type="natural")(a),
+               "beta": CubicSpline(BETA, parts[i][1][1], bc_type="natural")(b)}
+        rows = [CubicSpline(BETA, row, bc_type="natural")(b) for row in parts[i][2][1]]
+        c.append(one["alpha"] + one["beta"] + CubicSpline(ALPHA, rows, bc_type="natural")(a))
+    q = 0.5 * RHO * speed2
+    if axes == "body":
+        f, m = np.array(c[:3]), np.array(c[3:])
+    else:
+        bb = b if axes == "wind" else 0.0
+        x = np.array([np.cos(a) * np.cos(bb), np.sin(bb), np.sin(a) * np.cos(bb)])
+        z = np.array([-np.sin(a), 0.0, np.cos(a)])
+        y = np.cross(z, x)
+        f = -c[0] * x + c[1] * y - c[2] * z
+        m = c[3] * x + c[4] * y + c[5] * z
+    return q * f, q * (m + np.cross(reference, f))
+
+
+def _loads_function(table: AirframeTable) -> ca.Function:
+    uvw = ca.SX.sym("uvw", 3)
+    alpha, beta, speed2 = flow_angles(uvw[0], uvw[1], uvw[2])
+    force, moment = table.body_per_q(alpha, beta)
+    q = 0.5 * RHO * speed2
+    return ca.Function("loads", [uvw], [ca.vertcat(q * force, q * moment)])
+
+
+def test_splines_equal_scipy_natural_splines_and_continue_linearly():
+    y = RNG.normal(size=len(ALPHA))
+    spline, ref = Spline(ALPHA, y), CubicSpline(ALPHA, y, bc_type="natural")
+    for t in RNG.uniform(ALPHA[0], ALPHA[-1], 100):
+        assert spline(t) == pytest.approx(float(ref(t)), abs=1e-12)
+    for t in (ALPHA[0] - 0.3, ALPHA[-1] + 0.7):
+        end = ALPHA[0] if t < ALPHA[0] else ALPHA[-1]
+        assert spline(t) == pytest.approx(float(ref(end) + ref(end, 1) * (t - end)), abs=1e-12)
+    with pytest.raises(ValueError, match="strictly increasing"):
+        Spline([0.0, 0.0, 1.0], [1.0, 2.0, 3.0])
+
+
+@pytest.mark.parametrize("axes", ["wind", "stability", "body"])
+def test_table_about_a_reference_point_gives_the_hand_computed_body_loads_about_the_cg(axes):
+    """100 random velocities (α, β anywhere, V 1..80 m/s): the program's body-axis force and moment
+    about the CG equal scipy's splines turned by numpy's rotation and moved by ``r × F`` to 1e-12
+    (relative to the largest load)."""
+    table, parts = _random_table(axes)
+    fn = _loads_function(table)
+    for _ in range(100):
+        vel = RNG.normal(size=3)
+        vel *= RNG.uniform(1, 80) / np.linalg.norm(vel)
+        got = np.array(fn(vel)).ravel()
+        f, m = _hand(parts, np.array(table.reference), axes, *vel)
+        want = np.concatenate([f, m])
+        assert np.abs(got - want).max() <= 1e-12 * np.abs(want).max()
+
+
+def test_ad_jacobian_of_the_table_loads_equals_central_differences():
+    table, _ = _random_table("wind")
+    uvw = ca.SX.sym("uvw", 3)
+    fn = _loads_function(table)
+    jac = ca.Function("j", [uvw], [ca.jacobian(fn(uvw), uvw)])
+    for _ in range(20):
+        vel = RNG.normal(size=3) * 20
+        h = 1e-5
+        fd = np.column_stack([(np.array(fn(vel + h * e)) - np.array(fn(vel - h * e))).ravel() / (2 * h)
+                              for e in np.eye(3)])
+        ad = np.array(jac(vel))
+        assert np.abs(ad - fd).max() <= 1e-6 * max(1.0, np.abs(ad).max())
+
+
+def test_two_argument_spline_is_the_tensor_product_of_natural_splines():
+    z = RNG.normal(size=(len(ALPHA), len(BETA)))
+    spline = Spline2(ALPHA, BETA, z)
+    a, b = 0.37, -0.21
+    rows = [CubicSpline(BETA, row, bc_type="natural")(b) for row in z]
+    cols = [CubicSpline(ALPHA, col, bc_type="natural")(a) for col in z.T]
+    assert spline(a, b) == pytest.approx(float(CubicSpline(ALPHA, rows, bc_type="natural")(a)), abs=1e-12)
+    assert spline(a, b) == pytest.approx(float(CubicSpline(BETA, cols, bc_type="natural")(b)), abs=1e-12)
+
+
+def test_tables_sampling_the_padfield_polynomials_reproduce_the_trim(tmp_path):
+    """Forward flight at 30 m/s, every switch on: the trim with the Bo105's polynomials sampled
+    every 5 deg over ±90 deg (clipped as the model clips them) as body-axis loads at their speed
+    equals the polynomials' within 0.01 deg in every control and attitude; aircraft check lists
+    the tables' conversion (loads at 30.48 m/s over q) with their source."""
+    from mbs import aircraft, scenes
+    from mbs.aircraft.airframe_data import with_polynomial_tables
+    from mbs.analysis.trim import periodic_solution
+
+    path = with_polynomial_tables("bo105", tmp_path)
+    report = aircraft.check(path)
+    assert report.ok, report.problems
+    rows = {r[0]: r for r in report.converted}
+    assert "30.48 m/s" in rows["fuselage_aero.X_alpha"][3] and rows["fuselage_aero.X_alpha"][4] == "polynomials sampled"
+    base = periodic_solution(scenes.get("forward-flight"), 30.0)
+    tab = periodic_solution(scenes.get("forward-flight").with_aircraft(str(path)), 30.0)
+    assert base.converged and tab.converged
+    for key, value in base.controls.items():
+        assert np.degrees(abs(tab.controls[key] - value)) < 0.01, key
+    assert np.degrees(abs(tab.pitch - base.pitch)) < 0.01 and np.degrees(abs(tab.roll - base.roll)) < 0.01
+
+
+WIND_SECTION = """[fuselage_aero]
+model = { value = "tables", unit = "-", source = "R1" }
+axes = { value = "wind", unit = "-", source = "R1" }
+reference_station = { value = [345.5, 2.0, 234.0], unit = "in", source = "R1 table 2" }
+cg_station = { value = [360.0, 0.0, 247.2], unit = "in", source = "R1 table 1" }
+alpha = { value = [-20, -10, 0, 10, 20], unit = "deg", source = "R1" }
+beta = { value = [-20, 0, 20], unit = "deg", source = "R1" }
+reference_area = { value = 100.0, unit = "ft^2", source = "R1" }
+reference_length = { value = 10.0, unit = "ft", source = "R1" }
+drag_alpha = { value = [40.1, 35.2, 33.0, 35.9, 42.4], unit = "ft^2", source = "R1 D/q" }
+lift_alpha_beta = { value = [[-0.3, -0.3, -0.3], [-0.15, -0.14, -0.15], [0.0, 0.01, 0.0], [0.15, 0.16, 0.15], [0.3, 0.31, 0.3]], unit = "-", source = "R1 CL" }
+pitch_alpha = { value = [-1200, -600, 0, 600, 1200], unit = "ft^3", source = "R1 M/q" }
+side_beta = { value = [30.0, 0.0, -30.0], unit = "ft^2", source = "R1 Y/q" }
+roll_beta = { value = [-0.01, 0.0, 0.01], unit = "-", source = "R1 Cl" }
+"""
+
+
+def _with_section(tmp_path, section: str, name: str = "wind.toml"):
+    import re
+    from mbs import aircraft
+
+    text = re.sub(r"\[fuselage_aero\].*?(?=\n\[horizontal_tail\])", lambda _: section,
+                  aircraft.resolve("bo105").read_text(), flags=re.S)
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def test_a_report_table_in_wind_axes_about_stations_is_converted_and_listed(tmp_path):
+    """Tables as printed (ft², ft³, coefficients on 100 ft² and 10 ft, wind axes, moments about a
+    station): aircraft check is clean, lists the reference point from the CG (x = −(FS − FS_cg),
+    y = BL − BL_cg, z = −(WL − WL_cg), in m) and each table's factor with its source; the model's
+    body-axis loads about the CG equal the hand conversion at 20 random (α, β) to 1e-12."""
+    from mbs import aircraft
+    from mbs.aircraft.airframe_data import fuselage_table
+
+    report = aircraft.check(_with_section(tmp_path, WIND_SECTION))
+    assert report.ok, report.problems
+    rows = {r[0]: r for r in report.converted}
+    ref = np.array([360.0 - 345.5, 2.0, 247.2 - 234.0]) * 0.0254
+    assert rows["fuselage_aero.reference_station"][1] == pytest.approx(ref.tolist(), abs=1e-6)
+    assert rows["fuselage_aero.lift_alpha_beta"][4] == "R1 CL" and "coefficients times 9.2903" in \
+        rows["fuselage_aero.lift_alpha_beta"][3]
+    table = fuselage_table(aircraft.load(_with_section(tmp_path, WIND_SECTION)).data)
+    ft2, ft3, s, sl = 0.3048**2, 0.3048**3, 100 * 0.3048**2, 1000 * 0.3048**3
+    grid_a, grid_b = np.radians([-20, -10, 0, 10, 20]), np.radians([-20, 0, 20])
+    lift = np.array([[-0.3, -0.3, -0.3], [-0.15, -0.14, -0.15], [0.0, 0.01, 0.0], [0.15, 0.16, 0.15],
+                     [0.3, 0.31, 0.3]])
+    for a, b in RNG.uniform(-0.3, 0.3, (20, 2)):
+        nat = lambda x, y, t: float(CubicSpline(x, y, bc_type="natural")(t))
+        drag = nat(grid_a, ft2 * np.array([40.1, 35.2, 33.0, 35.9, 42.4]), a)
+        rows_b = [nat(grid_b, s * row, b) for row in lift]
+        c = [drag, nat(grid_b, ft2 * np.array([30.0, 0.0, -30.0]), b), nat(grid_a, rows_b, a),
+             nat(grid_b, sl * np.array([-0.01, 0.0, 0.01]), b), nat(grid_a, ft3 * np.array([-1200, -600, 0, 600, 1200]), a), 0.0]
+        x = np.array([np.cos(a) * np.cos(b), np.sin(b), np.sin(a) * np.cos(b)])
+        z = np.array([-np.sin(a), 0.0, np.cos(a)])
+        y = np.cross(z, x)
+        f = -c[0] * x + c[1] * y - c[2] * z
+        m = c[3] * x + c[4] * y + c[5] * z + np.cross(ref, f)
+        force, moment = table.body_per_q(a, b)
+        got = np.concatenate([force.full().ravel(), moment.full().ravel()])
+        want = np.concatenate([f, m])
+        assert np.abs(got - want).max() <= 1e-12 * np.abs(want).max()
+
+
+@pytest.mark.parametrize("change, words", [
+    (("reference_station", "ref_station"), "unknown entry"),
+    (('side_beta = {', 'Y_beta = {'), "Y is not a component in wind axes"),
+    (("[30.0, 0.0, -30.0]", "[30.0, 0.0]"), "side_beta: 2 values for 3 breakpoints"),
+    (('reference_area = { value = 100.0, unit = "ft^2", source = "R1" }\n', ""), "coefficients need fuselage_aero.reference_area"),
+    (('unit = "ft^3", source = "R1 M/q"', 'unit = "ft^2", source = "R1 M/q"'), "unit 'ft^2' is an area; give a volume (M/q)"),
+    (('[-20, -10, 0, 10, 20], unit = "deg"', '[-20, -10, 10, 0, 20], unit = "deg"'), "breakpoints must increase"),
+    (('cg_station = { value = [360.0, 0.0, 247.2], unit = "in", source = "R1 table 1" }\n', ""), "reference_point: missing"),
+])
+def test_bad_tables_are_named(tmp_path, change, words):
+    from mbs import aircraft
+
+    report = aircraft.check(_with_section(tmp_path, WIND_SECTION.replace(*change)))
+    assert any(words in p for p in report.problems), report.problems

@@ -1,0 +1,113 @@
+"""A stabilator with its schedule and stops, interference tables in place of the wake, and the
+airframe warnings of a trim."""
+import re
+
+import casadi as ca
+import numpy as np
+import pytest
+
+from mbs import aircraft, scenes
+from mbs.aero.empennage import CLAMP_SMOOTHING, smooth_clamp
+from mbs.aero.interpolation import Spline
+from mbs.aero.sections import EPS
+from mbs.models.helicopter.airframe_warnings import airframe_warnings, trim_warnings
+
+KT = 1852 / 3600
+SCHEDULE_KT = [0, 20, 40, 60, 80, 120]
+SCHEDULE_DEG = [30, 30, 15, 5, 0, -5]
+DOWNWASH_ALPHA_DEG = [-30, -10, 0, 10, 30]
+DOWNWASH_DEG = [1.0, 2.5, 3.0, 3.5, 4.0]
+Q_RATIO = [0.8, 0.85, 0.9, 0.85, 0.8]
+
+
+def _file(tmp_path, collective_gain: float) -> str:
+    """The Bo105 with a stabilator (schedule, collective gain about 10 deg, stops -10/+35 deg) and
+    published-style downwash and dynamic-pressure tables at the horizontal tail (test data)."""
+    text = aircraft.resolve("bo105").read_text()
+    tables = "\n".join([
+        f'interference_alpha = {{ value = {DOWNWASH_ALPHA_DEG}, unit = "deg", source = "TEST" }}',
+        f'q_ratio = {{ value = {Q_RATIO}, unit = "-", source = "TEST" }}',
+        f'downwash = {{ value = {DOWNWASH_DEG}, unit = "deg", source = "TEST" }}', "", "[vertical_fin]"])
+    text = text.replace("\n[vertical_fin]", "\n" + tables, 1)
+    text += "\n".join(["", "[stabilator]",
+                       f'airspeed = {{ value = {SCHEDULE_KT}, unit = "kt", source = "TEST" }}',
+                       f'incidence = {{ value = {SCHEDULE_DEG}, unit = "deg", source = "TEST" }}',
+                       f'collective_gain = {{ value = {collective_gain}, unit = "-", source = "TEST" }}',
+                       'collective_reference = { value = 10.0, unit = "deg", source = "TEST" }',
+                       'incidence_min = { value = -10.0, unit = "deg", source = "TEST" }',
+                       'incidence_max = { value = 35.0, unit = "deg", source = "TEST" }', ""])
+    path = tmp_path / f"bo105_stabilator_{collective_gain:g}.toml"
+    path.write_text(text)
+    return str(path)
+
+
+def test_smooth_clamp_holds_the_stops_without_a_kink():
+    x = ca.SX.sym("x")
+    f = ca.Function("f", [x], [smooth_clamp(x, -0.2, 0.6), ca.jacobian(smooth_clamp(x, -0.2, 0.6), x)])
+    assert float(f(0.3)[0]) == pytest.approx(0.3, abs=CLAMP_SMOOTHING**2 / (4 * 0.3) * 1.01)
+    assert float(f(0.6)[0]) == pytest.approx(0.6 - CLAMP_SMOOTHING / 2, abs=1e-5)
+    assert float(f(5.0)[0]) == pytest.approx(0.6, abs=1e-5) and float(f(-5.0)[0]) == pytest.approx(-0.2, abs=1e-5)
+    slopes = [float(f(v)[1]) for v in np.linspace(0.55, 0.65, 201)]
+    assert max(abs(np.diff(slopes))) < 0.05  # continuous slope through the stop
+
+
+def test_aircraft_check_takes_the_stabilator_and_names_bad_schedules(tmp_path):
+    path = _file(tmp_path, 0.0)
+    assert aircraft.check(path).ok, aircraft.check(path).problems
+    bad = path.replace(".toml", "_bad.toml")
+    text = open(path).read().replace("incidence_max = { value = 35.0", "incidence_max = { value = 25.0")
+    open(bad, "w").write(text)
+    assert any("30 deg lies beyond the stops" in p for p in aircraft.check(bad).problems)
+    short = text.replace('q_ratio = { value = [0.8, 0.85, 0.9, 0.85, 0.8]', 'q_ratio = { value = [0.8, 0.85]')
+    open(bad, "w").write(short)
+    assert any("horizontal_tail.q_ratio: 2 values for 5 breakpoints" in p for p in aircraft.check(bad).problems)
+
+
+def test_trimmed_stabilator_follows_its_schedule_and_interference_tables(tmp_path):
+    """Forward flight at 50 kt with the stabilator file (collective gain 0.5 about 10 deg): the
+    trimmed incidence is the schedule's spline at the airspeed plus the gain term, within the
+    smoothed stops (to 1e-6 rad: the period mean against the trim's initial airspeed); the
+    horizontal tail's downwash is the tables' ``sqrt(η)``-scaled air turned down by ``ε`` at the
+    fuselage angle of attack (to 1e-5 m/s, the period mean against the trim's initial state); with a collective gain of 20 the schedule runs
+    into the +35 deg stop and the trim's airframe warnings say so."""
+    from mbs.analysis.trim import periodic_solution
+
+    d = aircraft.load(_file(tmp_path, 0.5)).data
+    res = periodic_solution(scenes.get("forward-flight").with_aircraft(_file(tmp_path, 0.5)), 50 * KT)
+    assert res.converged
+    x, out = res.state, res.output_means
+    speed = np.sqrt(x["fuselage.u"] ** 2 + x["fuselage.v"] ** 2 + x["fuselage.w"] ** 2)
+    raw = Spline(np.array(SCHEDULE_KT) * KT, np.radians(SCHEDULE_DEG))(speed) + 0.5 * (
+        res.controls["collective"] - np.radians(10))
+    assert out["stabilator.incidence"] == pytest.approx(float(smooth_clamp(raw, np.radians(-10), np.radians(35))),
+                                                        abs=1e-6)
+    alpha = np.arctan2(x["fuselage.w"], x["fuselage.u"] + EPS)
+    eps = Spline(np.radians(DOWNWASH_ALPHA_DEG), np.radians(DOWNWASH_DEG))(alpha)
+    eta = Spline(np.radians(DOWNWASH_ALPHA_DEG), Q_RATIO)(alpha)
+    air = -np.array([x["fuselage.u"], x["fuselage.w"]])
+    turned_z = -np.sin(eps) * air[0] + np.cos(eps) * air[1]
+    assert out["horizontal_tail.downwash"] == pytest.approx(np.sqrt(eta) * turned_z - air[1], abs=1e-5)
+    assert not [w for w in trim_warnings(res, d) if "stabilator" in w]
+    stop = periodic_solution(scenes.get("forward-flight").with_aircraft(_file(tmp_path, 20.0)), 50 * KT)
+    assert stop.converged and stop.output_means["stabilator.incidence"] == pytest.approx(np.radians(35), abs=0.01)
+    d5 = aircraft.load(_file(tmp_path, 20.0)).data
+    assert any("stabilator: at its stop +35.0 deg" in w for w in trim_warnings(stop, d5))
+
+
+def test_airframe_warnings_fire_where_they_should(tmp_path):
+    d = aircraft.load("bo105").data
+    calm = {"main_rotor.inflow": 8.0, "horizontal_tail.downwash": 2.0, "fin.sidewash": 1.0,
+            "fuselage.u": 20.0, "fuselage.v": 0.0, "fuselage.w": 0.5}
+    assert airframe_warnings(calm, d) == []
+    strong = {**calm, "horizontal_tail.downwash": 17.0}
+    assert any("horizontal tail: 17 m/s of main-rotor wake, more than" in w for w in airframe_warnings(strong, d))
+    stalled = {**calm, "horizontal_tail.downwash": 0.0, "fuselage.w": 8.0}  # 22 deg nose-up flow at the tail
+    assert any("horizontal tail: angle of attack" in w and "stall" in w for w in airframe_warnings(stalled, d))
+    from mbs.aircraft.airframe_data import with_polynomial_tables
+
+    tables = aircraft.load(with_polynomial_tables("bo105", tmp_path)).data
+    assert airframe_warnings(calm, tables) == []
+    steep = {**calm, "fuselage.u": 1.0, "fuselage.w": -20.0}  # descending steeply: alpha -87 deg
+    assert not any("beyond the breakpoints" in w for w in airframe_warnings(steep, tables))
+    sideways = {**calm, "fuselage.u": -20.0, "fuselage.w": 0.0}  # flying backwards: alpha 180 deg
+    assert any("alpha +180.0 deg beyond the breakpoints [-90, 90] deg" in w for w in airframe_warnings(sideways, tables))
