@@ -86,9 +86,10 @@ def _warnings(data: Data, rows: list[tuple]) -> list[str]:
         out.append(f"{len(template)} entries still carry the template's Bo105 values (source {TEMPLATE_SOURCE}), "
                    f"e.g. {', '.join(template[:3])}: replace them with your aircraft's data and sources")
     tr = data["tail_rotor"]
-    period = checks.period_problem(tr["gear_ratio"], checks.tail_blade_symmetry(tr))
-    if period:
-        out.append(period + " (simulations run; trim, Floquet and derivatives refuse it)")
+    out += checks.tail_rotor_notes(tr)
+    gear = checks.periodic_gear(tr["gear_ratio"], checks.tail_blade_symmetry(tr))
+    if not gear.exact:
+        out.append(f"tail_rotor.gear_ratio: {gear.text()}; simulations keep {gear.ratio:.8g}")
     return out
 
 
@@ -117,6 +118,10 @@ def figures(data: Data) -> list[tuple]:
         ("main-rotor mass (hub and blades)", main_mass, "kg"), ("tail-rotor mass", tail_mass, "kg"),
         ("airframe mass", data["aircraft"]["mass"] - main_mass - tail_mass, "kg"),
         ("rotor period (both rotors back in place)", revs, "rev"),
+        ("period of the periodic analyses", checks.periodic_gear(tr["gear_ratio"], checks.tail_blade_symmetry(tr)).revs,
+         "rev"),
+        *([("tail-rotor flap frequency", derived.tail_flap_frequency(tr, mr["omega"]), "1/rev")]
+          if tr["hub_type"] == "flapping" else []),
         ("main-rotor revolution", 2 * math.pi / mr["omega"], "s"),
     ]
 

@@ -88,6 +88,7 @@ class Derivatives:
                 "mean_acceleration_at_reference": self.mean_acceleration_at_reference.tolist(),
                 "eigenvalues": [m.summary() for m in self.modes],
                 "rotor_periodicity_residual": self.held.residual, "wall_s": self.wall_s, "nfwd": self.nfwd,
+                "period": self.trim.period_summary() if hasattr(self.trim, "period_summary") else None,
                 "convention": "Padfield 8-state x = (u, w, q, theta, v, p, phi, r), u = (theta0, theta1s, "
                               "theta1c, theta0T); forces per unit mass, moments per unit inertia (primed L, N); "
                               "quasi-static rotor in its periodic equilibrium"}

@@ -113,12 +113,15 @@ def start_function(lay: TrimLayout, nx: int, n_params: int) -> ca.Function:
                        ["z", "p_base"], ["x0", "p", "dx0_dz", "dp_dz"])
 
 
-def residual_function(lay: TrimLayout, nx: int, symmetry: np.ndarray) -> ca.Function:
+def residual_function(lay: TrimLayout, nx: int, symmetry: np.ndarray, source=None) -> ca.Function:
     """``residual(x_end, z, path) -> (r, dr/dx_end, dr/dz)``; ``path`` (3,) is the target
-    position at the end of the interval (m, world axes), ``symmetry`` (nx,) the signs of ``S``."""
+    position at the end of the interval (m, world axes), ``symmetry`` (nx,) the signs of ``S``
+    and ``source`` (nx,) the states it exchanges (``(S x)[k] = symmetry[k] x[source[k]]``;
+    None: none)."""
     xe, z, path = ca.SX.sym("x_end", nx), ca.SX.sym("z", len(lay.unknown_names)), ca.SX.sym("path", 3)
     _, attitude, body, rotor = lay.split(z)
-    r = [ca.vertcat(*[symmetry[k] * xe[k] for k in lay.rotor]) - rotor]
+    source = range(nx) if source is None else source
+    r = [ca.vertcat(*[symmetry[k] * xe[source[k]] for k in lay.rotor]) - rotor]
     if lay.free:
         end_attitude = euler_angles(ca.vertcat(*[xe[k] for k in lay.quaternion]))
         r += [ca.vertcat(*[xe[k] for k in lay.body]) - body,

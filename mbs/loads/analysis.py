@@ -183,6 +183,7 @@ def check_scene(scene):
     """The scene (a name or :class:`mbs.scenes.Scene`) if it has loads outputs and a periodic
     solution; ValueError saying which it lacks otherwise (symbolic only: before any compiling)."""
     from mbs import scenes
+    from mbs.analysis.period import periodic_scene
     from mbs.analysis.trim import trimmable
 
     sc = scenes.get(scene) if isinstance(scene, str) else scene
@@ -194,7 +195,7 @@ def check_scene(scene):
     if not trimmable(sc) and (free or "omega" not in model.parameters):
         raise ValueError(f"scene {sc.name!r} has no periodic solution for its loads: they need driven rotors "
                          "and either a trimmable scene or a fuselage that is not free")
-    return sc
+    return periodic_scene(sc)
 
 
 def rotor_loads(scene="forward-flight", speed: float | None = None, steps_per_rev: int | None = None,

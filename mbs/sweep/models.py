@@ -76,7 +76,7 @@ def _trim_evaluators(sc, backend: str, method: str):
     """The system and tangent stepper of a trimmable scene (ValueError naming the scene otherwise)."""
     from mbs.analysis.trim import _check_scene
 
-    _check_scene(sc)
+    sc = _check_scene(sc)
     return sc.system(backend), _stepper(sc, method, backend)
 
 
