@@ -216,3 +216,23 @@ def test_a_canted_tail_rotor_lifts_the_tail_the_main_rotor_carries_less_and_the_
     assert main_change == pytest.approx(-lift, rel=0.05)
     assert canted.controls["collective"] < plain.controls["collective"]
     assert canted.pitch - plain.pitch == pytest.approx(expected, rel=0.03)
+
+
+def test_aircraft_check_reports_the_tail_rotor_s_flap_frequency_gear_and_an_idle_precone(tmp_path, capsys):
+    """``heli aircraft check`` of the UH-60A's tail rotor: its blades' flap frequency (the closed
+    form), the gear ratio the periodic analyses use instead of 4.6155 and its period; a precone on
+    a flapping hub without a spring is named as doing nothing."""
+    from mbs import cli
+
+    path = uh60_tailed(tmp_path / "uh60.toml", precone=(2.0, "deg"), flap_stiffness=(0.0, "N m/rad"))
+    report = aircraft.check(path)
+    figures = {n: v for n, v, _ in report.figures}
+    tr = aircraft.load(path).data["tail_rotor"]
+    assert figures["tail-rotor flap frequency"] == pytest.approx(tail_flap_frequency(tr, 27.0), rel=1e-12)
+    assert figures["period of the periodic analyses"] == 13 and tr["gear_ratio"] == 4.6155
+    assert cli.main(["aircraft", "check", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert ("tail_rotor.gear_ratio: tail-rotor gear ratio 4.6155 repeats the rotors only every 500 main-rotor "
+            "revolutions; the periodic analyses turn the tail rotor at 4.6153846 instead (period 13 revolutions, "
+            "tail-rotor speed -0.0025 %); simulations keep 4.6155") in out
+    assert "tail_rotor.precone: 2 deg on a flapping hub without a flap spring does nothing" in out
