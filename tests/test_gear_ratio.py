@@ -8,10 +8,9 @@ import numpy as np
 import pytest
 
 from aircraft_files import entries, uh60_tailed, with_tail_rotor, write
-from mbs import aircraft, cli, scenes
+from mbs import aircraft, scenes
 from mbs.aircraft.checks import periodic_gear
 from mbs.analysis.derivatives import derivatives
-from mbs.analysis.floquet import floquet
 from mbs.analysis.period import periodic_scene, rotor_period, tail_collective_error
 from mbs.analysis.trim import evaluators, periodic_solution
 
@@ -67,7 +66,11 @@ def test_a_flapping_hub_repeats_after_a_blade_passage_with_its_blades_exchanged(
 
 def test_a_flapping_tail_rotor_trims_over_one_revolution_and_repeats_over_four(flapping):
     """The trim shoots over one revolution with the tail blades exchanged; run on over the whole
-    period of four, the aircraft's states come back (position advanced by the flight path)."""
+    period of four, the aircraft's states come back (position advanced by the flight path). The
+    derivatives' held rotor is periodic over the same revolution with the same exchange."""
+    from mbs.analysis.derivatives import linearise
+    from mbs.analysis.held import HeldStepper
+
     sc, system, stepper = flapping
     res = periodic_solution(sc, 20.0, system=system, stepper=stepper)
     assert res.converged, res.reason
@@ -79,6 +82,8 @@ def test_a_flapping_tail_rotor_trims_over_one_revolution_and_repeats_over_four(f
     scale = np.array([max(1.0, abs(res.x0[i])) for i in keep])
     assert np.abs((x[keep] - res.x0[keep]) / scale).max() < 1e-7
     assert x[names.index("fuselage.x")] == pytest.approx(20.0 * 4 * res.period.revolution, rel=1e-7)
+    d = linearise(res, system, HeldStepper(sc.model(), "rk4", "compiled"), res.radius)
+    assert d.held.converged and d.held.residual < 1e-10 and d.table["N_θ0T"] != 0.0
 
 
 # -- the Puma at its real 4.82 -----------------------------------------------------------------------
@@ -119,15 +124,19 @@ def test_the_speed_error_of_a_nearby_ratio_moves_the_tail_collective_as_estimate
     20 %); every other control and attitude by less than 3 % of that. For the UH-60A's 60/13
     (25 ppm) the same estimate is 1.3e-4° (tests below)."""
     trims, _ = puma
-    slow, exact = trims[4.8], trims[4.82]
-    eps = 4.8 / 4.82 - 1
-    estimate = tail_collective_error(eps, *slow.tail_thrust_coefficient)
-    moved = slow.controls["tail_collective"] - exact.controls["tail_collective"]
-    print(f"4.8 against 4.82 at 40 m/s: tail collective {moved / DEG:+.5f} deg (estimate {estimate / DEG:+.5f})")
+    moved, estimate, others = _moved(trims[4.8], trims[4.82], 4.8 / 4.82 - 1, "4.8 against 4.82 at 40 m/s")
     assert moved == pytest.approx(estimate, rel=0.2)
-    others = [slow.controls[k] - exact.controls[k] for k in ("collective", "lateral_cyclic", "longitudinal_cyclic")]
-    others += [slow.pitch - exact.pitch, slow.roll - exact.roll]
-    assert np.abs(others).max() < 0.03 * abs(moved)
+    assert others < 0.03 * abs(moved)
+
+
+def _moved(trim, reference, eps: float, what: str) -> tuple[float, float, float]:
+    """How far ``trim`` (its tail rotor ``eps`` faster) moved from ``reference``: the tail
+    collective, its estimate, and the largest move of the other controls and attitudes (rad)."""
+    estimate = tail_collective_error(eps, *reference.tail_thrust_coefficient)
+    moved = trim.controls["tail_collective"] - reference.controls["tail_collective"]
+    print(f"{what}: tail collective {moved / DEG:+.5f} deg (estimate {estimate / DEG:+.5f})")
+    others = [trim.controls[k] - reference.controls[k] for k in ("collective", "lateral_cyclic", "longitudinal_cyclic")]
+    return moved, estimate, float(np.abs([*others, trim.pitch - reference.pitch, trim.roll - reference.roll]).max())
 
 
 def test_floquet_and_derivatives_of_the_puma_at_its_published_gear_ratio(puma):
@@ -197,13 +206,9 @@ def test_the_uh60a_trim_moves_from_its_near_ratio_as_the_estimate_says(uh60):
     res, near, _ = uh60
     eps_near, eps = near.period.gear.speed_error, res.period.gear.speed_error
     assert eps_near == pytest.approx(2.0583e-3, rel=1e-4)
-    moved = near.controls["tail_collective"] - res.controls["tail_collective"]
-    estimate = tail_collective_error(eps_near - eps, *res.tail_thrust_coefficient)
-    print(f"37/8 against 60/13 at 20 m/s: tail collective {moved / DEG:+.5f} deg (estimate {estimate / DEG:+.5f})")
+    moved, estimate, others = _moved(near, res, eps_near - eps, "37/8 against 60/13 at 20 m/s")
     assert moved == pytest.approx(estimate, rel=0.2)
-    others = [near.controls[k] - res.controls[k] for k in ("collective", "lateral_cyclic", "longitudinal_cyclic")]
-    others += [near.pitch - res.pitch, near.roll - res.roll]
-    assert np.abs(others).max() < 0.1 * abs(moved)
+    assert others < 0.1 * abs(moved)
 
 
 def test_floquet_and_derivatives_of_the_uh60a_tail_rotor(uh60):

@@ -169,8 +169,8 @@ def _exchange(info, blades: list[str], passages: int) -> tuple[tuple[int, ...], 
     """``source`` of ``S`` after ``passages`` blade passages (empty when the blades have no
     states or are back at their own places) and the number of intervals until they are."""
     n, names = len(blades), info.state_names
-    shift, order = passages % n, n // math.gcd(passages % n, n) if n else 1
     own = [i for i, s in enumerate(names) if s.split(".")[0] in blades]
+    shift = passages % n if n else 0
     if not shift or not own:
         return (), 1
     index = {s: i for i, s in enumerate(names)}
@@ -179,7 +179,7 @@ def _exchange(info, blades: list[str], passages: int) -> tuple[tuple[int, ...], 
         blade, rest = names[i].split(".", 1)
         k = int(blade[len("tail_blade"):]) - 1
         source[i] = index[f"tail_blade{(k - shift) % n + 1}.{rest}"]
-    return tuple(source), order
+    return tuple(source), n // math.gcd(shift, n)
 
 
 def tail_collective_error(speed_error: float, thrust_coefficient: float, sigma_a: float, inflow_ratio: float) -> float:

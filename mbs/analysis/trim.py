@@ -360,8 +360,6 @@ def _warm_start(sc, prob: ShootingProblem, climb_rate: float, method: str, steps
     only after many) Newton from the closed-form estimate meets the aircraft's unstable motion
     growing over seconds; the near ratio's trim is within its small speed difference of the
     solution. ``z0`` when that trim fails."""
-    from mbs.analysis.period import periodic_scene
-
     near = periodic_scene(sc, max_revs=2)
     if near is sc:
         return z0
