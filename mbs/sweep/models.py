@@ -68,7 +68,7 @@ def build(kind: str, scene: str, options: dict):
 
     ana = FanPlotAnalysis(sc, options.get("settings") or {}, options.get("method", "rk4"),
                           options.get("steps_per_rev"), backend, options.get("frame", "fixed") != "rotating")
-    ana.stepper = _stepper(sc, options.get("method", "rk4"), backend)
+    ana.stepper = _stepper(ana.scene, options.get("method", "rk4"), backend)
     return ana
 
 
