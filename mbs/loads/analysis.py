@@ -230,8 +230,13 @@ def _record(sc, sol, system, start: float) -> RotorLoads:
     tail_blades = sum(1 for b in info.bodies if re.fullmatch(r"tail_blade\d+", b["name"]))
     return RotorLoads(sc.name, sol.speed, per.revolution, per.full_revs, traj.t[1:], info.output_names, values,
                       orders, amplitudes, n_blades, gear, stations(info, sc.aircraft.data if sc.aircraft else None),
-                      sol.thrust, sol.reason,
-                      time.perf_counter() - start, tail_blades)
+                      sol.thrust, _reason(sol), time.perf_counter() - start, tail_blades)
+
+
+def _reason(sol) -> str:
+    """How the periodic solution converged and, when the tail rotor turns at a nearby ratio, which."""
+    gear = sol.period.gear
+    return sol.reason if gear is None or gear.exact else f"{sol.reason}; approximation: {gear.text()}"
 
 
 
