@@ -211,8 +211,10 @@ def _trim_lines(res) -> list[str]:
 
     per = res.period
     flip = f", teeter reversed; period {per.full_revs} revolutions" if per.flip else ""
+    flip += f", tail blades exchanged; period {per.full_revs} revolutions" if per.source else ""
     lines = [f"{res.scene} at {res.speed:g} m/s, climb {res.climb_rate:g} m/s: periodic shooting over {per.revs} "
              f"main-rotor revolution(s){flip}; {res.method}, {res.steps_per_rev} steps/rev",
+             *gear_lines(res),
              *[f"  iteration {k + 1}: max |scaled residual| {it.residual:.3e}, step {it.step:g}"
                for k, it in enumerate(res.history)],
              f"  final:       max |scaled residual| {np.abs(res.residual).max():.3e}",
@@ -239,6 +241,19 @@ def _trim_lines(res) -> list[str]:
     return lines + [f"  {res.summary()['note']}",
                     f"{verdict}: {res.reason}; {res.iterations} Newton iterations, {res.n_jacobian} Jacobians, "
                     f"{res.n_residual} residual runs, {res.wall_s:.2f} s (+ {res.setup_s:.2f} s set-up)"]
+
+
+def gear_lines(res) -> list[str]:
+    """The tail-rotor gear ratio of a periodic solution when the analyses replaced it, with the
+    estimated error of the tail collective (:attr:`mbs.analysis.trim.Trim.tail_collective_error`)."""
+    import numpy as np
+
+    gear = res.period.gear
+    if gear is None or gear.exact:
+        return []
+    err = res.tail_collective_error
+    estimate = f"; estimated error of the tail collective {np.degrees(err):+.2g} deg" if err is not None else ""
+    return [f"  approximation: {gear.text()}{estimate}"]
 
 
 OTHER_BLADES = re.compile(r"blade([2-9]|\d{2,})\.")
@@ -278,6 +293,7 @@ def _floquet_lines(res) -> list[str]:
     return [f"{res.scene} at {res.speed:g} m/s: Floquet analysis over {res.period_revs} main-rotor revolutions "
             f"(monodromy over {res.interval_revs}; periodic solution in {res.trim.iterations} Newton iterations; "
             f"analysis {res.wall_s:.2f} s); rotor-mode frequencies in the {res.frame} frame",
+            *gear_lines(res.trim),
             f"  {'mode':30s} {'Re λ 1/s':>10s} {'Im λ rad/s':>11s} {'Hz':>8s} {'/rev':>7s} {'ζ':>7s} {'|μ|':>9s}",
             *[f"  {m.name:30s} {m.exponent.real:+10.4f} {m.exponent.imag:11.4f} {m.frequency_hz:8.4f} "
               f"{m.per_rev:7.4f} {m.damping_ratio:+7.3f} {abs(m.multiplier):9.3e}" for m in res.modes],
@@ -370,6 +386,7 @@ def _derivative_lines(res) -> list[str]:
              f"(quasi-static rotor, implicit-function theorem on the trim; {res.wall_s:.2f} s)",
              f"  reference: U_e {ref['U_e']:.3f}, V_e {ref['V_e']:.3f}, W_e {ref['W_e']:.3f} m/s, "
              f"Theta_e {np.degrees(ref['Theta_e']):+.3f} deg, Phi_e {np.degrees(ref['Phi_e']):+.3f} deg",
+             *(gear_lines(res.trim) if res.trim is not None else []),
              "  forces per unit mass (X, Y, Z), moments per unit inertia (L, M, N; primed), per m/s, rad/s, rad:",
              "  " + " " * 4 + "".join(f"{v:>11s}" for v in [*VELOCITIES, *syms])]
     for f in FORCES:

@@ -233,7 +233,7 @@ class Serial(Joint):
     def _split(self, x, sizes):
         out, i = [], 0
         for n in sizes:
-            out.append(x[i:i + n])
+            out.append(x[i:i + n] if n else ca.SX(0, 1))  # a scalar's x[1:1] is not empty in CasADi
             i += n
         return out
 

@@ -51,10 +51,11 @@ def edited(path: Path, name: str = "bo105", drop_overrides: bool = False, **chan
     return write(raw, path)
 
 
-def mirrored(path: Path, name: str = "bo105") -> Path:
-    """The mirror image of a packaged aircraft in its x-z plane: rotation reversed, the tail rotor
-    on the other side, the fin's incidence and the fuselage's asymmetric side loads reversed."""
-    raw = entries(name)
+def mirrored(path: Path, name: str = "bo105", raw: dict | None = None) -> Path:
+    """The mirror image of a packaged aircraft (or of the entries ``raw``) in its x-z plane:
+    rotation reversed, the tail rotor on the other side, the fin's incidence and the
+    fuselage's asymmetric side loads reversed."""
+    raw = json.loads(json.dumps(raw)) if raw is not None else entries(name)
     mr, tr = raw["main_rotor"], raw["tail_rotor"]
     mr["rotation"]["value"] = {"clockwise": "counter-clockwise", "counter-clockwise": "clockwise"}[mr["rotation"]["value"]]
     tr["hub_y"]["value"] = -tr["hub_y"]["value"]
@@ -64,3 +65,30 @@ def mirrored(path: Path, name: str = "bo105") -> Path:
         raw["fuselage_aero"][k]["value"] = [-v if i % 2 == 0 else v for i, v in enumerate(c)]
     raw["download"]["panels"]["value"] = [[x, -y, *rest] for x, y, *rest in raw["download"]["panels"]["value"]]
     return write(raw, path)
+
+
+def with_tail_rotor(raw: dict, **values) -> dict:
+    """``raw`` with tail-rotor entries set: key -> (value, unit) (source EST); a seesaw's entries
+    leave with a hub that does not teeter."""
+    for key, (value, unit) in values.items():
+        raw["tail_rotor"][key] = {"value": value, "unit": unit, "source": "EST"}
+    if raw["tail_rotor"]["hub_type"]["value"] != "teetering":
+        for key in ("seesaw_mass", "seesaw_size", "teeter_stiffness"):
+            raw["tail_rotor"].pop(key, None)
+    return raw
+
+
+UH60_TAIL = {"n_blades": (4, "-"), "hub_type": ("flapping", "-"), "radius": (5.5, "ft"), "chord": (0.81, "ft"),
+             "twist": (-18.0, "deg"), "cant": (20.0, "deg"), "delta3": (35.0, "deg"), "gear_ratio": (4.6155, "-"),
+             "blade_mass": (7.0, "kg"), "flap_hinge_offset": (0.12, "m"), "flap_stiffness": (1500.0, "N m/rad"),
+             "root_cutout": (0.2, "-"), "hub_x": (-9.97, "m")}
+"""The UH-60A's tail rotor (Howlett, NASA CR-166309, 1981: radius, chord, twist, four blades, cant,
+delta3, 124.62 rad/s against the main rotor's 27.0, hub 390.8 in aft of the main rotor's) as four
+flapping blades; blade mass, equivalent hinge offset and spring of its bearingless cross-beam hub
+are estimates."""
+
+
+def uh60_tailed(path: Path, **changes) -> Path:
+    """The Puma (27.0 rad/s, like the UH-60A) with the UH-60A's tail rotor, ``changes`` on top
+    (key -> (value, unit))."""
+    return write(with_tail_rotor(entries("puma"), **{**UH60_TAIL, **changes}), path)

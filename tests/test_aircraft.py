@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from aircraft_files import edited, entries, mirrored, write
+from aircraft_files import edited, entries, mirrored, with_tail_rotor, write
 from test_cli_errors import run_main
 from mbs import aircraft, cli, scenes
 from mbs.aircraft import derived, performance, units
@@ -112,7 +112,15 @@ BROKEN = {  # what is wrong -> (the change, the words of the one line)
                           "main_rotor.radius: write it as { value = ..."),
     "rotor heavier than the aircraft": (_set("aircraft", "mass", value=150.0), "aircraft.mass: 150 kg leaves"),
     "supersonic tip": (_set("environment", "speed_of_sound", value=200.0), "main_rotor.radius: tip Mach number 1.090"),
-    "delta3 not modelled": (_set("tail_rotor", "delta3", value=0.3), "tail_rotor.delta3: 0.3 rad"),
+    "delta3 beyond 70 deg": (_set("tail_rotor", "delta3", value=80.0, unit="deg"), "tail_rotor.delta3: 1.39626 rad"),
+    "delta3 on a rigid hub": (lambda raw: with_tail_rotor(raw, hub_type=("rigid", "-"), delta3=(30.0, "deg")),
+                              "tail_rotor.delta3: 30 deg on a rigid hub, which does not flap"),
+    "flap hinge outboard of the root": (lambda raw: with_tail_rotor(raw, hub_type=("flapping", "-"),
+                                                                    flap_hinge_offset=(0.3, "m")),
+                                        "tail_rotor.flap_hinge_offset: 0.3 m lies outboard of the aerodynamic root"),
+    "flap spring on a teetering hub": (_add("tail_rotor", "flap_stiffness", {"value": 10.0, "unit": "N m/rad",
+                                                                            "source": "EST"}),
+                                       "tail_rotor.flap_stiffness: applies only when tail_rotor.hub_type = 'flapping'"),
 }
 
 

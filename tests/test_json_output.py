@@ -29,6 +29,7 @@ HERE = {  # command -> arguments of a cheap run (OUT: a fresh folder, RUN: a sim
     "heli bench stability": ["bench", "stability", "--scene", "demo-rotor", "--revs", "5", "--case", "none"],
 }
 ELSEWHERE = {  # command -> the test that parses its whole stdout as one JSON object
+    "heli validate": "tests/test_validate_published.py::test_command_json_is_one_object",
     "heli floquet": "tests/test_floquet.py::test_hover_chart_and_table_in_the_fixed_frame",
     "heli derivatives": "tests/test_derivatives.py::test_heli_derivatives_prints_the_table_and_writes_matlab",
     "heli figures": "tests/test_bo105.py::test_heli_figures_writes_both_figures",

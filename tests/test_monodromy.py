@@ -94,12 +94,15 @@ def test_the_model_is_equivariant_under_the_half_period_symmetry():
     assert np.abs(lhs - system.rhs(x, t)).max() > 1e-3 * np.abs(lhs).max()  # time does matter
 
 
-def test_a_gear_ratio_without_a_short_period_is_refused():
-    """Lynx-like 5.209 (185.6/35.63 rad/s) repeats only after hundreds of revolutions: a periodic
-    trim over it is refused with a ratio that would do; a rigid tail rotor of four identical
-    blades repeats after a quarter of its turn (5.25: one main-rotor revolution)."""
+def test_a_gear_ratio_without_a_short_period_is_refused_by_the_model_s_period():
+    """Lynx-like 5.209 (185.6/35.63 rad/s) repeats only after 1000 revolutions: a model turning
+    its tail rotor so has no period to shoot over (the periodic analyses build the model of
+    :func:`mbs.analysis.period.periodic_scene`, whose ratio repeats, instead); a rigid tail rotor
+    of four identical blades repeats after a quarter of its turn (5.25: one main-rotor revolution)."""
     system = scenes.get("forward-flight").system("compiled")
-    with pytest.raises(ValueError, match=r"tail_rotor.gear_ratio: 5.209 repeats .* every 1000 main-rotor revolutions.*e.g. 5.2 \(26/5\)"):
+    with pytest.raises(ValueError, match=r"gear ratio 5.209 repeats the rotors only every 1000 main-rotor "
+                                         r"revolutions.* at 5.2142857 instead \(period 14 .*speed \+0.1015 %\).*"
+                                         r"periodic_scene"):
         rotor_period(system.info, 44.4, 5.209)
     rigid = scenes.get("forward-flight", "lynx").system("compiled")
     assert rotor_period(rigid.info, 35.63, 5.25).revs == 1 and rotor_period(rigid.info, 35.63, 5.8).revs == 5

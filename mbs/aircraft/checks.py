@@ -5,12 +5,17 @@ Each check returns the problems it finds, one line each, naming the entry to cha
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from fractions import Fraction
 
 import numpy as np
 
-MAX_PERIOD_REVS = 12
-"""A periodic trim shoots over the rotors' common period; longer than this is refused."""
+MAX_PERIOD_REVS = 16
+"""Longest common period of the rotors (main-rotor revolutions) a periodic analysis shoots over;
+a gear ratio that repeats later is replaced there by the nearest one that repeats within it."""
+
+GEAR_TOLERANCE = 1e-4
+"""Tail-rotor speed error accepted to shorten the periodic analyses' period (relative)."""
 
 
 def problems(values: dict) -> list[str]:
@@ -139,11 +144,31 @@ def _blades(v: dict) -> list[str]:
     if mr["flap_hinge_offset"] >= mr["radius"] * (1 - 1e-9):
         out.append(f"main_rotor.flap_hinge_offset: {mr['flap_hinge_offset']:g} m puts the hinge outside the blade "
                    f"(radius {mr['radius']:g} m)")
-    tr = v["tail_rotor"]
+    return out + _tail_hub_type(v["tail_rotor"])
+
+
+def _tail_hub_type(tr: dict) -> list[str]:
+    """The tail rotor's hub: two blades on a seesaw, a hinge inside the blade, δ3 only where it flaps."""
+    out = []
     if tr["hub_type"] == "teetering" and tr["n_blades"] != 2:
         out.append(f"tail_rotor.n_blades: a teetering tail rotor has 2 blades, not {tr['n_blades']}; "
-                   "use hub_type = \"rigid\" for more")
+                   "use hub_type = \"flapping\" or \"rigid\" for more")
+    if tr["hub_type"] == "flapping" and tr["flap_hinge_offset"] >= tr["root_cutout"] * tr["radius"] + 1e-12:
+        out.append(f"tail_rotor.flap_hinge_offset: {tr['flap_hinge_offset']:g} m lies outboard of the aerodynamic "
+                   f"root ({tr['root_cutout']:g} R = {tr['root_cutout'] * tr['radius']:g} m): the blade elements "
+                   "must start outboard of the hinge")
+    if tr["hub_type"] == "rigid" and tr["delta3"] != 0.0:
+        out.append(f"tail_rotor.delta3: {math.degrees(tr['delta3']):.4g} deg on a rigid hub, which does not flap: "
+                   "pitch-flap coupling needs hub_type = \"teetering\" or \"flapping\" (or delta3 = 0)")
     return out
+
+
+def tail_rotor_notes(tr: dict) -> list[str]:
+    """Entries of the tail rotor that are valid but act less than they may seem to."""
+    if tr["hub_type"] == "flapping" and tr["precone"] != 0.0 and tr["flap_stiffness"] == 0.0:
+        return [f"tail_rotor.precone: {math.degrees(tr['precone']):.4g} deg on a flapping hub without a flap spring "
+                "does nothing (it is the spring's rest angle): give flap_stiffness, or leave precone out"]
+    return []
 
 
 def _controls(v: dict) -> list[str]:
@@ -249,24 +274,62 @@ def _tip_mach(v: dict) -> list[str]:
 
 def rotor_period(gear_ratio: float, tail_blades: int = 1) -> tuple[int, bool]:
     """Main-rotor revolutions after which both rotors are back in place (a tail rotor of
-    ``tail_blades`` identical blades without states of their own repeats after ``1/tail_blades``
-    of its revolution), and whether that period is exact (a ratio with denominator <= 1000)."""
+    ``tail_blades`` identical blades repeats after ``1/tail_blades`` of its revolution, its
+    blades' own states exchanged), and whether that period is exact (a ratio with denominator
+    <= 1000)."""
     turns = gear_ratio * tail_blades
     ratio = Fraction(turns).limit_denominator(1000)
     return ratio.denominator, abs(float(ratio) - turns) <= 1e-9 * turns
 
 
 def tail_blade_symmetry(tr: dict) -> int:
-    """Identical tail blades that repeat the rotor's state: all of a rigid hub's, one of a teetering hub."""
+    """Identical tail blades that repeat the rotor's state: all of a rigid or flapping hub's (a
+    flapping hub's blades exchanging their states), one of a teetering hub."""
     return 1 if tr["hub_type"] == "teetering" else tr["n_blades"]
 
 
-def period_problem(gear_ratio: float, tail_blades: int = 1) -> str | None:
-    """Why ``gear_ratio`` gives no periodic trim within :data:`MAX_PERIOD_REVS`, or None."""
+@dataclass(frozen=True)
+class PeriodicGear:
+    """The tail-rotor gear ratio of the periodic analyses (trim, Floquet, derivatives, loads).
+
+    ratio: the aircraft's; used: the ratio the analyses' model turns at, ``ratio`` itself when
+    the rotors repeat within :data:`MAX_PERIOD_REVS` main-rotor revolutions, otherwise the
+    nearest ratio that does (the smallest period whose tail-rotor speed is within
+    :data:`GEAR_TOLERANCE`, else the closest within the bound); revs: its period in main-rotor
+    revolutions; exact_revs: the aircraft ratio's own period (None beyond 1000 revolutions)."""
+
+    ratio: float
+    used: float
+    revs: int
+    exact_revs: int | None
+
+    @property
+    def exact(self) -> bool:
+        return self.used == self.ratio
+
+    @property
+    def speed_error(self) -> float:
+        """Relative tail-rotor speed error of the analyses' model, ``used / ratio - 1``."""
+        return self.used / self.ratio - 1.0
+
+    def text(self) -> str:
+        """One line: which ratio the periodic analyses use, its period and speed error."""
+        if self.exact:
+            return (f"tail-rotor gear ratio {self.ratio:.8g}: the rotors repeat after {self.revs} main-rotor "
+                    f"revolution{'s' if self.revs > 1 else ''}")
+        own = f"{self.exact_revs}" if self.exact_revs else "more than 1000"
+        return (f"tail-rotor gear ratio {self.ratio:.8g} repeats the rotors only every {own} main-rotor revolutions; "
+                f"the periodic analyses turn the tail rotor at {self.used:.8g} instead (period {self.revs} "
+                f"revolutions, tail-rotor speed {100 * self.speed_error:+.4f} %)")
+
+
+def periodic_gear(gear_ratio: float, tail_blades: int = 1, max_revs: int = MAX_PERIOD_REVS) -> PeriodicGear:
+    """The gear ratio of the periodic analyses for ``gear_ratio`` and ``tail_blades`` identical
+    blades (:func:`tail_blade_symmetry`) with a period of at most ``max_revs``."""
     revs, exact = rotor_period(gear_ratio, tail_blades)
-    if exact and revs <= MAX_PERIOD_REVS:
-        return None
-    near = Fraction(gear_ratio * tail_blades).limit_denominator(MAX_PERIOD_REVS) / tail_blades
-    return (f"tail_rotor.gear_ratio: {gear_ratio:.8g} repeats the rotors' relative position only every "
-            f"{revs if exact else 'more than 1000'} main-rotor revolutions, too long for a periodic trim; give a "
-            f"ratio with a small denominator, e.g. {float(near):.8g} ({near.numerator}/{near.denominator})")
+    if exact and revs <= max_revs:
+        return PeriodicGear(gear_ratio, gear_ratio, revs, revs)
+    turns = gear_ratio * tail_blades
+    near = [(abs(round(turns * q) / (turns * q) - 1), q) for q in range(1, max_revs + 1)]
+    q = next((q for err, q in near if err <= GEAR_TOLERANCE), min(near)[1])
+    return PeriodicGear(gear_ratio, round(turns * q) / q / tail_blades, q, revs if exact else None)

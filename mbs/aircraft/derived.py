@@ -65,6 +65,30 @@ def flap_frequency(mr: dict) -> float:
     return math.sqrt(1 + 1.5 * e / span + mr["flap_stiffness"] / (mr["I_flap"] * mr["omega"] ** 2))
 
 
+def tail_flap_frequency(tr: dict, omega: float, pitch: float = 0.0) -> float:
+    """1/rev: flap frequency of a flapping tail rotor's blade, the model's rigid box (mass m,
+    span L = R - e from the hinge, chord c, thickness t) on its hinge at offset e with spring
+    K, skewed by δ3, at ``pitch`` (rad), the shaft turning at ``gear_ratio omega`` (rad/s).
+
+    Energy of the 1-DOF blade in the rotating frame: ``J β̇²/2`` and the centrifugal potential
+    ``-Ω²/2 ∫|P (h + R(β) ρ)|² dm`` (``P`` the projection on the disc plane, ``h`` the hinge,
+    ``ρ`` a point from it); with ``A = [â]×`` of the hinge axis ``â`` and ``Σ = ∫ρρᵀ dm`` its
+    stiffness is ``-Ω² (tr(AᵀPAΣ) + tr(PA²Σ) + m hᵀPA²c)`` and ``J = tr Σ - âᵀΣâ``; for δ3 = 0 at
+    zero pitch ``ν² = (e S + m L²/3 - m t²/12) / (m L²/3 + m t²/12) + K / (J Ω²)``, ``S = m L/2``."""
+    import numpy as np
+
+    e, span, m = tr["flap_hinge_offset"], tr["radius"] - tr["flap_hinge_offset"], tr["blade_mass"]
+    d3, rate = tr["delta3"], tr["gear_ratio"] * omega
+    axis = np.array([-math.sin(d3), -math.cos(d3), 0.0])
+    turn = np.array([[1.0, 0, 0], [0, math.cos(pitch), -math.sin(pitch)], [0, math.sin(pitch), math.cos(pitch)]])
+    sigma = turn @ (m * np.diag([span**2 / 3, tr["chord"] ** 2 / 12, tr["blade_thickness"] ** 2 / 12])) @ turn.T
+    a = np.cross(axis, np.eye(3)).T  # a @ v = axis x v
+    p, hinge, first = np.diag([1.0, 1.0, 0.0]), np.array([e, 0.0, 0.0]), m * np.array([span / 2, 0.0, 0.0])
+    stiffness = -rate**2 * (np.trace(a.T @ p @ a @ sigma) + np.trace(p @ a @ a @ sigma) + hinge @ p @ a @ a @ first)
+    inertia = np.trace(sigma) - axis @ sigma @ axis
+    return math.sqrt((stiffness + tr["flap_stiffness"]) / inertia) / rate
+
+
 def tip_loss(thrust_coefficient: float, n_blades: int) -> float:
     """Prandtl's effective-radius factor ``B = 1 - sqrt(2 C_T) / N_b``."""
     return 1 - math.sqrt(2 * max(thrust_coefficient, 0.0)) / n_blades

@@ -76,10 +76,17 @@ def main_hub(d) -> Part:
 
 
 def tail_blade(d) -> Part:
-    """A tail-rotor blade in its frame (x along the span from the axis): a uniform box."""
+    """A tail-rotor blade in its frame (x along the span from the axis, or from the flap hinge
+    of a flapping hub): a uniform box."""
     tr = d["tail_rotor"]
-    return Part(tr["blade_mass"], np.array([tr["radius"] / 2, 0.0, 0.0]),
-                box_inertia(tr["blade_mass"], tr["radius"], tr["chord"], tr["blade_thickness"]))
+    span = tr["radius"] - _tail_hinge(tr)
+    return Part(tr["blade_mass"], np.array([span / 2, 0.0, 0.0]),
+                box_inertia(tr["blade_mass"], span, tr["chord"], tr["blade_thickness"]))
+
+
+def _tail_hinge(tr) -> float:
+    """The tail blade's flap hinge offset (m; zero unless the hub is flapping)."""
+    return tr.get("flap_hinge_offset", 0.0) if tr["hub_type"] == "flapping" else 0.0
 
 
 def tail_hub(d) -> Part:
@@ -104,11 +111,13 @@ def main_rotor(d) -> Part:
 
 
 def tail_rotor(d) -> Part:
-    """The tail rotor (hub, seesaw, blades) in its hub frame, averaged over a revolution."""
+    """The tail rotor (hub, seesaw, blades at their precone) in its hub frame, averaged over a revolution."""
     tr = d["tail_rotor"]
     sense = geo.tail_sense(d)
     parts = [tail_hub(d)] + ([seesaw(d)] if tr["hub_type"] == "teetering" else [])
-    parts += [tail_blade(d).placed(np.zeros(3), geo.rz(sense * psi)) for psi in geo.blade_azimuths(tr["n_blades"])]
+    cone = geo.precone_frame(tr.get("precone", 0.0))
+    frames = [geo.rz(sense * psi) for psi in geo.blade_azimuths(tr["n_blades"])]
+    parts += [tail_blade(d).placed(_tail_hinge(tr) * f[:, 0], f @ cone) for f in frames]
     return _averaged(combine(parts))
 
 

@@ -65,8 +65,10 @@ def hover(values: dict) -> Hover:
     mr, tr, env = values["main_rotor"], values["tail_rotor"], values["environment"]
     weight = values["aircraft"]["mass"] * env["g"]
     main = rotor_hover(mr, weight, mr["omega"], env["rho"])
-    arm = abs(mr["hub_x"] - tr["hub_x"])  # a thrust along y: only the x distance is a lever
-    tail = rotor_hover(tr, main.torque / arm, tr["gear_ratio"] * mr["omega"], env["rho"])
+    arm = abs(mr["hub_x"] - tr["hub_x"])  # a side force: only the x distance is a lever
+    side = main.torque / arm
+    thrust = side if tr["cant"] == 0.0 and tr["toe"] == 0.0 else side / (math.cos(tr["cant"]) * math.cos(tr["toe"]))
+    tail = rotor_hover(tr, thrust, tr["gear_ratio"] * mr["omega"], env["rho"])
     return Hover(main, tail)
 
 

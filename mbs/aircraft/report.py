@@ -135,9 +135,10 @@ def _warnings(data: Data, rows: list[tuple]) -> list[str]:
                    "blade's structural damping only (or 0)")
     out += _unused_with_tables(data)
     tr = data["tail_rotor"]
-    period = checks.period_problem(tr["gear_ratio"], checks.tail_blade_symmetry(tr))
-    if period:
-        out.append(period + " (simulations run; trim, Floquet and derivatives refuse it)")
+    out += checks.tail_rotor_notes(tr)
+    gear = checks.periodic_gear(tr["gear_ratio"], checks.tail_blade_symmetry(tr))
+    if not gear.exact:
+        out.append(f"tail_rotor.gear_ratio: {gear.text()}; simulations keep {gear.ratio:.8g}")
     return out
 
 
@@ -175,6 +176,10 @@ def figures(data: Data) -> list[tuple]:
         ("airframe mass", data["aircraft"]["mass"] - main_mass - tail_mass, "kg"),
         *_inertia_figures(data), *_damper_figures(data),
         ("rotor period (both rotors back in place)", revs, "rev"),
+        ("period of the periodic analyses", checks.periodic_gear(tr["gear_ratio"], checks.tail_blade_symmetry(tr)).revs,
+         "rev"),
+        *([("tail-rotor flap frequency", derived.tail_flap_frequency(tr, mr["omega"]), "1/rev")]
+          if tr["hub_type"] == "flapping" else []),
         ("main-rotor revolution", 2 * math.pi / mr["omega"], "s"),
     ]
 

@@ -236,8 +236,9 @@ ENTRIES: dict[str, dict[str, Entry]] = {
     },
     "tail_rotor": {
         "n_blades": count("number of tail-rotor blades", 2, 12),
-        "hub_type": choice("teetering (two blades on a seesaw) or rigid (blades on pitch bearings only)",
-                           "teetering", "rigid"),
+        "hub_type": choice("teetering (two blades on a seesaw), flapping (each blade on its own flap hinge: an "
+                           "articulated rotor, or the equivalent hinge and spring of a hingeless or bearingless one) "
+                           "or rigid (blades on pitch bearings only)", "teetering", "rigid", "flapping"),
         "upper_blade": choice("which way the upper tail-rotor blade moves", "aft", "forward"),
         "gear_ratio": positive("-", "tail-rotor speed per main-rotor speed"),
         "hub_x": num("m", "tail-rotor hub x (forward) from the CG"),
@@ -249,7 +250,19 @@ ENTRIES: dict[str, dict[str, Entry]] = {
         "seesaw_size": Entry("m", "seesaw box along the blades (inertia, display)", "vector", 0.0, math.inf,
                              open_low=True, length=3, only_if=("hub_type", "teetering")),
         "teeter_stiffness": num("N m/rad", "teeter spring", 0.0, default=0.0, only_if=("hub_type", "teetering")),
-        "delta3": num("rad", "pitch-flap coupling: not modelled, 0 only", 0.0, 0.0, default=0.0),
+        "delta3": angle("pitch-flap coupling angle of the flap or teeter hinge: its axis skewed by delta3 in the disc "
+                        "plane, so that flapping up by beta pitches the blade by -tan(delta3) beta (a rigid hub does "
+                        "not flap: 0 there)", 70, default=0.0),
+        "cant": angle("cant of the tail-rotor shaft: the thrust axis turned about the body x axis so that the thrust "
+                      "gains an upward component T sin(cant)", 60, default=0.0),
+        "toe": angle("the tail-rotor shaft turned in the horizontal plane: the thrust axis turned about the body z "
+                     "axis so that the thrust gains a forward component T cos(cant) sin(toe)", 45, default=0.0),
+        "precone": angle("precone of the tail-rotor blades towards the thrust: built into the hub of a rigid or "
+                         "teetering rotor; the rest angle of the flap spring of a flapping one", 20, default=0.0),
+        "flap_hinge_offset": num("m", "flap hinge (or equivalent hinge) distance from the tail-rotor axis", 0.0,
+                                 default=0.0, only_if=("hub_type", "flapping")),
+        "flap_stiffness": num("N m/rad", "flap spring at each tail blade's hinge (the equivalent spring of a hingeless "
+                              "or bearingless rotor)", 0.0, default=0.0, only_if=("hub_type", "flapping")),
         **_rotor("tail-rotor"),
         **_controls("collective", "tail-rotor collective pitch"),
     },

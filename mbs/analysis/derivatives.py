@@ -93,6 +93,7 @@ class Derivatives:
                 "rotor_periodicity_residual": self.held.residual, "wall_s": self.wall_s, "nfwd": self.nfwd,
                 "control_derivatives_published": self.published, "control_derivatives_pilot": self.pilot,
                 "B_pilot": None if self.B_pilot is None else self.B_pilot.tolist(),
+                "period": self.trim.period_summary() if hasattr(self.trim, "period_summary") else None,
                 "convention": "Padfield 8-state x = (u, w, q, theta, v, p, phi, r), u = (theta0, theta1s, "
                               "theta1c, theta0T); forces per unit mass, moments per unit inertia (primed L, N); "
                               "quasi-static rotor in its periodic equilibrium"}

@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from mbs.analysis.floquet import Floquet, analyse, coordinate_functions
+from mbs.analysis.period import periodic_scene
 from mbs.analysis.shooting import TrimLayout
 
 UNSTABLE = 1e-6  # a multiplier modulus above 1 + UNSTABLE is unstable: neutral modes of undamped
@@ -116,7 +117,7 @@ class FanPlotAnalysis:
         from mbs.analysis.floquet import check_scene
         from mbs.analysis.monodromy import TangentStepper
 
-        self.scene = scenes.get(scene) if isinstance(scene, str) else scene
+        self.scene = periodic_scene(scenes.get(scene) if isinstance(scene, str) else scene)
         check_scene(self.scene)
         self.system = self.scene.system(backend)
         self.settings = dict(settings or {})

@@ -35,6 +35,7 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
+from mbs.analysis.period import periodic_scene
 from mbs.analysis.shooting import TrimLayout, euler_angles, residual_scales
 
 GROUPS = ("body", "flap", "lag", "inflow", "tail rotor")
@@ -110,13 +111,14 @@ class Floquet:
 
     def summary(self) -> dict:
         return {"scene": self.scene, "speed": self.speed, "frame": self.frame, "interval_revs": self.interval_revs,
+                "period": self.trim.period_summary() if hasattr(self.trim, "period_summary") else None,
                 "period_revs": self.period_revs, "coordinates": self.coordinates, "stable": self.stable,
                 "modes": [m.summary() for m in self.modes], "nfwd": self.nfwd, "wall_s": self.wall_s, **self.extra}
 
 
 def group_of(name: str) -> str:
     """The participation group of a coordinate name."""
-    if name.startswith(("seesaw.", "tail_rotor.")):
+    if name.startswith(("seesaw.", "tail_rotor.", "tail_blade")):
         return "tail rotor"
     if ".inflow" in name:
         return "inflow"
@@ -162,7 +164,7 @@ def floquet(scene: str = "forward-flight", speed: float | None = None, method: s
 
     if frame not in FRAMES:
         raise ValueError(f"unknown frame {frame!r}; choose one of {FRAMES}")
-    sc = scenes.get(scene) if isinstance(scene, str) else scene
+    sc = periodic_scene(scenes.get(scene) if isinstance(scene, str) else scene)
     check_scene(sc)
     if system is None and stepper is None:
         system, stepper = evaluators(sc, method, backend)
@@ -232,39 +234,66 @@ def analyse(sol, system, stepper, record_every: int = 2, frame=None) -> Floquet:
     seeds = right_inverse(np.asarray(from_state(sol.x0)[1]), lay.position)
     sens = stepper.propagate(sol.x0, sol.params, seeds, np.zeros((len(sol.params), seeds.shape[1])), 0.0,
                              per.revolution / sol.steps_per_rev, n, every=record_every)
-    reversed_names = {system.info.state_names[i] for i in per.flip}
-    flip = np.array([-1.0 if k in reversed_names else 1.0 for k in names])
+    sym = CoordinateSymmetry.of(names, per, system.info.state_names)
     phi = np.array([np.asarray(from_state(x)[1]) @ d for x, d in zip(sens.xs, sens.dxs)])
-    psi = flip[:, None] * (np.asarray(from_state(sens.x)[1]) @ sens.dx)
+    psi = sym.apply(np.asarray(from_state(sens.x)[1]) @ sens.dx)
     t = np.arange(len(phi)) * record_every * per.revolution / sol.steps_per_rev
     if frame is not None:
         phi = frame(t) @ phi
     scale = residual_scales(names, per.omega, sol.radius)
-    modes = _modes(psi, phi, t, per, names, scale, flip)
+    modes = _modes(psi, phi, t, per, names, scale, sym)
     return Floquet(sol.scene, sol.speed, modes, names, per.revs, per.full_revs, sol, sens.nfwd,
                    time.perf_counter() - start)
 
 
-def _modes(psi, phi, t, per, names, scale, flip) -> list[FloquetMode]:
+@dataclass(frozen=True)
+class CoordinateSymmetry:
+    """The symmetry ``S`` of the shooting interval (:class:`mbs.analysis.period.RotorPeriod`) in
+    the coordinates ``y``: ``(S y)[k] = sign[k] y[source[k]]``."""
+
+    sign: np.ndarray
+    source: np.ndarray
+
+    @classmethod
+    def of(cls, names: list[str], per, state_names: list[str]) -> "CoordinateSymmetry":
+        nx, where = len(state_names), {n: i for i, n in enumerate(state_names)}
+        sign, source, index = per.symmetry(nx), per.permutation(nx), {n: i for i, n in enumerate(names)}
+        return cls(np.array([sign[where[n]] if n in where else 1.0 for n in names]),
+                   np.array([index[state_names[source[where[n]]]] if n in where else i for i, n in enumerate(names)]))
+
+    def apply(self, y: np.ndarray) -> np.ndarray:
+        """``S y`` along the first axis of ``y`` (ny, ...)."""
+        return (self.sign * y[self.source].T).T
+
+    def inverse(self, y: np.ndarray) -> np.ndarray:
+        """``S⁻¹ y`` along the last axis of ``y`` (..., ny)."""
+        out = np.empty_like(y)
+        out[..., self.source] = self.sign * y
+        return out
+
+
+def _modes(psi, phi, t, per, names, scale, sym) -> list[FloquetMode]:
     """One :class:`FloquetMode` per eigenvalue of ``psi`` with ``Im λ >= 0``, least damped first."""
     rho, vec = np.linalg.eig(psi)
     out = []
     for j in np.flatnonzero(rho.imag >= 0):
         lam = complex(np.log(complex(rho[j]))) / per.duration
-        lam += 1j * _harmonic_shift(phi, vec[:, j], rho[j], lam, t, scale, flip, per)
+        lam += 1j * _harmonic_shift(phi, vec[:, j], rho[j], lam, t, scale, sym, per)
         out.append(FloquetMode(complex(lam.real, abs(lam.imag)), complex(rho[j]) ** (per.full_revs // per.revs),
                                _participation(vec[:, j], names, scale), per.omega,
                                vec[:, j] if lam.imag >= 0 else vec[:, j].conj()))
     return sorted(out, key=lambda m: m.exponent.real, reverse=True)
 
 
-def _harmonic_shift(phi, v, rho: complex, lam: complex, t, scale, flip, per) -> float:
+def _harmonic_shift(phi, v, rho: complex, lam: complex, t, scale, sym, per) -> float:
     """``2π m / period`` (rad/s) for the harmonic ``m`` with most energy in the periodic part
-    ``exp(-λ t) Φ(t) v`` over the whole period; over its second half (when the interval is half
-    the period) the perturbation is ``ρ S δy(t - τ)``."""
-    dy = phi @ v
-    if per.flip:
-        dy, t = np.vstack([dy, rho * flip * dy]), np.r_[t, t + per.duration]
+    ``exp(-λ t) Φ(t) v`` over the whole period; over its later intervals (when the interval is a
+    part of the period) the perturbation is ``ρ S⁻¹ δy(t - τ)``."""
+    parts, times = [phi @ v], [t]
+    for j in range(1, per.full_revs // per.revs):
+        parts.append(rho * sym.inverse(parts[-1]))
+        times.append(t + j * per.duration)
+    dy, t = np.vstack(parts), np.concatenate(times)
     p = dy * np.exp(-lam * t)[:, None] / scale
     energy = (np.abs(np.fft.fft(p, axis=0)) ** 2).sum(axis=1)
     m = np.fft.fftfreq(len(t), 1.0 / len(t))[np.argmax(energy)]

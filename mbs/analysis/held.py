@@ -153,7 +153,7 @@ class HeldRotor:
         self.h, self.n = period.revolution / steps_per_rev, period.revs * steps_per_rev
         nx = stepper.nx - 6
         self._start = start_function(lay, nx, len(self.p_base))
-        self.sign = period.symmetry(nx)[lay.rotor]
+        self.sign, self.source = period.symmetry(nx)[lay.rotor], period.permutation(nx)[lay.rotor]
         self.scale = residual_scales([lay.state_names[k] for k in lay.rotor], period.omega, radius)
         self.nfwd = 0
 
@@ -181,8 +181,7 @@ class HeldRotor:
                 cache[key] = self.propagate(x_r, b, c, derivatives)
             return cache[key]
 
-        rotor = self.lay.rotor
-        residual = lambda x_r: (self.sign * evaluate(x_r)[0][rotor] - x_r) / self.scale  # noqa: E731
+        residual = lambda x_r: (self.sign * evaluate(x_r)[0][self.source] - x_r) / self.scale  # noqa: E731
         jacobian = lambda x_r: self._periodicity(evaluate(x_r)[1])[:, :self.nr]  # noqa: E731
         res = newton(residual, jacobian, np.asarray(x_r0, dtype=float), tol, max_iterations=10)
         x_end, dx = evaluate(res.z)
@@ -195,7 +194,7 @@ class HeldRotor:
 
     def _periodicity(self, dx: np.ndarray) -> np.ndarray:
         """Scaled ``dG/dz`` (nr, nz) of ``G = S x_r(τ) − x_r(0)``."""
-        dg = self.sign[:, None] * dx[self.lay.rotor]
+        dg = self.sign[:, None] * dx[self.source]
         dg[:, :self.nr] -= np.eye(self.nr)
         return dg / self.scale[:, None]
 

@@ -145,15 +145,17 @@ def start_function(lay: TrimLayout, nx: int, n_params: int, bank: float = 0.0) -
 
 
 def residual_function(lay: TrimLayout, nx: int, symmetry: np.ndarray, turn: float = 0.0,
-                      bank: float = 0.0) -> ca.Function:
+                      bank: float = 0.0, source=None) -> ca.Function:
     """``residual(x_end, z, path) -> (r, dr/dx_end, dr/dz)``; ``path`` (3,) is the end of the
     interval in the axes of the track at its start (:meth:`FlightPath.chord`, m), ``symmetry``
-    (nx,) the signs of ``S``, ``turn`` the heading's change over the interval (rad), ``bank`` the
-    roll (rad) when the layout's first attitude unknown is the track's sideslip (which then turns
-    ``path`` from the nose's heading)."""
+    (nx,) the signs of ``S`` and ``source`` (nx,) the states it exchanges (``(S x)[k] =
+    symmetry[k] x[source[k]]``; None: none), ``turn`` the heading's change over the interval
+    (rad), ``bank`` the roll (rad) when the layout's first attitude unknown is the track's
+    sideslip (which then turns ``path`` from the nose's heading)."""
     xe, z, path = ca.SX.sym("x_end", nx), ca.SX.sym("z", len(lay.unknown_names)), ca.SX.sym("path", 3)
     _, attitude, body, rotor = lay.split(z)
-    r = [ca.vertcat(*[symmetry[k] * xe[k] for k in lay.rotor]) - rotor]
+    source = range(nx) if source is None else source
+    r = [ca.vertcat(*[symmetry[k] * xe[source[k]] for k in lay.rotor]) - rotor]
     if lay.free:
         end_attitude = euler_angles(ca.vertcat(*[xe[k] for k in lay.quaternion]))
         start = ca.vertcat(bank, attitude[1]) if lay.sideslip else attitude

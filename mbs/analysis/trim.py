@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from mbs.analysis.newton import Failure, Iteration, newton
-from mbs.analysis.period import RotorPeriod, scene_period
+from mbs.analysis.period import RotorPeriod, periodic_scene, scene_period
 from mbs.analysis.shooting import FlightPath, TrimLayout, residual_function, residual_scales, start_function
 
 TORQUE_NOTE = ("rotor torque and power: aerodynamic shaft torque of the blade-element forces (N m) and "
@@ -79,6 +79,7 @@ class Trim:
     pilot_units: dict[str, str] = field(default_factory=dict)  # their units (the aircraft file's)
     published: dict[str, float] = field(default_factory=dict)  # the controls in the aircraft's published conventions
     warnings: list[str] = field(default_factory=list)
+    tail_thrust_coefficient: tuple[float, float, float] | None = None  # tail C_T, sigma a, inflow ratio
 
     @property
     def iterations(self) -> int:
@@ -103,7 +104,7 @@ class Trim:
                 "constraint": self.flight.constraint, "turn_rate": self.flight.turn_rate,
                 "pilot_controls": self.pilot, "pilot_units": self.pilot_units, "published_controls": self.published, "warnings": self.warnings,
                 "roll_deg": float(np.degrees(self.roll)), "pitch_deg": float(np.degrees(self.pitch)),
-                "period": self._period_summary(),
+                "period": self.period_summary(),
                 "max_abs_residual": float(np.abs(self.residual).max()), "residuals": self.residuals,
                 "steps": [it.step for it in self.history], "iterations": self.iterations,
                 "n_jacobian": self.n_jacobian, "n_residual": self.n_residual, "nfev": self.nfev, "nfwd": self.nfwd,
@@ -113,10 +114,26 @@ class Trim:
                 "power": self.output_means.get("main_rotor.power"), "note": TORQUE_NOTE}
 
 
-    def _period_summary(self) -> dict:
+    def period_summary(self) -> dict:
         per = self.period
-        return {"revs": per.revs, "full_revs": per.full_revs, "duration_s": per.duration,
-                "reversed": [self.state_names[i] for i in per.flip]}
+        out = {"revs": per.revs, "full_revs": per.full_revs, "duration_s": per.duration,
+               "reversed": [self.state_names[i] for i in per.flip],
+               "exchanged": {self.state_names[k]: self.state_names[i] for k, i in enumerate(per.source) if i != k}}
+        if per.gear is not None:
+            out.update(gear_ratio=per.gear.ratio, gear_ratio_used=per.gear.used, tail_speed_error=per.gear.speed_error,
+                       tail_collective_error=self.tail_collective_error, gear_note=per.gear.text())
+        return out
+
+    @property
+    def tail_collective_error(self) -> float | None:
+        """Estimated error (rad) of the tail collective from the tail-rotor speed error of the
+        periodic gear (:func:`mbs.analysis.period.tail_collective_error`); None without one."""
+        from mbs.analysis.period import tail_collective_error
+
+        gear = self.period.gear
+        if gear is None or gear.exact or self.tail_thrust_coefficient is None:
+            return None if gear is None or not gear.exact else 0.0
+        return tail_collective_error(gear.speed_error, *self.tail_thrust_coefficient)
 
 
 class ShootingProblem:
@@ -137,7 +154,7 @@ class ShootingProblem:
         bank = flight.bank or 0.0
         self._start = start_function(self.lay, info.nx, len(self.p_base), bank)
         self._residual = residual_function(self.lay, info.nx, period.symmetry(info.nx),
-                                           flight.turn_rate * period.duration, bank)
+                                           flight.turn_rate * period.duration, bank, period.permutation(info.nx))
         self.scale = residual_scales(self.lay.residual_names, period.omega, radius)
         self.nfwd = 0
 
@@ -180,7 +197,7 @@ def evaluators(sc, method: str = "rk4", backend: str = "compiled"):
     from mbs.backends.vm import VMSystem
     from mbs.dynamics import symbolic
 
-    model = sc.model()
+    model = periodic_scene(sc).model()
     sym = symbolic(model)
     stepper = TangentStepper(model, method, backend, sym=sym)
     vm = VMSystem(sym)
@@ -205,7 +222,7 @@ def _check_scene(name):
         ok = sorted(n for n, s in scenes.all_scenes().items() if trimmable(s))
         raise ValueError(f"scene {sc.name!r} cannot be trimmed: it has no controls or no rotor aerodynamics; "
                          f"trimmable scenes: {', '.join(ok)}")
-    return sc
+    return periodic_scene(sc)
 
 
 def reference_radius(sc) -> float:
@@ -300,7 +317,7 @@ def periodic_solution(sc, speed: float | None = None, climb_rate: float = 0.0, m
     the given controls otherwise."""
     from mbs.analysis.monodromy import TangentStepper
 
-    start = time.perf_counter()
+    start, sc = time.perf_counter(), periodic_scene(sc)
     if system is None and stepper is None:
         system, stepper = evaluators(sc, method, backend)
     system = system or sc.system(backend)
@@ -308,8 +325,10 @@ def periodic_solution(sc, speed: float | None = None, climb_rate: float = 0.0, m
     steps_per_rev = steps_per_rev or sc.steps_per_rev
     flight = FlightPath(0.0, climb_rate, turn_rate, bank)
     prob = _problem(system, stepper, sc, speed, flight, steps_per_rev)
-    setup_s, nfev0 = time.perf_counter() - start, system.nfev
     z0 = estimate(system, prob.lay, prob.speed, climb_rate, sc.aircraft, prob.flight.bank)
+    if prob.period.revs > WARM_START_REVS and sc.aircraft is not None:
+        z0 = _warm_start(sc, prob, flight, method, steps_per_rev, backend, tol, max_iterations, z0)
+    setup_s, nfev0 = time.perf_counter() - start, system.nfev
     res = newton(prob.residual, prob.jacobian, z0, tol, max_iterations, progress=progress)
     if not res.converged and prob.lay.free and prob.speed > CONTINUATION_STEP:
         res = _continuation(system, stepper, sc, prob, steps_per_rev, tol, max_iterations, res)
@@ -319,6 +338,7 @@ def periodic_solution(sc, speed: float | None = None, climb_rate: float = 0.0, m
     if sc.aircraft is not None:
         out.aircraft = sc.aircraft.name
         out.rotor = rotor_coefficients(sc.aircraft.data, out.thrust, out.speed, system.params(out.params))
+        out.tail_thrust_coefficient = _tail_coefficients(sc.aircraft.data, out.output_means)
         _pilot_figures(out, sc.aircraft.data)
     return out
 
@@ -340,6 +360,17 @@ def _pilot_figures(out: Trim, d) -> None:
         out.warnings = warnings(out, d)
 
 
+def _tail_coefficients(d, means: dict) -> tuple[float, float, float] | None:
+    """The tail rotor's period-mean thrust coefficient, ``σ a`` and inflow ratio, or None without them."""
+    if "tail_rotor.thrust" not in means:
+        return None
+    tr, rho = d["tail_rotor"], d["environment"]["rho"]
+    tip = tr["gear_ratio"] * d["main_rotor"]["omega"] * tr["radius"]
+    ct = means["tail_rotor.thrust"] / (rho * np.pi * tr["radius"] ** 2 * tip**2)
+    sigma = tr["n_blades"] * tr["chord"] / (np.pi * tr["radius"])
+    return ct, sigma * tr["lift_slope"], means.get("tail_rotor.inflow_ratio", 0.0)
+
+
 def rotor_coefficients(d, thrust: float | None, speed: float, p: np.ndarray | None = None) -> dict[str, float]:
     """Advance ratio ``μ = V / (Ω R)``, thrust coefficient ``C_T = T / (ρ π R² (Ω R)²)`` and blade
     loading ``C_T/σ`` of the main rotor of the aircraft data ``d`` at its nominal speed."""
@@ -351,6 +382,31 @@ def rotor_coefficients(d, thrust: float | None, speed: float, p: np.ndarray | No
         ct = thrust / (rho * np.pi * mr["radius"] ** 2 * tip**2)
         out.update({"C_T": ct, "C_T/sigma": ct / sigma})
     return out
+
+
+WARM_START_REVS = 6
+"""A trim shooting over more main-rotor revolutions starts from the trim of the same aircraft with
+the nearest tail-rotor gear ratio that repeats within two (:func:`_warm_start`)."""
+
+
+def _warm_start(sc, prob: ShootingProblem, flight: FlightPath, method: str, steps_per_rev: int, backend: str,
+                tol: float, max_iterations: int, z0: np.ndarray) -> np.ndarray:
+    """Unknowns of the trim of ``sc`` with its tail rotor turning at the nearest gear ratio that
+    repeats within two main-rotor revolutions: over a long interval (the tail rotor repeating
+    only after many) Newton from the closed-form estimate meets the aircraft's unstable motion
+    growing over seconds; the near ratio's trim is within its small speed difference of the
+    solution. ``z0`` when that trim fails."""
+    near = periodic_scene(sc, max_revs=2)
+    if near is sc:
+        return z0
+    sol = periodic_solution(near, prob.speed, flight.climb_rate, method, steps_per_rev, backend, tol, max_iterations,
+                            turn_rate=flight.turn_rate, bank=flight.bank)
+    if not sol.converged:
+        return z0
+    lay = prob.lay
+    attitude = [sol.sideslip if lay.sideslip else sol.roll, sol.pitch] if lay.free else []
+    return np.r_[[sol.controls[c] for c in lay.control_names], attitude,
+                 sol.x0[lay.body], sol.x0[lay.rotor]]
 
 
 CONTINUATION_STEP = 10.0

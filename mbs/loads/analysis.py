@@ -183,6 +183,7 @@ def check_scene(scene):
     """The scene (a name or :class:`mbs.scenes.Scene`) if it has loads outputs and a periodic
     solution; ValueError saying which it lacks otherwise (symbolic only: before any compiling)."""
     from mbs import scenes
+    from mbs.analysis.period import periodic_scene
     from mbs.analysis.trim import trimmable
 
     sc = scenes.get(scene) if isinstance(scene, str) else scene
@@ -194,7 +195,7 @@ def check_scene(scene):
     if not trimmable(sc) and (free or "omega" not in model.parameters):
         raise ValueError(f"scene {sc.name!r} has no periodic solution for its loads: they need driven rotors "
                          "and either a trimmable scene or a fuselage that is not free")
-    return sc
+    return periodic_scene(sc)
 
 
 def rotor_loads(scene="forward-flight", speed: float | None = None, steps_per_rev: int | None = None,
@@ -229,8 +230,13 @@ def _record(sc, sol, system, start: float) -> RotorLoads:
     tail_blades = sum(1 for b in info.bodies if re.fullmatch(r"tail_blade\d+", b["name"]))
     return RotorLoads(sc.name, sol.speed, per.revolution, per.full_revs, traj.t[1:], info.output_names, values,
                       orders, amplitudes, n_blades, gear, stations(info, sc.aircraft.data if sc.aircraft else None),
-                      sol.thrust, sol.reason,
-                      time.perf_counter() - start, tail_blades)
+                      sol.thrust, _reason(sol), time.perf_counter() - start, tail_blades)
+
+
+def _reason(sol) -> str:
+    """How the periodic solution converged and, when the tail rotor turns at a nearby ratio, which."""
+    gear = sol.period.gear
+    return sol.reason if gear is None or gear.exact else f"{sol.reason}; approximation: {gear.text()}"
 
 
 

@@ -68,7 +68,7 @@ def build(kind: str, scene: str, options: dict):
 
     ana = FanPlotAnalysis(sc, options.get("settings") or {}, options.get("method", "rk4"),
                           options.get("steps_per_rev"), backend, options.get("frame", "fixed") != "rotating")
-    ana.stepper = _stepper(sc, options.get("method", "rk4"), backend)
+    ana.stepper = _stepper(ana.scene, options.get("method", "rk4"), backend)
     return ana
 
 
@@ -76,7 +76,7 @@ def _trim_evaluators(sc, backend: str, method: str):
     """The system and tangent stepper of a trimmable scene (ValueError naming the scene otherwise)."""
     from mbs.analysis.trim import _check_scene
 
-    _check_scene(sc)
+    sc = _check_scene(sc)
     return sc.system(backend), _stepper(sc, method, backend)
 
 

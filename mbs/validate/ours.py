@@ -69,9 +69,10 @@ def run(scene, trim_speeds: list[float], derivative_speeds: list[float], method:
     import time
 
     from mbs.analysis.held import HeldStepper
+    from mbs.analysis.period import periodic_scene
     from mbs.analysis.trim import evaluators, periodic_solution
 
-    start = time.perf_counter()
+    start, scene = time.perf_counter(), periodic_scene(scene)  # the tail rotor at a ratio that repeats
     system, stepper = evaluators(scene, method, backend)
     if check is not None:
         check(system.info)

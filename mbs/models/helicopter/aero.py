@@ -58,10 +58,12 @@ def main_rotor(d, cfg, parent: str) -> Rotor:
 
 
 def tail_rotor(d, parent: str) -> Rotor:
-    """The tail rotor's blade-element geometry."""
+    """The tail rotor's blade-element geometry (the blades of a flapping hub jointed at the hinge
+    offset, the others at the axis)."""
     tr = d["tail_rotor"]
+    hinge = tr["flap_hinge_offset"] if tr["hub_type"] == "flapping" else 0.0
     return Rotor("tail_rotor", "tail_hub", [f"tail_blade{k + 1}" for k in range(int(tr["n_blades"]))], tr["radius"],
-                 tr["chord"], tr["twist"], tr["root_cutout"], int(tr["elements"]), 0.0,
+                 tr["chord"], tr["twist"], tr["root_cutout"], int(tr["elements"]), hinge,
                  None if parent == "world" else parent, fr.azimuth_frame(fr.tail_frame(d), fr.tail_sense(d)),
                  tr["gear_ratio"], **_distributions(tr))
 

@@ -68,9 +68,10 @@ def estimate_trim(d, speed: float) -> TrimEstimate:
     cl_mean = 6 * ct / sigma
     delta = mr["cd0"] + mr["cd2"] * (cl_mean / mr["lift_slope"]) ** 2
     torque = rho * area * tip**2 * big_r * (ct * lam + sigma * delta / 8 * (1 + 3 * mu**2))
-    t_thrust = torque / (mr["hub_x"] - tr["hub_x"])
+    side = torque / (mr["hub_x"] - tr["hub_x"])
+    t_thrust = side if tr["cant"] == 0.0 and tr["toe"] == 0.0 else side / (np.cos(tr["cant"]) * np.cos(tr["toe"]))
     theta_t, v_tail = _tail_collective(d, t_thrust, speed)
-    roll = -main_sense(d) * t_thrust / weight  # the main rotor leans against the tail rotor's thrust
+    roll = -main_sense(d) * side / weight  # the main rotor leans against the tail rotor's side force
     return TrimEstimate(speed, theta0, 0.0, hub_moment_tilt - blowback, theta_t,
                         mr["shaft_tilt"] - (tilt + hub_moment_tilt), roll, coning,
                         hub_moment_tilt, lam_i * tip, v_tail, t_thrust)

@@ -13,8 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from mbs.aircraft.geometry import (blade_azimuths, main_hub_position, main_sense, rz, shaft_frame,  # noqa: F401
-                                   tail_frame, tail_hub_position, tail_sense)
+from mbs.aircraft.geometry import (blade_azimuths, delta3_axis, main_hub_position, main_sense,  # noqa: F401
+                                   precone_frame, rx, rz, shaft_frame, tail_frame, tail_hub_position, tail_sense)
 
 
 def azimuth_frame(hub_frame: np.ndarray, sense: int) -> np.ndarray:

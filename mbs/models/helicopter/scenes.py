@@ -31,13 +31,17 @@ def _plots(cfg: Config, n_blades: int) -> dict:
 
 
 def plots(scene: Scene) -> dict:
-    """The hinge-angle panels of a helicopter scene for its aircraft (teeter only if it teeters)."""
+    """The hinge-angle panels of a helicopter scene for its aircraft (teeter only if it teeters,
+    the tail blades' flap if they flap)."""
     from mbs.models.helicopter.config import config_of
 
-    data = scene.aircraft.data
-    panels = _plots(config_of(scene), data["main_rotor"]["n_blades"])
-    if data["tail_rotor"]["hub_type"] != "teetering":
+    data, cfg = scene.aircraft.data, config_of(scene)
+    panels = _plots(cfg, data["main_rotor"]["n_blades"])
+    tr = data["tail_rotor"]
+    if tr["hub_type"] != "teetering":
         panels.pop("tail-rotor seesaw (rad)", None)
+    if tr["hub_type"] == "flapping" and cfg.tail_rotor:
+        panels["tail-rotor flap (rad)"] = [f"tail_blade{k + 1}.flap" for k in range(tr["n_blades"])]
     return panels
 
 

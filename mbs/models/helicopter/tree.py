@@ -3,6 +3,10 @@
     world -6DOF-> fuselage -driven hinge-> main_hub -flap, lag, pitch-> blade1..N
                            -driven hinge-> tail_hub -teeter-> seesaw -pitch-> tail_blade1..2   (teetering)
                                                     -pitch-> tail_blade1..N                    (rigid hub)
+                                                    -flap, pitch-> tail_blade1..N              (flapping hub)
+
+The tail hub's frame carries the shaft's cant and toe; the teeter and tail flap hinges are
+skewed by δ3 (:func:`mbs.models.helicopter.frames.delta3_axis`).
 
 Positive flap is tip up, positive lag is lagging (against the rotation), positive pitch is
 nose up, whichever way the rotor turns (:mod:`mbs.models.helicopter.frames`). Inertias are
@@ -106,6 +110,7 @@ def add_main_rotor(m: Model, d, cfg, parent: str) -> None:
 
 
 def add_tail_rotor(m: Model, d, cfg, parent: str) -> None:
+    """The tail hub on its canted shaft and the blades of the aircraft's hub type."""
     tr, sense = d["tail_rotor"], fr.tail_sense(d)
     radius, length = d["geometry"]["tail_hub"]
     hub = mass_props.tail_hub(d)
@@ -115,15 +120,39 @@ def add_tail_rotor(m: Model, d, cfg, parent: str) -> None:
                shape={"kind": "cylinder", "radius": radius, "length": length, "axis": [0, 0, 1], "color": "#50565e"})
     blades_on = "tail_hub"
     if tr["hub_type"] == "teetering":
-        m.add_body("seesaw", "tail_hub", Hinge((0, -1, 0), name="teeter", stiffness=tr["teeter_stiffness"]),
+        m.add_body("seesaw", "tail_hub", Hinge(fr.delta3_axis(tr["delta3"], sense), name="teeter",
+                                               stiffness=tr["teeter_stiffness"]),
                    mass=tr["seesaw_mass"], inertia=mass_props.seesaw(d).inertia,
                    shape={"kind": "box", "size": tr["seesaw_size"], "color": "#50565e"})
         blades_on = "seesaw"
-    big_r, c, t = tr["radius"], tr["chord"], tr["blade_thickness"]
     blade = mass_props.tail_blade(d)
     for k, psi0 in enumerate(fr.blade_azimuths(tr["n_blades"])):
-        pitch = (DrivenHinge((sense, 0, 0), lambda t, p: p["tail_collective"], name="pitch")
-                 if cfg.rotors == "driven" else Hinge((sense, 0, 0), name="pitch"))
-        m.add_body(f"tail_blade{k + 1}", blades_on, pitch, mass=blade.mass, com=blade.com, inertia=blade.inertia,
-                   frame=fr.rz(sense * psi0),
+        if tr["hub_type"] == "flapping":
+            _add_flapping_tail_blade(m, tr, cfg, k, fr.rz(sense * psi0), sense, blade)
+            continue
+        big_r, c, t = tr["radius"], tr["chord"], tr["blade_thickness"]
+        frame = fr.rz(sense * psi0) if tr["precone"] == 0.0 else fr.rz(sense * psi0) @ fr.precone_frame(tr["precone"])
+        m.add_body(f"tail_blade{k + 1}", blades_on, _tail_pitch(cfg, sense), mass=blade.mass,
+                   com=blade.com, inertia=blade.inertia, frame=frame,
                    shape={"kind": "box", "size": [big_r, c, t], "offset": [big_r / 2, 0, 0], "color": "#7f7f7f"})
+
+
+def _tail_pitch(cfg, sense: int):
+    """The tail blade's pitch bearing: driven by the tail collective, free, or none (a scene
+    without pitch hinges)."""
+    if not cfg.pitch_hinge:
+        return Fixed()
+    return (DrivenHinge((sense, 0, 0), lambda t, p: p["tail_collective"], name="pitch") if cfg.rotors == "driven"
+            else Hinge((sense, 0, 0), name="pitch"))
+
+
+def _add_flapping_tail_blade(m: Model, tr, cfg, k: int, frame: np.ndarray, sense: int, blade) -> None:
+    """Tail blade ``k`` (from 0) on its own flap hinge at the hinge offset, skewed by δ3, with
+    the flap spring relaxed at the precone; the blade a box from the hinge to the tip."""
+    e, span, c, t = tr["flap_hinge_offset"], tr["radius"] - tr["flap_hinge_offset"], tr["chord"], tr["blade_thickness"]
+    flap = Hinge(fr.delta3_axis(tr["delta3"], sense), name="flap", stiffness=tr["flap_stiffness"],
+                 rest_angle=tr["precone"])
+    m.add_body(f"tail_blade{k + 1}", "tail_hub", Serial(flap, _tail_pitch(cfg, sense)), mass=blade.mass,
+               com=blade.com, inertia=blade.inertia, at=e * frame[:, 0],
+               frame=frame,
+               shape={"kind": "box", "size": [span, c, t], "offset": [span / 2, 0, 0], "color": "#7f7f7f"})
