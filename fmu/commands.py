@@ -1,11 +1,11 @@
 """``heli`` subcommands of the FMU: ``fmu build``, ``demo`` and ``bench fmu``."""
 from __future__ import annotations
 
-import shutil
 import sys
 from pathlib import Path
 
 from mbs import arguments as A
+from mbs import atomic
 from mbs.cli import add_json, emit
 
 
@@ -33,8 +33,7 @@ def cmd_fmu_build(args) -> int:
         path, seconds = build.ensure_fmu(scenes, force=args.force, log=_log, aircraft=args.aircraft)
     dest = args.out / path.name if args.out.suffix != ".fmu" else args.out
     try:
-        dest.parent.mkdir(parents=True, exist_ok=True)
-        shutil.copy2(path, dest)
+        atomic.copy(path, dest)
     except OSError as exc:
         raise ValueError(f"cannot write the FMU to {dest}: {dest.parent} is not a writable folder "
                          f"({exc.strerror or exc}); choose another --out") from None
@@ -51,7 +50,7 @@ def cmd_demo(args) -> int:
 
     res = demo.run(Path(args.out), args.revs, log=_log, aircraft=args.aircraft)
     lines = [f"{res['scene']}: {res['revs']:g} revolutions through the FMU under fmpy from its periodic trim "
-             f"(communication step {res['communication_step_s'] * 1e3:.3f} ms, collective step and cyclic doublet)",
+             f"(communication step {res['communication_step_s'] * 1e3:.3f} ms; {res['inputs_seen']})",
              f"FMU: {res['fmu_cached']} ({'built in %.1f s' % res['build_s'] if res['build_s'] else 'from the cache'})",
              f"fmpy run: {res['fmpy_wall_s']:.2f} s wall for {res['simulated_s']:.3f} s simulated "
              f"({res['realtime_factor']:.1f}x real time); total {res['total_s']:.1f} s",
@@ -90,12 +89,17 @@ def cmd_cosim(args) -> int:
 
     res = cosim.run(Path(args.out), args.stop, log=_log, aircraft=args.aircraft)
     c, o = res["closed"], res["open"]
-    lines = [f"hover, 1 m/s initial disturbance, {res['stop_s']:g} s in steps of {res['step_s'] * 1e3:.6f} ms "
+
+    def when(key: str) -> str:
+        return f"at {o[key]:.2f} s" if o[key] is not None else f"not within the {res['stop_s']:g} s run"
+
+    name = args.aircraft.name if args.aircraft else "MBB Bo105"
+    lines = [f"{name}, hover, 1 m/s initial disturbance, {res['stop_s']:g} s in steps of {res['step_s'] * 1e3:.6f} ms "
              f"({res['steps']} steps)",
              f"closed loop: attitude within {c['max_attitude_deg']:.2f} deg of the trim (within 2 deg after "
              f"{c['attitude_within_2deg_after_s']:.2f} s), position within {c['max_drift_m']:.2f} m of the start",
-             f"open loop: attitude beyond 2 deg at {o['attitude_beyond_2deg_s']} s, beyond 20 deg at "
-             f"{o['attitude_beyond_20deg_s']} s; drift beyond 5 m at {o['drift_beyond_5m_s']} s",
+             f"open loop: attitude beyond 2 deg {when('attitude_beyond_2deg_s')}, beyond 20 deg "
+             f"{when('attitude_beyond_20deg_s')}; drift beyond 5 m {when('drift_beyond_5m_s')}",
              f"algebraic loops: {len(res['algebraic_loops'])} (with every output depending on every input, as "
              f"without ModelStructure dependencies: {res['algebraic_loops_without_dependencies']})",
              f"libcosim vs fmpy master: largest difference {res['libcosim_vs_fmpy_max_abs']:.3g}; wall time "

@@ -54,15 +54,11 @@ def cmd_linearize(args) -> int:
 
 
 def _write(path: Path, lin) -> None:
-    data = {"A": lin.A, "B": lin.B, "C": lin.C, "D": lin.D, "x": lin.x, "u": lin.u,
-            "states": np.array(lin.states, dtype=object), "inputs": np.array(lin.inputs, dtype=object),
-            "outputs": np.array(lin.outputs, dtype=object)}
-    if path.suffix.lower() == ".mat":
-        from scipy.io import savemat
+    from mbs.analysis.derivatives import write_matrix_file
 
-        savemat(str(path), data)
-    else:
-        np.savez(path, **{k: (v.astype(str) if v.dtype == object else v) for k, v in data.items()})
+    write_matrix_file(path, {"A": lin.A, "B": lin.B, "C": lin.C, "D": lin.D, "x": lin.x, "u": lin.u,
+                             "states": np.array(lin.states, dtype=object), "inputs": np.array(lin.inputs, dtype=object),
+                             "outputs": np.array(lin.outputs, dtype=object)})
 
 
 def cmd_bench_me(args) -> int:

@@ -11,6 +11,8 @@ from pathlib import Path
 
 import numpy as np
 
+from mbs import atomic
+
 DASHES = ("-", "--", "-.", ":")
 
 
@@ -28,7 +30,7 @@ def save_figure(fig, plt, path: Path, title: str) -> Path:
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
+    atomic.savefig(fig, path, dpi=110)
     plt.close(fig)
     return path
 
@@ -65,7 +67,7 @@ def time_panels(t: np.ndarray, revolution: float, columns: dict, panels: dict[st
     axes[-1, 0].set_xlabel("time (s)", fontsize=8)
     axes[-1, 0].set_xlim(t[0], t[-1])
     fig.suptitle(title, fontsize=10)
-    fig.savefig(path, dpi=110)
+    atomic.savefig(fig, path, dpi=110)
     plt.close(fig)
     return Path(path)
 
@@ -102,6 +104,6 @@ def energy_error(sims: list, path: Path, title: str | None = None, log: bool = F
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.005, 1.0), frameon=False)
     ax.set_title(title or f"{sims[0].scene.name}: relative total-energy error, RK4", fontsize=10)
-    fig.savefig(path, dpi=110)
+    atomic.savefig(fig, path, dpi=110)
     plt.close(fig)
     return Path(path)

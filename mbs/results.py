@@ -20,6 +20,8 @@ _HINGE = (("rad",), ("rad/s",))
 _SLIDER = (("m",), ("m/s",))
 _FREE = (("m",) * 3 + ("1",) * 4, ("m/s",) * 3 + ("rad/s",) * 3)
 NOT_RESULTS = "not a results table of 'heli simulate' or 'heli demo'"
+RESULTS_DIGEST = "results_sha256"
+"""The entry of ``run.json`` holding the SHA-256 of the ``results.csv`` written with it."""
 
 
 def joint_units(joint) -> tuple[tuple[str, ...], tuple[str, ...]]:
@@ -47,9 +49,12 @@ def column_units(model) -> dict[str, str]:
 
 def write_csv(columns: dict[str, np.ndarray], path: Path, progress=None, chunk: int = 20000) -> Path:
     """``columns`` (name -> (n,) values) as ``path``: a header row, then the values (17 digits),
-    ``chunk`` rows at a time with ``progress(rows written, n)`` after each."""
+    ``chunk`` rows at a time with ``progress(rows written, n)`` after each; written under a
+    temporary name and renamed when complete (:mod:`mbs.atomic`)."""
+    from mbs import atomic
+
     table = np.column_stack(list(columns.values()))
-    with open(path, "w") as f:
+    with atomic.replacing(path) as tmp, open(tmp, "w") as f:
         f.write(",".join(columns) + "\n")
         for start in range(0, len(table), chunk):
             np.savetxt(f, table[start:start + chunk], delimiter=",", fmt="%.17g")
@@ -73,6 +78,7 @@ def read_results(folder_or_csv: Path) -> tuple[dict[str, np.ndarray], dict]:
     path = results_path(folder_or_csv)
     names = _header(path)
     meta = read_run_json(path.parent / "run.json")
+    check_pair(path, meta)
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # numpy's "input contained no data": said below
@@ -82,6 +88,18 @@ def read_results(folder_or_csv: Path) -> tuple[dict[str, np.ndarray], dict]:
     if data.shape[0] == 0:
         raise ValueError(f"{path} has a header but no rows")
     return {n: data[:, i] for i, n in enumerate(names)}, meta
+
+
+def check_pair(path: Path, meta: dict) -> None:
+    """Refuse a ``results.csv`` (``path``) whose ``run.json`` (``meta``) records the SHA-256 of
+    another table: the folder mixes the files of two runs."""
+    from mbs import atomic
+
+    recorded = meta.get(RESULTS_DIGEST)
+    if recorded and recorded != atomic.sha256(path):
+        raise ValueError(f"{path} and the run.json beside it are not of the same run (run.json records the SHA-256 "
+                         f"of another results.csv): the folder mixes two runs; run the scene again into it, or give "
+                         "the folder where both were written together")
 
 
 def read_run_json(path: Path) -> dict:

@@ -112,7 +112,7 @@ def scene_of_run(meta: dict, where: str = "run.json") -> _scenes.Scene:
     """The scene a ``run.json`` (``meta``, read from ``where``) records: ValueError naming what is
     missing, or an aircraft file that is gone or has changed since the run."""
     from mbs import aircraft
-    from mbs.models.helicopter import with_aero
+    from mbs.models.helicopter import aero_switches, with_aero
 
     if "scene" not in meta:
         raise ValueError(f"no run.json with a scene name next to {where}: cannot tell which model to show")
@@ -128,7 +128,9 @@ def scene_of_run(meta: dict, where: str = "run.json") -> _scenes.Scene:
                              "would not be the one that ran (restore the file, or run again)")
     scene = _scenes.get(meta["scene"], aircraft=craft)
     aero = meta.get("aero")
-    return with_aero(scene, ",".join(aero) or "none") if aero is not None else scene
+    if aero is None or (scene.aircraft is not None and sorted(aero) == sorted(aero_switches(scene))):
+        return scene  # the scene's own switches (a scene without aerodynamics has none to set)
+    return with_aero(scene, ",".join(aero) or "none")
 
 
 ROW_SAMPLE = 200  # rows timed and measured for the cost estimate (at most a revolution)
@@ -347,15 +349,22 @@ def _float64_twin(scene, options) -> System:
 
 def write(sim: Simulation, out: Path, progress=None) -> dict[str, Path]:
     """Write ``results.csv`` (``progress(rows, n)`` as it goes), ``run.json`` and the plots into
-    ``out``; returns the paths."""
-    from mbs import plots
-    from mbs.results import write_csv
+    ``out``; returns the paths. The files are written under temporary names and renamed
+    together at the end (:class:`mbs.atomic.Files`): Ctrl-C or an error leaves the folder as
+    it was, and ``run.json`` records the SHA-256 of the ``results.csv`` it belongs to."""
+    from mbs import atomic, plots
+    from mbs.results import RESULTS_DIGEST, write_csv
 
     out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    paths = {"results": write_csv(sim.columns(), out / "results.csv", progress), "run": out / "run.json"}
-    paths["run"].write_text(json.dumps(sim.summary(), indent=1))
-    paths["hinge_angles"] = plots.hinge_angles(sim, out / "hinge_angles.png")
+    names = {"results": "results.csv", "run": "run.json", "hinge_angles": "hinge_angles.png"}
     if sim.scene.conservative:
-        paths["energy_error"] = plots.energy_error([sim], out / "energy_error.png")
+        names["energy_error"] = "energy_error.png"
+    paths = {k: out / v for k, v in names.items()}
+    with atomic.Files(stale=(out / "energy_error.png",)) as files:
+        tmp = {k: files.temporary(p) for k, p in paths.items()}
+        write_csv(sim.columns(), tmp["results"], progress)
+        tmp["run"].write_text(json.dumps({**sim.summary(), RESULTS_DIGEST: atomic.sha256(tmp["results"])}, indent=1))
+        plots.hinge_angles(sim, tmp["hinge_angles"])
+        if "energy_error" in tmp:
+            plots.energy_error([sim], tmp["energy_error"])
     return paths

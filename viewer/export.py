@@ -179,8 +179,9 @@ def export_html(source, path: str | Path, revs: float | None = None, start: floa
 
     mo, text, every = fitted(rec, scene, revs, start, every, max_bytes, render)
     out = Path(path)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text(text, encoding="utf-8")
+    from mbs import atomic
+
+    atomic.write_text(out, text)
     return Export(out, out.stat().st_size, len(mo.t), float((mo.t[-1] - mo.t[0]) * slow), (float(mo.t[0]), float(mo.t[-1])),
                   slow, every, plot_rows[0], float(np.degrees(mo.max_key_angle().max(initial=0.0))), mo, scene)
 

@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from mbs import atomic
 from mbs.analysis.floquet import Floquet, analyse, coordinate_functions
 from mbs.analysis.shooting import TrimLayout
 
@@ -229,7 +230,7 @@ def _mode_row(m, name: str) -> dict:
 def write_csv(table: list[dict], path: Path) -> Path:
     """Write the rows of :func:`rows` (columns :data:`CSV_COLUMNS`)."""
     path.parent.mkdir(parents=True, exist_ok=True)
-    with open(path, "w", newline="") as f:
+    with atomic.replacing(path) as tmp, open(tmp, "w", newline="") as f:
         w = csv.DictWriter(f, CSV_COLUMNS, restval="")
         w.writeheader()
         w.writerows(table)
@@ -257,7 +258,7 @@ def figure(points: list[SweepPoint], parameter: str, bands: list[tuple[float, fl
     fig.suptitle(title, fontsize=10)
     fig.tight_layout(rect=(0, 0, 0.75, 0.96))
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
+    atomic.savefig(fig, path, dpi=110)
     plt.close(fig)
     return path
 

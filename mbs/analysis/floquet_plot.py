@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from mbs import atomic
 from mbs.analysis.floquet import GROUPS, Floquet
 
 CSV_COLUMNS = ("mode", "group", "real_per_s", "imag_rad_s", "frequency_hz", "per_rev", "damping_ratio",
@@ -38,7 +39,7 @@ def write_csv(res: Floquet, path: Path) -> Path:
     """Write :func:`rows` of ``res`` to ``path`` (floats at full precision)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    with open(path, "w", newline="") as f:
+    with atomic.replacing(path) as tmp, open(tmp, "w", newline="") as f:
         w = csv.DictWriter(f, CSV_COLUMNS)
         w.writeheader()
         w.writerows(rows(res))
@@ -61,7 +62,7 @@ def figure(res: Floquet, path: Path) -> Path:
     fig.tight_layout(rect=(0, 0.1, 1, 0.95))
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
+    atomic.savefig(fig, path, dpi=110)
     plt.close(fig)
     return path
 
