@@ -156,8 +156,16 @@ def check_settings(settings: dict[str, float], parameters: dict, scene: str, fre
             _check_value(f"--set {name}={value:g}", name, value, parameters, scene, known)
 
 
+CONSTANT_IN_A_RUN = {
+    "omega": "the driven hubs turn at azimuth = omega t with no rotor acceleration modelled, so a rotor speed that "
+             "changes during a run would give a wrong azimuth (a ramp turns the rotor too slowly, a step jumps it)",
+}
+"""Parameters that must keep one value through a run (an input table may not change them): why."""
+
+
 def check_table(table: InputTable, parameters: dict, scene: str, settings: dict[str, float]) -> None:
-    """Refuse a column that is not a parameter (or is also ``--set``) and a value outside its range."""
+    """Refuse a column that is not a parameter (or is also ``--set``), one that changes a
+    parameter of :data:`CONSTANT_IN_A_RUN`, and a value outside its range."""
     where = f"--inputs {table.path}"
     for k, name in enumerate(table.names):
         if name == SPEED:
@@ -165,6 +173,14 @@ def check_table(table: InputTable, parameters: dict, scene: str, settings: dict[
                              "set it with --set speed=V")
         if name in settings:
             raise ValueError(f"{where}: column {name!r} is also given by --set {name}=...; give it in one place")
+        if name in CONSTANT_IN_A_RUN and name in parameters:
+            values = table.values[:, k]
+            change = np.flatnonzero(values != values[0])
+            what = (f"changes from {values[0]:g} to {values[change[0]]:g} (line {table.line(int(change[0]))}), but"
+                    if change.size else "is an input table column, but it sets the run's step and revolutions and")
+            raise ValueError(f"{where}: column {name!r} {what} {CONSTANT_IN_A_RUN[name]}; give one value with --set "
+                             f"{name}=VALUE, or one run per value with 'heli sweep simulate {scene} --param "
+                             f"{name}=LO:HI:N'")
         for i, value in enumerate(table.values[:, k]):
             _check_value(f"{where}: line {table.line(i)}", name, float(value), parameters, scene, list(parameters))
 

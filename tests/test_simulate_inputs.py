@@ -167,3 +167,29 @@ def test_stretches_hold_what_the_table_gives_at_every_step(seed):
     at_steps = table.at(h * np.arange(n))
     owner = np.searchsorted(starts, np.arange(n), side="right") - 1
     np.testing.assert_array_equal(at_steps, table.at(h * starts)[owner])
+
+
+@pytest.mark.parametrize("table, line", [
+    ("time,omega\n0,44.4\n0.5,40\n", 3),          # a ramp: azimuth omega(t) t would turn the rotor too slowly
+    ("time,omega\n0,44.4\n0.1,44.4\n0.1,40\n", 4),  # a step: omega(t) t would jump the azimuth back
+])
+def test_an_omega_column_that_changes_is_refused(tmp_path, capsys, table, line):
+    """The driven hubs turn at ``omega t``: a rotor speed changing within a run would be
+    integrated wrong, so the column is refused with what to do instead (before anything is
+    built); a constant column is the run of ``--set omega``."""
+    path = tmp_path / "omega.csv"
+    path.write_text(table)
+    code, out, err = run_main(["simulate", "ground-run", "--inputs", str(path), "--out", str(tmp_path / "o")], capsys)
+    lines = err.strip().splitlines()
+    assert code == 2 and len(lines) == 1, err
+    assert f"column 'omega' changes from 44.4 to 40 (line {line})" in lines[0]
+    assert "--set omega=VALUE" in lines[0] and "heli sweep simulate ground-run --param omega=LO:HI:N" in lines[0]
+    assert not (tmp_path / "o").exists()
+
+
+def test_a_constant_omega_column_is_refused_for_set(tmp_path, capsys):
+    """Even a constant column: the step and the revolutions of --revs are the rotor speed's."""
+    path = tmp_path / "omega.csv"
+    path.write_text("time,omega\n0,40\n1,40\n")
+    code, out, err = run_main(["simulate", "ground-run", "--inputs", str(path)], capsys)
+    assert code == 2 and "column 'omega' is an input table column" in err and "--set omega=VALUE" in err
