@@ -32,6 +32,7 @@ _prog = "heli"
 
 def emit(result: dict, as_json: bool, lines: list[str]) -> None:
     """Print ``lines``; with ``as_json`` print them on stderr and ``result`` as one JSON object on stdout."""
+    _clear_bars()
     for line in lines:
         print(line, file=sys.stderr if as_json else sys.stdout)
     if as_json:
@@ -40,7 +41,20 @@ def emit(result: dict, as_json: bool, lines: list[str]) -> None:
 
 def warn(message: str) -> None:
     """``heli <command>: warning: <message>`` on stderr."""
+    _clear_bars()
     print(f"{_prog}: warning: {message}", file=sys.stderr, flush=True)
+
+
+def say(line: str) -> None:
+    """A line about the work (what it starts from, what it stored) on stderr: stdout is the result's."""
+    _clear_bars()
+    print(line, file=sys.stderr, flush=True)
+
+
+def _clear_bars() -> None:
+    from mbs._progress import clear
+
+    clear()
 
 
 def _jsonable(o):
@@ -103,6 +117,7 @@ class _Stderr(logging.Handler):
     """Log records of the ``mbs`` package as plain lines on the current ``sys.stderr``."""
 
     def emit(self, record: logging.LogRecord) -> None:
+        _clear_bars()
         print(self.format(record), file=sys.stderr, flush=True)
 
 
@@ -128,14 +143,17 @@ def main(argv: list[str] | None = None) -> int:
         with contextlib.redirect_stdout(sys.stderr) if as_json else contextlib.nullcontext():
             return int(args.fn(args) or 0)
     except ModuleNotFoundError as exc:  # an optional package this command needs
+        _clear_bars()
         print(f"{prog}: error: this needs the Python package {exc.name!r}, which is not installed "
               f"(pip install {exc.name.split('.')[0]})", file=sys.stderr)
         return 2
     except USER_ERRORS as exc:
+        _clear_bars()
         text = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
         print(f"{prog}: error: {text}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
+        _clear_bars()
         print(f"{prog}: interrupted", file=sys.stderr)
         return 130
     finally:

@@ -1,13 +1,12 @@
 """Core subcommands of ``heli``: scenes, simulate, trim, figures (``heli demo`` is in :mod:`fmu.commands`)."""
 from __future__ import annotations
 
-import os
 import re
 import sys
 from pathlib import Path
 
 from mbs import arguments as A
-from mbs.cli import add_json, emit
+from mbs.cli import add_json, emit, say
 
 FIXED_METHODS = ("euler", "rk4", "rk8")  # mbs.integrators.FIXED_STEP, named here to keep casadi out of start-up
 
@@ -85,12 +84,26 @@ def cmd_simulate(args) -> int:
     from mbs.run_cost import check_size
     from mbs.simulate import prepare, write
 
+    from mbs.trims import start as begin
+
     scene = _scene(args)
     _check_revs(args.revs, args.steps_per_rev or scene.steps_per_rev)
     settings = dict(_settings(args.set))
     speed = settings.pop("speed", None)
+    start = args.start or begin.default_start(scene)
+    begin.check(start, scene)
+    if speed is not None and start == begin.TRIM:
+        from mbs.inputs import check_settings
+
+        check_settings({"speed": speed}, {}, scene.name, _model_facts(scene)[1])
     run = prepare(scene, args.revs, args.steps_per_rev, args.dtype, args.backend, params=settings, every=args.every,
-                  method=args.method, inputs=args.inputs, speed=speed)
+                  method=args.method, inputs=args.inputs, speed=None if start == begin.TRIM else speed)
+    if start == begin.TRIM:
+        begin.from_trim(run, speed, log=say, progress=Progress(f"trim {scene.name}", not args.quiet))
+        run.settings.update({} if speed is None else {"speed": speed})
+    else:
+        run.start = begin.scene_record(run)
+        run.warnings += [w for w in [begin.untrimmed_warning(run)] if w]
     for text in run.warnings:
         warn(text)
     step = run.check_step(args.step_tol)
@@ -192,14 +205,28 @@ def cmd_trim(args) -> int:
                max_iterations=args.iterations, progress=Progress(f"trim {args.scene}", not args.quiet))
     out, lines = res.summary(), _trim_lines(res)
     if args.write and res.converged:
-        from mbs.trim import write_trim
+        from mbs.trims import entry_of, store
 
-        out["written"] = str(write_trim(res, args.write))
-        lines.append(f"wrote {out['written']}")
+        key = store.write(args.write, entry_of(res, scene))
+        out.update(written=str(args.write), key=key)
+        lines.append(f"stored as {key!r} in {args.write}: 'heli simulate {scene.name}{_aircraft_option(args)}"
+                     f"{_speed_option(args)}' starts from it")
     elif args.write:
         lines.append(f"{args.write} not written: the trim did not converge")
+    elif res.converged:
+        lines.append(f"not stored (--write stores it; 'heli simulate {scene.name}' starts from a stored trim of the "
+                     "same aircraft file, scene and speed, or trims on first use)")
     emit(out, args.json, lines)
     return 0 if res.converged else 1
+
+
+def _aircraft_option(args) -> str:
+    craft = getattr(args, "aircraft", None)
+    return "" if craft is None else f" --aircraft {craft.key if craft.packaged else craft.path}"
+
+
+def _speed_option(args) -> str:
+    return "" if getattr(args, "speed", None) is None else f" --set speed={args.speed:g}"
 
 
 def _trim_lines(res) -> list[str]:
@@ -399,8 +426,11 @@ def cmd_figures(args) -> int:
 
 def user_trims() -> Path:
     """The user's trim file, ``$XDG_DATA_HOME/rotor-mbs/trims.toml`` (default
-    ``~/.local/share/rotor-mbs/trims.toml``): where ``heli trim --write`` stores a trim."""
-    return Path(os.environ.get("XDG_DATA_HOME") or Path.home() / ".local" / "share") / "rotor-mbs" / "trims.toml"
+    ``~/.local/share/rotor-mbs/trims.toml``): where ``heli trim --write`` stores a trim and
+    ``heli simulate`` finds it (:mod:`mbs.trims`)."""
+    from mbs.trims.store import default_file
+
+    return default_file()
 
 
 def trim_file(text: str) -> Path:
@@ -482,8 +512,10 @@ def register(sub, bench) -> None:
     p.add_argument("--iterations", type=A.positive_int, default=20,
                    help="most Newton iterations before giving up (default 20)")
     p.add_argument("--write", metavar="PATH", nargs="?", const=str(user_trims()), default=None,
-                   type=trim_file, help="store the converged trim in the TOML file PATH (other entries kept; the "
-                   f"format of mbs/aircraft/data/bo105_trim.toml); without PATH in {user_trims()}")
+                   type=trim_file, help="store the converged trim in the TOML file PATH (other trims kept), keyed by "
+                   "the aircraft file (its SHA-256), scene, aerodynamics switches, speed, climb rate, method and steps "
+                   f"per revolution; without PATH in {user_trims()}. 'heli simulate' starts from a stored trim of the "
+                   "same model found there or in <aircraft stem>_trim.toml beside the aircraft file")
     _aero(p)
     _quiet(p)
     add_json(p)
@@ -541,6 +573,11 @@ def register(sub, bench) -> None:
                    help="input table: a CSV file with a 'time' column (s) and columns named after parameters (the "
                         "FMU demo's and fmpy's format); linear between rows, a time written twice is a jump, each "
                         "step holds the values at its start; written into results.csv as columns")
+    p.add_argument("--start", choices=("trim", "scene"), default=None,
+                   help="initial state: trim, the scene's periodic trim at the run's speed and parameters (stored for "
+                        "the aircraft file, or trimmed on first use and stored; the default for the scenes that fly: "
+                        "forward-flight, hover and the swashplate scenes), or scene, the scene's own initial state "
+                        "(the default for the others); run.json records it")
     p.add_argument("--step-tol", type=A.positive, default=0.01, metavar="FRACTION",
                    help="largest step error allowed, as a fraction of each state's range over the first revolution "
                         "(default 0.01): a step-doubling check (three revolutions' worth of steps) warns above it "

@@ -55,6 +55,7 @@ class Simulation:
     units: dict = field(default_factory=dict)
     step_error: object = None
     every: int = 1
+    start: dict = field(default_factory=dict)
 
     @property
     def max_rel_energy_error(self) -> float:
@@ -88,6 +89,8 @@ class Simulation:
                "set": dict(self.settings)}
         if self.inputs is not None:
             out["inputs"] = self.inputs.summary()
+        out["initial_state"] = {**self.start, "state": dict(zip(self.system.info.state_names,
+                                                                map(float, self.traj.x[0])))}
         if self.step_error is not None:
             out["step_error"] = self.step_error.summary()
         if self.scene.conservative:
@@ -140,7 +143,8 @@ ROW_SAMPLE = 200  # rows timed and measured for the cost estimate (at most a rev
 class Run:
     """A run set up and not yet started (:func:`prepare`): ``steps`` steps of ``h`` s from ``x0``
     with parameters ``p`` (and the input table ``inputs``), rows every ``every`` steps;
-    ``warnings``: what the set-up changed or could not honour, one line each."""
+    ``warnings``: what the set-up changed or could not honour, one line each; ``start``: where
+    ``x0`` came from (``run.json``'s ``"initial_state"``: :mod:`mbs.trims.start`)."""
 
     scene: _scenes.Scene
     system: System
@@ -157,6 +161,7 @@ class Run:
     units: dict = field(default_factory=dict)
     options: dict = field(default_factory=dict)
     warnings: list = field(default_factory=list)
+    start: dict = field(default_factory=lambda: {"from": "scene", "what": "the scene's initial state"})
 
     @property
     def revs(self) -> float:
@@ -179,7 +184,7 @@ class Run:
 
         res = step_error.estimate(self.system, self.x0, self.p, self.h, self.steps_per_rev, self.steps,
                                   self.method, tolerance or step_error.DEFAULT_TOLERANCE,
-                                  run=lambda h, n, every: self.window(h, n, every)[0])
+                                  run=lambda h, n, every: self.window(h, n, every)[0], units=self.units)
         res.unit = self.units.get(res.state, "")
         return res
 
@@ -216,7 +221,7 @@ class Run:
         energy, outputs = _histories(evaluator, traj, p, progress)
         return Simulation(self.scene, self.system, traj, self.p, self.revs, self.steps_per_rev, energy, outputs,
                           self.compensated, self.method, rows_p, self.inputs, dict(self.settings), dict(self.units),
-                          every=self.every)
+                          every=self.every, start=dict(self.start))
 
 
 def _histories(system: System, traj: Trajectory, p, progress=None) -> tuple[np.ndarray, np.ndarray]:
@@ -263,6 +268,8 @@ def prepare(scene: str | _scenes.Scene, revs: float = 1.0, steps_per_rev: int | 
     x = system.x0() if x0 is None else system.check_state(x0)
     run = Run(scene, system, p, x, scene.revolution(system, p) / steps_per_rev, n, steps_per_rev, every, method,
               compensated, inputs, settings, units, dict(options or {}))
+    if x0 is not None:
+        run.start = {"from": "given", "what": "the initial state given to the run (x0)"}
     if speed is not None:
         run.x0 = inp.with_forward_speed(system.info, x, speed)
     run.warnings += _setup_warnings(run, revs, speed, x)
@@ -310,8 +317,8 @@ def _setup_warnings(run: Run, revs: float, speed: float | None, x_default: np.nd
         controls = [q["name"] for q in run.system.info.parameters if q.get("control")]
         out.append(f"--set speed={speed:g}: the run starts at {speed:g} m/s with the attitude"
                    f"{' and controls' if controls else ''} of scene {run.scene.name!r} at {own:g} m/s, so it starts "
-                   f"with a transient; 'heli trim {run.scene.name} --speed {speed:g}' gives the trimmed controls "
-                   "to --set")
+                   f"with a transient; without --start scene 'heli simulate' starts from the periodic trim at "
+                   f"{speed:g} m/s")
     if run.inputs is not None:
         stop = run.steps * run.h
         out += [f"--inputs {run.inputs.path}: the jump at t = {t:.6g} s acts at the next step start, t = {a:.6g} s "

@@ -31,7 +31,7 @@ def run_main(argv: list[str], capsys) -> tuple[int, str, str]:
 
 def test_set_controls_and_parameters_equal_the_run_with_those_parameters(tmp_path, capsys):
     code, out, err = run_main(["simulate", "hover", "--set", "collective=0.25", "--set", "omega=42",
-                               "--out", str(tmp_path), "--quiet", "--json"], capsys)
+                               "--out", str(tmp_path), "--quiet", "--json", "--start", "scene"], capsys)
     assert code == 0, err
     res = json.loads(out)
     assert res["set"] == {"collective": 0.25, "omega": 42.0}
@@ -49,10 +49,10 @@ def test_set_speed_starts_in_level_flight_at_that_speed(tmp_path, capsys):
     in the ground frame the fuselage moves at V along x, at the start's attitude; the controls
     stay the scene's (its trim at 10 m/s), which a warning says."""
     code, out, err = run_main(["simulate", "forward-flight", "--set", "speed=25", "--revs", "0.1",
-                               "--out", str(tmp_path), "--quiet"], capsys)
+                               "--out", str(tmp_path), "--quiet", "--start", "scene"], capsys)
     assert code == 0, err
     assert ("warning: --set speed=25: the run starts at 25 m/s with the attitude and controls of scene "
-            "'forward-flight' at 10 m/s") in err and "heli trim forward-flight --speed 25" in err
+            "'forward-flight' at 10 m/s") in err and "starts from the periodic trim at 25 m/s" in err
     data = columns(tmp_path / "results.csv")
     q = [data[f"fuselage.q{a}"][0] for a in "wxyz"]
     v = [data[f"fuselage.{a}"][0] for a in "uvw"]
@@ -111,7 +111,7 @@ def test_the_fmu_demos_input_table_gives_the_run_of_the_fmus_core_twin(tmp_path,
     np.savetxt(path, np.column_stack([table[n] for n in table.dtype.names]), delimiter=",",
                header=",".join(table.dtype.names), comments="", fmt="%.17g")
     code, out, err = run_main(["simulate", "forward-flight", "--inputs", str(path), "--out", str(tmp_path / "run"),
-                               "--quiet", "--json"], capsys)
+                               "--quiet", "--json", "--start", "scene"], capsys)
     assert code == 0, err
     assert "warning" not in err
     twin = hosts.run_core("forward-flight", hosts.grid(100 * h, 2 * h), table, max_step=h,
