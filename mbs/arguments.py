@@ -50,6 +50,44 @@ def real_number(low: float = -math.inf, strict: bool = False) -> Callable[[str],
     return convert
 
 
+class Within:
+    """Type: a finite number in ``[low, high]`` (``unit``); ``what`` names the range in the
+    message and ``hint(value)`` adds what the user may have meant. :meth:`check` checks a value
+    found otherwise (one of a sweep's)."""
+
+    def __init__(self, low: float, high: float, unit: str, what: str, hint: Callable[[float], str] = lambda v: ""):
+        self.low, self.high, self.unit, self.what, self.hint = low, high, unit, what, hint
+
+    def __call__(self, text: str) -> float:
+        value = real_number()(text)
+        self.check(value, text)
+        return value
+
+    def check(self, value: float, text: str | None = None) -> None:
+        if not self.low <= value <= self.high:
+            raise Bad(f"{text or f'{value:g}'} {self.unit} is outside {self.what}, {self.low:g} to {self.high:g} "
+                      f"{self.unit}{self.hint(value)}")
+
+
+SPEED_RANGE = (-20.0, 90.0)
+"""Flight speeds (m/s) the commands accept: rearward flight to 175 kt, beyond every packaged
+aircraft's never-exceed speed (the FMU's ``initial_forward_speed`` has the same range)."""
+CLIMB_RANGE = (-20.0, 20.0)
+"""Climb rates (m/s, up positive) the commands accept: about 4000 ft/min either way."""
+KNOT = 0.514444  # m/s
+
+
+def _knots(value: float) -> str:
+    """`` (speeds are in m/s: 100 kt would be 51.4 m/s)`` when ``value`` in knots would be a speed."""
+    ms = value * KNOT
+    return f" (speeds are in m/s: {value:g} kt would be {ms:.3g} m/s)" if SPEED_RANGE[0] <= ms <= SPEED_RANGE[1] \
+        else ""
+
+
+flight_speed = Within(*SPEED_RANGE, "m/s", "the flight speeds the model covers (rearward flight to 175 kt)", _knots)
+climb_rate = Within(*CLIMB_RANGE, "m/s", "the climb rates the model covers (4000 ft/min down or up)")
+
+
 positive_int = whole_number(1)
 non_negative_int = whole_number(0)
 port = whole_number(1, 65535)

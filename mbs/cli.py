@@ -91,7 +91,8 @@ def version() -> str:
 
 
 def parser() -> argparse.ArgumentParser:
-    ap = Parser(prog="heli", description="Rotor multibody simulation (Bo105).")
+    ap = Parser(prog="heli", description="Helicopter multibody simulation: any single-main-rotor helicopter from an "
+                "aircraft file ('heli aircraft new NAME'); the Bo105 (the default), the Lynx and the Puma come with it.")
     ap.add_argument("--version", action="version", version=f"%(prog)s: {version()}",
                     help="print the version of rotor-mbs, Python and CasADi and exit")
     sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND")
@@ -130,9 +131,41 @@ def _show_messages(quiet: bool) -> None:
     log.setLevel(logging.WARNING if quiet else logging.INFO)
 
 
+HINTS = {("simulate", "--speed"): "the initial speed of a run is --set speed=V (m/s)",
+         ("simulate", "--climb-rate"): "a run has no climb-rate option; 'heli trim SCENE --climb-rate W' trims a climb"}
+"""What to say of an option that a command does not have but another does: (command, option) -> hint."""
+
+
+def _chosen(ap: argparse.ArgumentParser, args) -> argparse.ArgumentParser:
+    """The (sub)parser of the command that ``args`` names, e.g. that of ``heli sweep trim``."""
+    for action in ap._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            name = getattr(args, action.dest, None)
+            if name in action.choices:
+                return _chosen(action.choices[name], args)
+    return ap
+
+
+def _unknown(ap: argparse.ArgumentParser, args, extras: list[str]) -> None:
+    """Refuse arguments the command does not take, on the command's own parser (its help page),
+    with the hint of :data:`HINTS` or the closest option it has."""
+    import difflib
+
+    sub = _chosen(ap, args)
+    flag = next((e.split("=")[0] for e in extras if e.startswith("--")), None)
+    options = [o for a in sub._actions for o in a.option_strings if o.startswith("--")]
+    hint = HINTS.get((getattr(args, "command", None), flag))
+    close = difflib.get_close_matches(flag, options, n=1, cutoff=0.75) if flag else []
+    if hint is None and close:
+        hint = f"did you mean {close[0]}?"
+    sub.error(f"unrecognized arguments: {' '.join(extras)}" + (f"; {hint}" if hint else ""))
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = parser()
-    args = ap.parse_args(argv)
+    args, extras = ap.parse_known_args(argv)
+    if extras:
+        _unknown(ap, args, extras)
     _show_messages(bool(getattr(args, "quiet", False)))
     global _prog, _json_out
     prog = _prog = " ".join(["heli", *(getattr(args, k) for k in ("command", "bench", "fmu_command", "aircraft_command",

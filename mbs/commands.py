@@ -98,6 +98,8 @@ def cmd_simulate(args) -> int:
         check_settings({"speed": speed}, {}, scene.name, _model_facts(scene)[1])
     run = prepare(scene, args.revs, args.steps_per_rev, args.dtype, args.backend, params=settings, every=args.every,
                   method=args.method, inputs=args.inputs, speed=None if start == begin.TRIM else speed)
+    cost = run.cost()  # time and size first: a run too large is refused before a trim is computed for it
+    check_size(cost, args.max_gb)
     if start == begin.TRIM:
         begin.from_trim(run, speed, log=say, progress=Progress(f"trim {scene.name}", not args.quiet))
         run.settings.update({} if speed is None else {"speed": speed})
@@ -109,18 +111,17 @@ def cmd_simulate(args) -> int:
     step = run.check_step(args.step_tol)
     if not step.ok or step.ratio is None:
         warn(step.message())
-    cost = run.cost(step.step_s)
-    check_size(cost, args.max_gb)
     if cost.worth_saying():
-        print(f"heli simulate: {cost.message()}", file=sys.stderr, flush=True)
+        say(f"heli simulate: {cost.message()}")
     show, slow = not args.quiet, cost.rows * cost.row_s > 2.0
     sim = run.execute(Progress(f"simulate {scene.name}", show), Progress("outputs and energies", show and slow))
     sim.step_error = step
     paths = write(sim, Path(args.out), Progress("writing results.csv", show and slow))
     res = {**sim.summary(), "files": {k: str(v) for k, v in paths.items()}, "warnings": run.warnings,
            "cost": cost.summary()}
-    lines = [f"{sim.scene.name}: {sim.revs:g} revolutions, {res['steps']} {sim.method} steps ({sim.system.dtype}, "
+    lines = [f"{sim.title()}: {sim.revs:g} revolutions, {res['steps']} {sim.method} steps ({sim.system.dtype}, "
              f"{sim.system.backend}) in {sim.traj.wall_s:.3f} s, {res['realtime_factor']:.1f}x real time",
+             f"start: {start_words(run.start)}",
              f"result: {sim.traj.message}" + ("" if step.ok else " (but the step is too coarse: see the warning)"),
              f"step check ({1e3 * step.wall_s:.0f} ms): {step.message()}"]
     if "max_rel_energy_error" in res:
@@ -128,6 +129,15 @@ def cmd_simulate(args) -> int:
     lines += [f"wrote {p}" for p in paths.values()]
     emit(res, args.json, lines)
     return 0 if sim.traj.ok else 1
+
+
+def start_words(start: dict) -> str:
+    """Where a run started (:mod:`mbs.trims.start`), in words."""
+    if start.get("from") == "periodic trim":
+        where = f"trimmed now and stored in {start['file']}" if start["computed_now"] else f"stored in {start['file']}"
+        return f"the periodic trim at {start['speed']:g} m/s ({where}; roll {start['roll_deg']:+.3f} deg, pitch " \
+               f"{start['pitch_deg']:+.3f} deg)"
+    return start.get("what", "the scene's initial state")
 
 
 def _check_revs(revs: float, steps_per_rev: int) -> None:
@@ -235,7 +245,7 @@ def _trim_lines(res) -> list[str]:
 
     per = res.period
     flip = f", teeter reversed; period {per.full_revs} revolutions" if per.flip else ""
-    lines = [f"{res.scene} at {res.speed:g} m/s, climb {res.climb_rate:g} m/s: periodic shooting over {per.revs} "
+    lines = [f"{res.scene}{_of(res)} at {res.speed:g} m/s, climb {res.climb_rate:g} m/s: periodic shooting over {per.revs} "
              f"main-rotor revolution(s){flip}; {res.method}, {res.steps_per_rev} steps/rev",
              *[f"  iteration {k + 1}: max |scaled residual| {it.residual:.3e}, step {it.step:g}"
                for k, it in enumerate(res.history)],
@@ -289,7 +299,7 @@ def cmd_floquet(args) -> int:
 
 def _floquet_lines(res) -> list[str]:
     """The human-readable report of :func:`mbs.analysis.floquet.floquet`."""
-    return [f"{res.scene} at {res.speed:g} m/s: Floquet analysis over {res.period_revs} main-rotor revolutions "
+    return [f"{res.scene}{_of(res)} at {res.speed:g} m/s: Floquet analysis over {res.period_revs} main-rotor revolutions "
             f"(monodromy over {res.interval_revs}; periodic solution in {res.trim.iterations} Newton iterations; "
             f"analysis {res.wall_s:.2f} s); rotor-mode frequencies in the {res.frame} frame",
             f"  {'mode':30s} {'Re λ 1/s':>10s} {'Im λ rad/s':>11s} {'Hz':>8s} {'/rev':>7s} {'ζ':>7s} {'|μ|':>9s}",
@@ -305,7 +315,7 @@ def _floquet_files(res, out: Path) -> list[str]:
 
     stem = out / f"floquet_{res.scene}"
     return [str(floquet_plot.write_csv(res, stem.with_suffix(".csv"))),
-            str(floquet_plot.figure(res, stem.with_suffix(".png")))]
+            str(floquet_plot.figure(res, stem.with_suffix(".png"), _of(res)))]
 
 
 def _floquet_sweep(args, scene) -> int:
@@ -339,7 +349,14 @@ def _floquet_sweep(args, scene) -> int:
 def _fan_title(args, ana) -> str:
     settings = ", ".join(f"{k} = {v:g}" for k, v in ana.settings.items())
     frame = "rotating-frame" if args.frame == "rotating" else "fixed-frame"
-    return f"{args.scene}: fan plot ({frame} frequencies{'; ' + settings if settings else ''})"
+    craft = f" of the {args.aircraft.name}" if getattr(args, "aircraft", None) else " of the MBB Bo105"
+    return f"{args.scene}{craft}: fan plot ({frame} frequencies{'; ' + settings if settings else ''})"
+
+
+def _of(res) -> str:
+    """`` of the MBB Bo105``: the aircraft of a result (its own, or that of the trim it rests on)."""
+    name = getattr(res, "aircraft", None) or getattr(getattr(res, "trim", None), "aircraft", None)
+    return f" of the {name}" if isinstance(name, str) else ""
 
 
 def _sweep_point(p) -> dict:
@@ -380,7 +397,7 @@ def _derivative_lines(res) -> list[str]:
 
     ref = res.reference
     syms = [CONTROL_SYMBOLS.get(c, c) for c in res.controls]
-    lines = [f"{res.scene} at {res.speed:g} m/s: derivatives with the rotor in its periodic equilibrium "
+    lines = [f"{res.scene}{_of(res)} at {res.speed:g} m/s: derivatives with the rotor in its periodic equilibrium "
              f"(quasi-static rotor, implicit-function theorem on the trim; {res.wall_s:.2f} s)",
              f"  reference: U_e {ref['U_e']:.3f}, V_e {ref['V_e']:.3f}, W_e {ref['W_e']:.3f} m/s, "
              f"Theta_e {np.degrees(ref['Theta_e']):+.3f} deg, Phi_e {np.degrees(ref['Phi_e']):+.3f} deg",
@@ -465,7 +482,8 @@ def _add_periodic_arguments(p) -> None:
     """The arguments of the analyses at a periodic solution (trim, Floquet, derivatives)."""
     A.add_scene(p, nargs="?", default="forward-flight", what="scene (default forward-flight)")
     A.add_aircraft(p)
-    p.add_argument("--speed", type=A.finite, default=None, help="flight speed in m/s (default: the scene's)")
+    p.add_argument("--speed", type=A.flight_speed, default=None,
+                   help=f"flight speed in m/s, {A.SPEED_RANGE[0]:g} to {A.SPEED_RANGE[1]:g} (default: the scene's)")
     p.add_argument("--method", choices=("rk4", "rk8"), default="rk4", help="fixed-step method (default rk4)")
     _steps_per_rev(p)
     _backend(p)
@@ -507,7 +525,8 @@ def register(sub, bench) -> None:
     p = sub.add_parser("trim", help="periodic trim: controls, attitude and periodic rotor states by Newton "
                        "with the exact AD Jacobian of the period map")
     _add_periodic_arguments(p)
-    p.add_argument("--climb-rate", type=A.finite, default=0.0, help="climb rate in m/s, up positive (default 0)")
+    p.add_argument("--climb-rate", type=A.climb_rate, default=0.0,
+                   help=f"climb rate in m/s, up positive, {A.CLIMB_RANGE[0]:g} to {A.CLIMB_RANGE[1]:g} (default 0)")
     p.add_argument("--tol", type=A.positive, default=1e-10, help="max |scaled residual| to reach (default 1e-10)")
     p.add_argument("--iterations", type=A.positive_int, default=20,
                    help="most Newton iterations before giving up (default 20)")

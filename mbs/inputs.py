@@ -25,10 +25,9 @@ from pathlib import Path
 
 import numpy as np
 
+from mbs.arguments import SPEED_RANGE  # the initial forward speed that --set speed=V accepts, m/s
+
 SPEED = "speed"
-SPEED_RANGE = (-20.0, 90.0)
-"""Initial forward speed (m/s) that ``--set speed=V`` accepts: the range of the FMU's
-``initial_forward_speed``."""
 
 
 @dataclass

@@ -62,6 +62,14 @@ class Simulation:
         e = self.energy[:, -1]
         return float(np.abs(e / e[0] - 1).max())
 
+    def title(self) -> str:
+        """``forward-flight of the MBB Bo105 at 10 m/s``: scene, aircraft and initial speed."""
+        from mbs.inputs import initial_speed
+
+        craft = f" of the {self.scene.aircraft.name}" if self.scene.aircraft is not None else ""
+        speed = initial_speed(self.system.info, self.traj.x[0])
+        return f"{self.scene.name}{craft}" + ("" if speed is None else f" at {speed:.3g} m/s")
+
     def columns(self) -> dict[str, np.ndarray]:
         info = self.system.info
         cols = {"time": self.traj.t}

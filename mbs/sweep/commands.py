@@ -87,11 +87,18 @@ def _point(row: dict, axes: list[str]) -> str:
     return ", ".join(f"{k} = {row[k]:g}" for k in axes)
 
 
-def _range(flag: str):
+def _range(flag: str, limits=None):
+    """Type of a ``LO:HI:N`` axis; ``limits`` (:class:`mbs.arguments.Within`) checks its ends."""
     def parse(text: str):
         from mbs.sweep.grid import parse_range
 
-        return parse_range(flag, text)
+        values = parse_range(flag, text)
+        for v in (values[0], values[-1]) if limits else ():
+            try:
+                limits.check(v)
+            except A.Bad as exc:
+                raise ValueError(f"{text!r}: {exc}") from None
+        return values
     return parse
 
 
@@ -136,9 +143,10 @@ def register(sub, bench) -> None:
     kinds = p.add_subparsers(dest="kind", required=True, metavar="KIND")
     t = kinds.add_parser("trim", help="periodic trim at every speed (and parameter value)")
     _common(t)
-    t.add_argument("--speed", required=True, metavar="LO:HI:N", type=A.checked_by(_range("--speed")),
+    t.add_argument("--speed", required=True, metavar="LO:HI:N", type=A.checked_by(_range("--speed", A.flight_speed)),
                    help="speeds in m/s, e.g. 0:70:15")
-    t.add_argument("--climb-rate", type=A.finite, default=0.0, help="climb rate in m/s, up positive (default 0)")
+    t.add_argument("--climb-rate", type=A.climb_rate, default=0.0,
+                   help=f"climb rate in m/s, up positive, {A.CLIMB_RANGE[0]:g} to {A.CLIMB_RANGE[1]:g} (default 0)")
     t.add_argument("--method", choices=("rk4", "rk8"), default="rk4", help="fixed-step method (default rk4)")
     t.add_argument("--tol", type=A.positive, default=1e-10, help="max |scaled residual| to reach (default 1e-10)")
     t.add_argument("--iterations", type=A.positive_int, default=20, help="most Newton iterations (default 20)")
