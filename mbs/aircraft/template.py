@@ -23,6 +23,9 @@ HEADER = """\
 
 COMMENTED = ("elastic_blade", "swashplate")
 """Optional sections written commented out (their entries are required once the section is there)."""
+NEEDED_BY = {"elastic_blade": "the elastic-rotor scene's blades (elastic, 8 segments)",
+             "swashplate": "the swashplate scenes, forward-flight-swashplate and forward-flight-actuators"}
+"""What needs an optional section that the template writes commented out."""
 
 
 def template(name: str, source: str = "TEMPLATE") -> str:
@@ -32,19 +35,29 @@ def template(name: str, source: str = "TEMPLATE") -> str:
     base = load("bo105").data
     out = [HEADER.format(name=name, source=source)]
     for section, entries in ENTRIES.items():
-        optional = section in OPTIONAL_SECTIONS
-        out.append(f"{'# ' if section in COMMENTED else ''}[{section}]"
-                   + ("  # optional: leave the section out for the defaults" if optional else ""))
+        values = base.get(section, {})
+        lines = [f"[{section}]" + _optional(section)]
         for key, spec in entries.items():
-            value = name if key == "name" else base.get(section, {}).get(key, spec.default)
-            line = f"{key} = {{ value = {_toml(value)}, unit = \"{spec.unit}\", source = \"{source}\" }}"
-            commented = section in COMMENTED or spec.default is not None
+            value = name if key == "name" else values.get(key, spec.default)
+            applies = not spec.only_if or values.get(spec.only_if[0]) == spec.only_if[1]
+            line = (f"{key} = {{ value = {_toml(value if value is not None else 0.0)}, unit = \"{spec.unit}\", "
+                    f"source = \"{source}\" }}")
             if spec.only_if:
                 line += f"  # only with {spec.only_if[0]} = \"{spec.only_if[1]}\""
-            out += [f"# {spec.text} ({spec.unit}" + (f"; default {spec.default})" if spec.default is not None else ")"),
-                    ("# " if commented else "") + line]
-        out += _derived_comment(section) + [""]
+            lines += [f"# {spec.text} ({spec.unit}" + (f"; default {spec.default})" if spec.default is not None else ")"),
+                      ("# " if spec.default is not None or not applies else "") + line]
+        lines += _derived_comment(section)
+        out += [f"# {line}" for line in lines] if section in COMMENTED else lines  # uncommented: one '# ' less
+        out.append("")
     return "\n".join(out)
+
+
+def _optional(section: str) -> str:
+    """The comment of an optional section's header line."""
+    if section in NEEDED_BY:
+        return (f"  # optional, needed by {NEEDED_BY[section]}: remove one '# ' from each line of the block to "
+                "use it (lines still commented then are defaults or do not apply)")
+    return "  # optional: leave the section out for the defaults" if section in OPTIONAL_SECTIONS else ""
 
 
 def _toml(value) -> str:
