@@ -27,9 +27,11 @@ RESULTS_DIGEST = "results_sha256"
 def joint_units(joint) -> tuple[tuple[str, ...], tuple[str, ...]]:
     """Units of a joint's position and velocity coordinates (``""`` for a joint type not known here)."""
     kind = type(joint).__name__
-    if kind == "Serial":
-        parts = [joint_units(j) for j in joint.parts]
+    if kind in ("Serial", "LoopJoint"):  # a loop joint's coordinates: those of its independent parts
+        parts = [joint_units(j) for j in getattr(joint, "independent", joint.parts)]
         return tuple(u for q, _ in parts for u in q), tuple(u for _, v in parts for u in v)
+    if kind == "Modal":  # a flexible body's modal coordinates: tip deflection over length and tip twist
+        return ("rad",) * joint.nq, ("rad/s",) * joint.nv
     known = {"Hinge": _HINGE, "Slider": _SLIDER, "FreeJoint": _FREE}
     return known.get(kind, (("",) * joint.nq, ("",) * joint.nv))
 

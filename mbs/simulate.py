@@ -119,21 +119,32 @@ def run_record(scene: _scenes.Scene) -> dict:
                                               "sha256": craft.digest}, "aero": aero_switches(scene)}
 
 
-def scene_of_run(meta: dict, where: str = "run.json") -> _scenes.Scene:
+def scene_of_run(meta: dict, where: str = "run.json", aircraft=None) -> _scenes.Scene:
     """The scene a ``run.json`` (``meta``, read from ``where``) records: ValueError naming what is
-    missing, or an aircraft file that is gone or has changed since the run."""
-    from mbs import aircraft
+    missing, or an aircraft file that is gone or has changed since the run. ``aircraft``: the
+    run's aircraft file found elsewhere (an :class:`mbs.aircraft.Aircraft`: a file that moved),
+    which must be the one that ran (the same SHA-256)."""
+    from mbs import aircraft as ac
     from mbs.models.helicopter import aero_switches, with_aero
 
     if "scene" not in meta:
         raise ValueError(f"no run.json with a scene name next to {where}: cannot tell which model to show")
     recorded = meta.get("aircraft")
     craft = None
-    if recorded:
+    if aircraft is not None:
+        if not recorded:
+            raise ValueError(f"--aircraft {aircraft.path}: the run's scene {meta['scene']!r} has no aircraft file "
+                             f"({where} records none); drop --aircraft")
+        if aircraft.digest != recorded["sha256"]:
+            raise ValueError(f"--aircraft {aircraft.path} is not the aircraft file the run was made with (its SHA-256 "
+                             f"differs from the one {where} records for {recorded['file']}); give that file")
+        craft = aircraft
+    elif recorded:
         try:
-            craft = aircraft.load(recorded["file"])
-        except aircraft.AircraftError as exc:
-            raise ValueError(f"{where}: the run's aircraft {recorded['name']!r} cannot be loaded: {exc}") from None
+            craft = ac.load(recorded["file"])
+        except ac.AircraftError as exc:
+            raise ValueError(f"{where}: the run's aircraft {recorded['name']!r} cannot be loaded: {exc}; if the file "
+                             "moved, give its new place with --aircraft FILE") from None
         if craft.digest != recorded["sha256"]:
             raise ValueError(f"{where}: the aircraft file {recorded['file']} has changed since the run; the model "
                              "would not be the one that ran (restore the file, or run again)")

@@ -72,7 +72,7 @@ def from_simulation(sim) -> Recording:
                               sim.scene.revolution(system, sim.params), plots=sim.scene.plots))
 
 
-def from_results(path: str | Path, backend: str = "vm") -> Recording:
+def from_results(path: str | Path, backend: str = "vm", aircraft=None) -> Recording:
     """Recording of a results folder or ``results.csv`` written by :func:`mbs.simulate.write`.
 
     Everything that can be wrong with the files is found before the model is built (one-line
@@ -80,7 +80,8 @@ def from_results(path: str | Path, backend: str = "vm") -> Recording:
     value. The scene recorded in ``run.json`` (its aircraft and aerodynamics switches too:
     :func:`mbs.simulate.scene_of_run`) is rebuilt with ``backend`` ("vm" or "compiled"); its
     parameters are taken from ``run.json``, or row by row from columns of the same name
-    (inputs that change during the run).
+    (inputs that change during the run). ``aircraft``: the run's aircraft file where it is now,
+    when it has moved (:func:`mbs.simulate.scene_of_run`).
     """
     from mbs.results import read_results
     from mbs.simulate import scene_of_run
@@ -88,7 +89,7 @@ def from_results(path: str | Path, backend: str = "vm") -> Recording:
     cols, meta = read_results(Path(path))
     where = Path(path) / "run.json" if Path(path).is_dir() else Path(path).parent / "run.json"
     _check_run(path, cols, meta)
-    scene = scene_of_run(meta, str(where))
+    scene = scene_of_run(meta, str(where), aircraft)
     system = scene.system(backend)
     names = system.info.state_names
     missing = [n for n in ["time", *names] if n not in cols]

@@ -1,0 +1,91 @@
+"""The viewer's scene as a user sees it: distinct colours for every blade, a camera outside the
+model, the run's aircraft file found where it moved (``heli view --aircraft``), the aircraft of
+a live run (``heli view --simulate SCENE --aircraft``), and a unit for every column of every
+scene's results."""
+from __future__ import annotations
+
+import shutil
+
+import pytest
+
+from mbs import aircraft, cli, scenes
+from mbs.dynamics import Layout
+from mbs.results import column_units
+from mbs.simulate import simulate, write
+from aircraft_files import edited
+from viewer.motion import motion
+from viewer.scene import build_scene, posed_extent
+
+
+def run(argv, capsys) -> tuple[int, str]:
+    try:
+        code = cli.main(argv)
+    except SystemExit as exc:  # a mistake found while parsing
+        code = exc.code
+    return code, capsys.readouterr().err
+
+
+def test_six_blades_have_six_colours(tmp_path):
+    craft = aircraft.load(edited(tmp_path / "six.toml", **{"main_rotor.n_blades": 6}))
+    info = scenes.get("hover", craft).system("vm").info
+    scene = build_scene(info)
+    blades = [scene.colors[f"blade{k}"] for k in range(1, 7)]
+    assert len(set(blades)) == 6  # the model's four colours repeated blade 1's for blade 5
+    four = build_scene(scenes.get("hover").system("vm").info)
+    assert [four.colors[f"blade{k}"] for k in range(1, 5)] == blades[:4]  # a four-bladed rotor unchanged
+
+
+def test_the_modal_scenes_camera_starts_outside_the_rotor(tmp_path):
+    """The flexible blades' sections sit along the span through their joints, not their
+    offsets: the camera's distance follows the posed model (the rotor radius, 4.9 m), not the
+    hub (0.6 m)."""
+    sim = simulate("elastic-rotor-modal", 0.05)
+    write(sim, tmp_path)
+    mo = motion(tmp_path, None, None, 1)
+    scene = build_scene(mo.recording.system.info)
+    radius = aircraft.load().data["main_rotor"]["radius"]
+    assert scene.extent < 1.0 and posed_extent(scene, mo.local[0]) == pytest.approx(radius, rel=0.02)
+
+
+@pytest.mark.parametrize("name", list(scenes.all_scenes()))
+def test_every_state_of_every_scene_has_a_unit(name):
+    model = scenes.get(name).model()
+    lay, units = Layout.of(model), column_units(model)
+    assert [n for n in [*lay.q_names, *lay.v_names, *lay.z_names] if not units.get(n)] == []
+
+
+def test_view_finds_a_moved_aircraft_file_with_aircraft(tmp_path, capsys):
+    first = tmp_path / "here" / "bo105.toml"
+    first.parent.mkdir()
+    shutil.copy(aircraft.packaged()["bo105"], first)
+    out = tmp_path / "run"
+    assert run(["simulate", "hover", "--aircraft", str(first), "--revs", "0.1", "--start", "scene", "--quiet",
+                "--out", str(out)], capsys)[0] == 0
+    moved = tmp_path / "there" / "bo105.toml"
+    moved.parent.mkdir()
+    shutil.move(first, moved)
+    code, err = run(["view", str(out)], capsys)
+    assert code == 2 and "cannot be loaded" in err and "give its new place with --aircraft FILE" in err
+    code, err = run(["view", str(out), "--aircraft", "lynx"], capsys)
+    assert code == 2 and "--aircraft" in err and "is not the aircraft file the run was made with" in err
+    code, err = run(["view", str(out), "--aircraft", str(moved), "--html", str(tmp_path / "v.html")], capsys)
+    assert code == 0, err
+    assert (tmp_path / "v.html").stat().st_size > 10_000
+
+
+def test_view_simulate_takes_the_aircraft(monkeypatch, capsys):
+    from viewer import commands
+
+    seen = {}
+    monkeypatch.setattr(commands, "_live_simulation", lambda args: seen.setdefault("args", args) and 0)
+    assert cli.main(["view", "--simulate", "hover", "--aircraft", "lynx"]) == 0
+    assert seen["args"].aircraft.name == "Westland Lynx"
+    code, err = run(["view", "--simulate", "hover", "--aircraft", "nosuch.toml"], capsys)
+    assert code == 2 and "--aircraft" in err and "no such file" in err
+
+
+def test_run_json_gives_modal_coordinates_their_unit():
+    units = column_units(scenes.get("elastic-rotor-modal").model())
+    assert units["blade1.flap2"] == "rad" and units["blade1.torsion_rate"] == "rad/s"
+    swash = column_units(scenes.get("forward-flight-swashplate").model())
+    assert swash["blade1.flap"] == "rad" and swash["blade1.lag_rate"] == "rad/s"  # they had none either
