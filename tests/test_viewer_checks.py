@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import shutil
 
+import numpy as np
 import pytest
 
 from mbs import aircraft, cli, scenes
@@ -89,3 +90,20 @@ def test_run_json_gives_modal_coordinates_their_unit():
     assert units["blade1.flap2"] == "rad" and units["blade1.torsion_rate"] == "rad/s"
     swash = column_units(scenes.get("forward-flight-swashplate").model())
     assert swash["blade1.flap"] == "rad" and swash["blade1.lag_rate"] == "rad/s"  # they had none either
+
+
+def test_swashplate_scenes_plot_blade_pitch_and_actuators():
+    from viewer.motion import from_simulation
+    from viewer.series import panels
+
+    sim = simulate("forward-flight-actuators", 0.1)
+    rec = from_simulation(sim)
+    shown = {p.title: p for p in panels(rec, np.arange(len(rec.t)))}
+    pitch = shown["blade pitch set by the pitch links (deg)"]
+    actuators = shown["swashplate actuator displacements, up (mm)"]
+    assert pitch.names == [f"blade{k}.pitch" for k in range(1, 5)] and actuators.names == [
+        f"actuator{k}.displacement" for k in range(1, 4)]
+    i = sim.system.info.output_names.index("actuator2.displacement")
+    assert actuators.values[0, 1] == pytest.approx(1e3 * sim.outputs[0, i], rel=1e-12)
+    j = sim.system.info.output_names.index("blade3.pitch")
+    assert pitch.values[-1, 2] == pytest.approx(np.degrees(sim.outputs[-1, j]), rel=1e-12)
