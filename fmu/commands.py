@@ -85,8 +85,15 @@ def cmd_bench_fmu(args) -> int:
 
 
 def cmd_cosim(args) -> int:
-    from fmu import cosim
+    import math
 
+    from fmu import cosim
+    from mbs import aircraft
+
+    step = 2 * math.pi / abs((args.aircraft or aircraft.load()).omega) / 100
+    if args.stop < step:
+        raise ValueError(f"--stop {args.stop:g} s is less than one communication step ({step * 1e3:.3g} ms, 1/100 of "
+                         f"a revolution); give --stop {step:.3g} or more")
     res = cosim.run(Path(args.out), args.stop, log=_log, aircraft=args.aircraft)
     c, o = res["closed"], res["open"]
 
@@ -138,12 +145,31 @@ def scene_family(text: str) -> str:
     return ",".join(names)
 
 
+MAX_DEMO_REVS = 10_000
+"""Revolutions of an FMU run at most: its results.csv holds every communication step (about 1 GB
+at this length); longer runs belong to heli simulate, which estimates their size first."""
+
+
 def demo_revs(text: str) -> float:
-    """Argument type of the FMU runs' ``--revs``: at least one communication step (1/100 rev)."""
+    """Argument type of the FMU runs' ``--revs``: at least one communication step (1/100 rev),
+    at most :data:`MAX_DEMO_REVS`."""
     revs = A.positive(text)
     if round(revs * 100) < 1:
         raise A.Bad(f"{text} is less than one communication step (0.01 revolutions)")
+    if revs > MAX_DEMO_REVS:
+        raise A.Bad(f"{text} revolutions would record {revs * 100:.3g} communication steps (results.csv of about "
+                    f"{revs * 0.1 / 1e3:.3g} GB); give {MAX_DEMO_REVS} or fewer, or run long cases with 'heli simulate "
+                    "--every N'")
     return revs
+
+
+def cosim_stop(text: str) -> float:
+    """Argument type of ``heli cosim --stop``: a simulated time in (0, 3600] s."""
+    stop = A.positive(text)
+    if stop > 3600:
+        raise A.Bad(f"{text} s is more than an hour of closed loop (the hover-hold case settles within a minute); "
+                    "give 3600 or less")
+    return stop
 
 
 def register(sub, bench) -> None:
@@ -185,7 +211,7 @@ def register(sub, bench) -> None:
     p = sub.add_parser("cosim", help="closed loop: helicopter FMU + hover-hold controller FMU in one SSP file, run "
                        "in libcosim and in an fmpy master loop; writes the .ssp files, hover_hold.png and .csv")
     p.add_argument("--out", type=A.output_folder, default="out/cosim", help="output folder (default out/cosim)")
-    p.add_argument("--stop", type=A.positive, default=60.0, help="simulated time in s (default 60)")
+    p.add_argument("--stop", type=cosim_stop, default=60.0, help="simulated time in s, at most 3600 (default 60)")
     A.add_aircraft(p)
     add_json(p)
     p.set_defaults(fn=cmd_cosim)

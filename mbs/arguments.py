@@ -88,6 +88,23 @@ flight_speed = Within(*SPEED_RANGE, "m/s", "the flight speeds the model covers (
 climb_rate = Within(*CLIMB_RANGE, "m/s", "the climb rates the model covers (4000 ft/min down or up)")
 
 
+def fraction(text: str) -> float:
+    """Type: a fraction in (0, 1] (0.01 is 1 %)."""
+    value = real_number(0.0, strict=True)(text)
+    if value > 1:
+        raise Bad(f"{text} is a fraction and must be at most 1 (0.01 is 1 %; {text} would be {100 * value:g} %)")
+    return value
+
+
+def tolerance(text: str) -> float:
+    """Type: a residual tolerance in (0, 1e-3]: a looser one is no solution."""
+    value = real_number(0.0, strict=True)(text)
+    if value > 1e-3:
+        raise Bad(f"{text} is too loose for a periodic solution (at most 1e-3; the default 1e-10 is reached in a few "
+                  "iterations)")
+    return value
+
+
 positive_int = whole_number(1)
 non_negative_int = whole_number(0)
 port = whole_number(1, 65535)

@@ -154,18 +154,45 @@ def _unknown(ap: argparse.ArgumentParser, args, extras: list[str]) -> None:
     sub = _chosen(ap, args)
     flag = next((e.split("=")[0] for e in extras if e.startswith("--")), None)
     options = [o for a in sub._actions for o in a.option_strings if o.startswith("--")]
-    hint = HINTS.get((getattr(args, "command", None), flag))
+    command = " ".join(str(getattr(args, k)) for k in ("command", "aircraft_command") if getattr(args, k, None))
+    hint = HINTS.get((getattr(args, "command", None), flag)) or (WORDS.get(command) if flag is None else None)
     close = difflib.get_close_matches(flag, options, n=1, cutoff=0.75) if flag else []
     if hint is None and close:
         hint = f"did you mean {close[0]}?"
     sub.error(f"unrecognized arguments: {' '.join(extras)}" + (f"; {hint}" if hint else ""))
 
 
+WORDS = {"scenes": "'heli scenes' lists every scene and takes none; 'heli scenes --json' gives their details",
+         "aircraft list": "'heli aircraft list' takes no name; 'heli aircraft check NAME' shows one"}
+"""What to say of words a command does not take: command -> hint."""
+
+
+def _repeated(ap: argparse.ArgumentParser, args, argv: list[str]) -> None:
+    """Refuse a single-valued option given more than once (argparse keeps the last silently)."""
+    sub = _chosen(ap, args)
+    single = [a for a in sub._actions if a.option_strings and isinstance(a, argparse._StoreAction)]
+    counts: dict[str, int] = {}
+    for token in argv:
+        if not token.startswith("--"):
+            continue
+        name = token.split("=", 1)[0]
+        match = [a for a in single if name in a.option_strings] or \
+            [a for a in single if any(o.startswith(name) for o in a.option_strings)]
+        if len(match) == 1:
+            flag = match[0].option_strings[-1]
+            counts[flag] = counts.get(flag, 0) + 1
+    twice = [f for f, n in counts.items() if n > 1]
+    if twice:
+        sub.error(f"{twice[0]} is given {counts[twice[0]]} times; give it once (only the last would count)")
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
     args, extras = ap.parse_known_args(argv)
     if extras:
         _unknown(ap, args, extras)
+    _repeated(ap, args, argv)
     _show_messages(bool(getattr(args, "quiet", False)))
     global _prog, _json_out
     prog = _prog = " ".join(["heli", *(getattr(args, k) for k in ("command", "bench", "fmu_command", "aircraft_command",

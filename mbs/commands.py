@@ -87,7 +87,9 @@ def cmd_simulate(args) -> int:
     from mbs.trims import start as begin
 
     scene = _scene(args)
-    _check_revs(args.revs, args.steps_per_rev or scene.steps_per_rev)
+    _check_revs(args.revs, args.steps_per_rev or scene.steps_per_rev, args.every)
+    if args.dtype == "float32" and args.backend == "vm":
+        raise ValueError("--dtype float32 needs --backend compiled: the virtual machine computes in float64 only")
     settings = dict(_settings(args.set))
     speed = settings.pop("speed", None)
     start = args.start or begin.default_start(scene)
@@ -140,11 +142,15 @@ def start_words(start: dict) -> str:
     return start.get("what", "the scene's initial state")
 
 
-def _check_revs(revs: float, steps_per_rev: int) -> None:
-    """Refuse a ``--revs`` shorter than one step."""
-    if round(revs * steps_per_rev) < 1:
+def _check_revs(revs: float, steps_per_rev: int, every: int = 1) -> None:
+    """Refuse a ``--revs`` shorter than one step, and an ``--every`` longer than the run."""
+    steps = round(revs * steps_per_rev)
+    if steps < 1:
         raise ValueError(f"--revs {revs:g} is less than one step ({steps_per_rev} steps per revolution): give "
                          f"--revs {1 / steps_per_rev:g} or more")
+    if every > steps > 1:
+        raise ValueError(f"--every {every} is more than the run's {steps} steps: results.csv would hold its first and "
+                         f"last rows only; give --every {max(1, steps // 10)} or less, or more --revs")
 
 
 def _settings(items: list[str] | None) -> dict[str, float]:
@@ -527,7 +533,8 @@ def register(sub, bench) -> None:
     _add_periodic_arguments(p)
     p.add_argument("--climb-rate", type=A.climb_rate, default=0.0,
                    help=f"climb rate in m/s, up positive, {A.CLIMB_RANGE[0]:g} to {A.CLIMB_RANGE[1]:g} (default 0)")
-    p.add_argument("--tol", type=A.positive, default=1e-10, help="max |scaled residual| to reach (default 1e-10)")
+    p.add_argument("--tol", type=A.tolerance, default=1e-10,
+                   help="max |scaled residual| to reach, at most 1e-3 (default 1e-10)")
     p.add_argument("--iterations", type=A.positive_int, default=20,
                    help="most Newton iterations before giving up (default 20)")
     p.add_argument("--write", metavar="PATH", nargs="?", const=str(user_trims()), default=None,
@@ -597,7 +604,7 @@ def register(sub, bench) -> None:
                         "the aircraft file, or trimmed on first use and stored; the default for the scenes that fly: "
                         "forward-flight, hover and the swashplate scenes), or scene, the scene's own initial state "
                         "(the default for the others); run.json records it")
-    p.add_argument("--step-tol", type=A.positive, default=0.01, metavar="FRACTION",
+    p.add_argument("--step-tol", type=A.fraction, default=0.01, metavar="FRACTION",
                    help="largest step error allowed, as a fraction of each state's range over the first revolution "
                         "(default 0.01): a step-doubling check (three revolutions' worth of steps) warns above it "
                         "with the --steps-per-rev that would do")

@@ -103,7 +103,8 @@ def _lines(path: Path) -> list[str]:
 
 def _check_header(path: Path, names: list[str]) -> None:
     if names[0] != "time":
-        raise ValueError(f"{path}: the first column must be 'time' (s), not {names[0]!r}")
+        hint = next((f"; separate the columns with commas, not {c!r}" for c in ";\t" if c in names[0]), "")
+        raise ValueError(f"{path}: the first column must be 'time' (s), not {names[0]!r}{hint}")
     if len(names) < 2:
         raise ValueError(f"{path}: no input columns after 'time'")
     seen = {n for n in names if names.count(n) > 1 or not n}
@@ -191,8 +192,10 @@ def _check_value(where: str, name: str, value: float, parameters: dict, scene: s
     q = parameters[name]
     low, high, unit = q.get("low", -math.inf), q.get("high", math.inf), q.get("unit", "")
     if not low <= value <= high:
+        hint = (f" (angles are in rad: {value:g} deg would be {math.radians(value):.4g} rad)"
+                if unit == "rad" and low <= math.radians(value) <= high else "")
         raise ValueError(f"{where}: {name} = {value:g} {unit} is outside its range [{low:g}, {high:g}] {unit}"
-                         .replace("  ", " ").rstrip())
+                         .replace("  ", " ").rstrip() + hint)
 
 
 def _check_speed(value: float, scene: str, free: bool) -> None:

@@ -122,8 +122,13 @@ def _header(path: Path) -> list[str]:
     try:
         with open(path, newline="") as f:
             first = f.readline()
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ValueError(f"{path} cannot be read as text: {getattr(exc, 'strerror', None) or exc}") from None
+    except UnicodeDecodeError:
+        raise ValueError(f"{path} is not a text table (a binary file, such as a chart); give the folder of a run or "
+                         "its results.csv") from None
+    except OSError as exc:
+        raise ValueError(f"{path} cannot be read: {exc.strerror or exc}") from None
+    if path.suffix.lower() == ".json":
+        raise ValueError(f"{path} is a run record, not its table; give the folder of the run or its results.csv")
     if not first.strip():
         raise ValueError(f"{path} is empty: {NOT_RESULTS}")
     names = [n.strip() for n in next(csv.reader([first]))]

@@ -58,6 +58,7 @@ def cmd_view(args) -> int:
     exp = export_html(_source(args), out, revs=None if args.revs == 0 else args.revs, start=args.start, every=args.every,
                       slow=args.slow, trace=not args.no_trace, follow=_follows(args), backend=args.backend,
                       max_bytes=args.max_mb * 1e6)
+    _say_shorter(args, exp.motion.recording)
     res = exp.summary()
     rows = "every row" if exp.every == 1 else f"1 row in {exp.every}"
     emit(res, args.json, [f"{res['scene']}: t = {exp.sim_time[0]:.4g} to {exp.sim_time[1]:.4g} s, {exp.keys} keyframes "
@@ -73,6 +74,16 @@ def _source(args):
     from viewer.motion import from_results
 
     return from_results(Path(args.results), args.backend, args.aircraft)
+
+
+def _say_shorter(args, rec) -> None:
+    """Warn when ``--revs`` asks for more revolutions than the run has (all of it is shown)."""
+    from mbs.cli import warn
+
+    if args.revs and rec.revolution:
+        has = (rec.t[-1] - rec.t[0]) / rec.revolution
+        if args.revs > has * (1 + 1e-6):
+            warn(f"--revs {args.revs:g}: the run has {has:.4g} revolutions; all of it is shown")
 
 
 def _serve(args) -> int:

@@ -197,8 +197,12 @@ def key_times(rec: Recording, revs: float | None = 1.0, start: float | None = No
         t1 = min(t1, start + span)
     start = t0 if start is None else start
     if not t0 - 1e-12 <= start <= rec.t[-1]:
-        raise ValueError(f"start = {start} s is outside the recording [{t0}, {rec.t[-1]}] s")
+        raise ValueError(f"--start {start:g} s is outside the run, {t0:g} to {rec.t[-1]:.6g} s; give a time within it")
     rows = np.flatnonzero((rec.t >= start - 1e-12) & (rec.t <= t1 + 1e-12))
+    if len(rows) < 2 and len(rec.t) > 1 and revs is not None:
+        need = 2 * float(np.max(np.diff(rec.t))) / (rec.revolution or (rec.t[-1] - t0))
+        raise ValueError(f"--revs {revs:g} shows less than one step between recorded rows ({np.max(np.diff(rec.t)):.3g} "
+                         f"s apart); give --revs {need:.3g} or more, or 0 for the whole run")
     if len(rows) == 0:
         return np.array([start])
     keep = rows[::every]

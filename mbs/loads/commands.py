@@ -21,6 +21,8 @@ def parse_speeds(text: str):
         raise ValueError(f"sweep {text!r}: expected LO:HI:N (speeds in m/s), e.g. 0:60:13") from None
     if not (len(values) >= 1 and np.all(np.isfinite(values))):
         raise ValueError(f"sweep {text!r}: need N >= 1 finite speeds")
+    if len(values) == 1 and float(lo) != float(hi):
+        raise ValueError(f"sweep {text!r}: N = 1 gives {lo} m/s only, never {hi}; give N >= 2, or --speed {lo}")
     for v in (values[0], values[-1]):
         try:
             A.flight_speed.check(v)

@@ -87,6 +87,15 @@ def _point(row: dict, axes: list[str]) -> str:
     return ", ".join(f"{k} = {row[k]:g}" for k in axes)
 
 
+def _point_revs(text: str) -> float:
+    """Type of ``sweep simulate --revs``: positive, at most 10000 revolutions a point."""
+    revs = A.positive(text)
+    if revs > 10_000:
+        raise A.Bad(f"{text} revolutions a point is about {revs * 100:.3g} steps each (hours per point); give 10000 or "
+                    "fewer")
+    return revs
+
+
 def _range(flag: str, limits=None):
     """Type of a ``LO:HI:N`` axis; ``limits`` (:class:`mbs.arguments.Within`) checks its ends."""
     def parse(text: str):
@@ -148,11 +157,13 @@ def register(sub, bench) -> None:
     t.add_argument("--climb-rate", type=A.climb_rate, default=0.0,
                    help=f"climb rate in m/s, up positive, {A.CLIMB_RANGE[0]:g} to {A.CLIMB_RANGE[1]:g} (default 0)")
     t.add_argument("--method", choices=("rk4", "rk8"), default="rk4", help="fixed-step method (default rk4)")
-    t.add_argument("--tol", type=A.positive, default=1e-10, help="max |scaled residual| to reach (default 1e-10)")
+    t.add_argument("--tol", type=A.tolerance, default=1e-10,
+                   help="max |scaled residual| to reach, at most 1e-3 (default 1e-10)")
     t.add_argument("--iterations", type=A.positive_int, default=20, help="most Newton iterations (default 20)")
     s = kinds.add_parser("simulate", help="simulation at every parameter value; min, max, mean of each output")
     _common(s)
-    s.add_argument("--revs", type=A.positive, default=1.0, help="main-rotor revolutions per point (default 1)")
+    s.add_argument("--revs", type=_point_revs, default=1.0,
+                   help="main-rotor revolutions per point, at most 10000 (default 1)")
     s.add_argument("--method", choices=("euler", "rk4", "rk8"), default="rk4", help="fixed-step method (default rk4)")
     s.add_argument("--dtype", choices=["float64", "float32"], default="float64",
                    help="precision of the compiled code (default float64)")
