@@ -150,10 +150,17 @@ def _named(text: str, what: str) -> None:
         raise Bad(f"{text!r} is empty; give a {what}")
 
 
+FILE_SUFFIXES = (".csv", ".json", ".png", ".html", ".fmu", ".toml", ".parquet", ".mat", ".npz", ".ssp")
+
+
 def output_folder(text: str) -> Path:
-    """Type: a folder that can be created or written (not an empty name)."""
+    """Type: a folder that can be created or written (not an empty name, nor a new folder named
+    like a file: ``--out run.csv`` would make a folder called run.csv)."""
     _named(text, "folder name ('.' for the working folder)")
     path = Path(text).expanduser()
+    if path.suffix.lower() in FILE_SUFFIXES and not path.is_dir():
+        raise Bad(f"{text!r} is named like a file, but --out is the folder the files are written into; give a folder "
+                  f"(e.g. {str(path.with_suffix('')) or 'out'!r})")
     problem = folder_problem(path)
     if problem:
         raise Bad(f"cannot write to {text!r}: {problem}")

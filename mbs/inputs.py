@@ -193,7 +193,9 @@ def _check_value(where: str, name: str, value: float, parameters: dict, scene: s
     low, high, unit = q.get("low", -math.inf), q.get("high", math.inf), q.get("unit", "")
     if not low <= value <= high:
         hint = (f" (angles are in rad: {value:g} deg would be {math.radians(value):.4g} rad)"
-                if unit == "rad" and low <= math.radians(value) <= high else "")
+                if unit == "rad" and low <= math.radians(value) <= high else
+                f" (rotor speeds are in rad/s: {value:g} rpm would be {value * math.pi / 30:.4g} rad/s)"
+                if unit == "rad/s" and low <= value * math.pi / 30 <= high else "")
         raise ValueError(f"{where}: {name} = {value:g} {unit} is outside its range [{low:g}, {high:g}] {unit}"
                          .replace("  ", " ").rstrip() + hint)
 

@@ -80,7 +80,8 @@ def resolve(source: str | Path) -> Path:
     if not path.is_file():
         known = ", ".join(packaged())
         near = path.with_suffix(".toml") if path.suffix != ".toml" and path.with_suffix(".toml").is_file() else None
-        hint = f"did you mean {near}? " if near else ""
+        name = str(source).lower().removesuffix(".toml")
+        hint = f"did you mean {near}? " if near else f"did you mean {name}? " if name in packaged() else ""
         raise AircraftError(path, [f"no such file ({hint}a packaged aircraft is one of {known}; "
                                    "'heli aircraft new NAME' writes a template)"])
     return path
