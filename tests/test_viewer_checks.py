@@ -107,3 +107,40 @@ def test_swashplate_scenes_plot_blade_pitch_and_actuators():
     assert actuators.values[0, 1] == pytest.approx(1e3 * sim.outputs[0, i], rel=1e-12)
     j = sim.system.info.output_names.index("blade3.pitch")
     assert pitch.values[-1, 2] == pytest.approx(np.degrees(sim.outputs[-1, j]), rel=1e-12)
+
+
+@pytest.mark.parametrize("horn", ["housing", "blade"])
+def test_the_swashplate_and_pitch_links_are_drawn_where_the_model_has_them(tmp_path, horn):
+    """Each link's rod joins its balls, exactly the link's length apart (rigid links) at every key;
+    with the horn on the blade its upper ball is the blade's own point ``ball`` carried by the
+    blade's pose (flap, lag and pitch), through the viewer's transforms; the plate passes through
+    the lower balls; the page holds a node for each link and the plate."""
+    from test_swashplate import blade_horn
+
+    from viewer import export_html
+    from viewer.export import data_in
+    from viewer.motion import from_simulation
+    from viewer.swashplate import mechanism
+
+    craft = aircraft.load() if horn == "housing" else blade_horn(tmp_path, 15.0, 3.0)
+    scene = scenes.get("forward-flight-swashplate", craft)
+    sim = simulate(scene, 0.3)
+    rec = from_simulation(sim)
+    mo = motion(rec, None)
+    mech = mechanism(rec, mo.t)
+    sp = craft.data["swashplate"]
+    for blade in mech.lower:
+        assert np.abs(np.linalg.norm(mech.upper[blade] - mech.lower[blade], axis=1) - sp["link_length"]).max() < 1e-12
+    if horn == "blade":
+        from mbs.models.helicopter.swashplate import Swashplate
+
+        ball = np.r_[Swashplate.of(craft.data).ball(1), 1.0]
+        i = rec.info.body_names.index("blade2")
+        carried = np.array([(local[i] @ ball)[:3] for local in mo.local])
+        np.testing.assert_allclose(mech.upper["blade2"], carried, atol=1e-12)
+    balls = np.stack(list(mech.lower.values()), axis=1)
+    assert np.abs(np.einsum("kbi,ki->kb", balls - mech.centre[:, None], mech.normal)).max() < 1e-12
+    page = export_html(sim, tmp_path / "v.html", revs=None)
+    paths = [n["path"] for n in data_in(page.path)["arrows"]]
+    assert sum("/swashplate/blade" in p for p in paths) == 4 and any(p.endswith("/swashplate/plate") for p in paths)
+    assert mechanism(from_simulation(simulate("forward-flight", 0.05)), mo.t[:1]) is None

@@ -40,6 +40,7 @@ class Recording:
     revolution: float | None = None
     P: np.ndarray | None = None
     plots: dict | None = None  # the scene's hinge-angle panels (title -> names)
+    scene: object = None  # the :class:`mbs.scenes.Scene` it is a run of, when known
 
     @property
     def info(self):
@@ -69,7 +70,7 @@ def from_simulation(sim) -> Recording:
     if system.dtype != np.float64:
         system = sim.scene.system("vm")
     return _checked(Recording(system, sim.traj.t, sim.traj.x, sim.params, sim.scene.name,
-                              sim.scene.revolution(system, sim.params), plots=sim.scene.plots))
+                              sim.scene.revolution(system, sim.params), plots=sim.scene.plots, scene=sim.scene))
 
 
 def from_results(path: str | Path, backend: str = "vm", aircraft=None) -> Recording:
@@ -102,7 +103,8 @@ def from_results(path: str | Path, backend: str = "vm", aircraft=None) -> Record
     if varying:
         P = np.array([system.params(p, **{n: cols[n][i] for n in varying}) for i in range(len(cols["time"]))])
     x = np.column_stack([cols[n] for n in names])
-    return _checked(Recording(system, cols["time"], x, p, scene.name, scene.revolution(system, p), P, scene.plots))
+    return _checked(Recording(system, cols["time"], x, p, scene.name, scene.revolution(system, p), P, scene.plots,
+                              scene))
 
 
 def _check_run(path, cols: dict, meta: dict) -> None:
