@@ -163,13 +163,9 @@ def demo_revs(text: str) -> float:
     return revs
 
 
-def cosim_stop(text: str) -> float:
-    """Argument type of ``heli cosim --stop``: a simulated time in (0, 3600] s."""
-    stop = A.positive(text)
-    if stop > 3600:
-        raise A.Bad(f"{text} s is more than an hour of closed loop (the hover-hold case settles within a minute); "
-                    "give 3600 or less")
-    return stop
+cosim_stop = A.positive_at_most(3600, lambda text, stop: f"{text} s is more than an hour of closed loop (the "
+                                "hover-hold case settles within a minute); give 3600 or less")
+"""Argument type of ``heli cosim --stop``: a simulated time in (0, 3600] s."""
 
 
 def register(sub, bench) -> None:

@@ -88,6 +88,17 @@ flight_speed = Within(*SPEED_RANGE, "m/s", "the flight speeds the model covers (
 climb_rate = Within(*CLIMB_RANGE, "m/s", "the climb rates the model covers (4000 ft/min down or up)")
 
 
+def positive_at_most(high: float, why: Callable[[str, float], str]) -> Callable[[str], float]:
+    """Type: a positive finite number at most ``high``; ``why(text, value)`` says what a larger
+    one would mean and what to give."""
+    def convert(text: str) -> float:
+        value = real_number(0.0, strict=True)(text)
+        if value > high:
+            raise Bad(why(text, value))
+        return value
+    return convert
+
+
 def fraction(text: str) -> float:
     """Type: a fraction in (0, 1] (0.01 is 1 %)."""
     value = real_number(0.0, strict=True)(text)

@@ -87,13 +87,9 @@ def _point(row: dict, axes: list[str]) -> str:
     return ", ".join(f"{k} = {row[k]:g}" for k in axes)
 
 
-def _point_revs(text: str) -> float:
-    """Type of ``sweep simulate --revs``: positive, at most 10000 revolutions a point."""
-    revs = A.positive(text)
-    if revs > 10_000:
-        raise A.Bad(f"{text} revolutions a point is about {revs * 100:.3g} steps each (hours per point); give 10000 or "
-                    "fewer")
-    return revs
+_point_revs = A.positive_at_most(10_000, lambda text, revs: f"{text} revolutions a point is about {revs * 100:.3g} "
+                                 "steps each (hours per point); give 10000 or fewer")
+"""Type of ``sweep simulate --revs``: positive, at most 10000 revolutions a point."""
 
 
 def _range(flag: str, limits=None):
