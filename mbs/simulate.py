@@ -7,8 +7,9 @@ table by parameter name (:mod:`mbs.inputs`; the value in force from that row on)
 of every column is in ``run.json`` (``"units"``; :mod:`mbs.results`). ``run.json`` records
 the scene (with its aircraft file and aerodynamics switches: see :func:`run_record`),
 parameters, ``--set`` values and input table, integrator, the step-error estimate and
-figures, so that a results folder can be re-opened (e.g. by the viewer,
-:func:`scene_of_run`) without guessing.
+figures, the initial state and where it came from (``"initial_state"``: a periodic trim,
+:mod:`mbs.trims.start`, or the scene's own start) and the SHA-256 of ``results.csv``, so that
+a results folder can be re-opened (e.g. by the viewer, :func:`scene_of_run`) without guessing.
 
 :func:`prepare` sets a run up without running it (:class:`Run`: its step-error check and cost
 estimate come before the work); :func:`simulate` prepares and runs.

@@ -114,3 +114,14 @@ def test_an_entry_of_the_same_identity_is_replaced_and_other_tables_kept(tmp_pat
 def test_start_trim_is_refused_where_there_is_no_trim(home, capsys):
     code, _, err = run(["simulate", "structural", "--start", "trim"], capsys)
     assert code == 2 and "--start trim: scene 'structural' has no periodic trim" in err
+
+
+def test_runs_that_start_from_the_estimate_say_so(home):
+    from mbs.trims.start import estimate_warning
+
+    craft = aircraft.load(shutil.copy(aircraft.packaged()["bo105"], home / "bo105.toml"))
+    text = estimate_warning(scenes.get("forward-flight", craft), "every point of the sweep")
+    assert text.startswith("every point of the sweep starts scene 'forward-flight' of the MBB Bo105 from its own "
+                           "initial state, the closed-form trim estimate")
+    assert estimate_warning(scenes.get("forward-flight"), "x") is None  # the Bo105's stored trim: its controls
+    assert estimate_warning(scenes.get("ground-run", craft), "x") is None  # clamped: no flight to trim

@@ -109,7 +109,12 @@ def _live_simulation(args) -> int:
     from mbs._progress import Progress
     from viewer.live import LiveViewer
 
+    from mbs.cli import warn
+    from mbs.trims.start import estimate_warning
+
     scene = scenes.get(args.simulate, aircraft=args.aircraft)
+    if estimate_warning(scene, "heli view --simulate"):
+        warn(estimate_warning(scene, "heli view --simulate"))
     system = scene.system(args.backend)
     signal.signal(signal.SIGTERM, _terminate_as_exit)
     with LiveViewer(system, follow=_follows(args), web_port=args.port) as live:

@@ -15,12 +15,25 @@ def cmd_sweep(args) -> int:
 
     axes, options = _axes(args), _options(args)
     out = args.out or A.output_folder(f"out/sweep/{args.kind}-{args.scene}")
+    if args.kind == "simulate":
+        _warn_untrimmed(args)
     start = time.perf_counter()
     result = run(args.kind, args.scene, axes, options, out=out, workers=args.workers, scheduler=args.scheduler,
                  progress=Progress(f"sweep {args.kind} {args.scene}", not args.quiet))
     res = _summary(args, result, run_info(result), out, time.perf_counter() - start)
     emit(res, args.json, _lines(res))
     return 0 if res["errors"] == 0 and res["ok"] > 0 else 1
+
+
+def _warn_untrimmed(args) -> None:
+    """Say when every point of a simulate sweep starts from the closed-form estimate."""
+    from mbs import scenes
+    from mbs.cli import warn
+    from mbs.trims.start import estimate_warning
+
+    text = estimate_warning(scenes.get(args.scene, aircraft=args.aircraft), "every point of the sweep")
+    if text:
+        warn(text)
 
 
 def _axes(args) -> dict:

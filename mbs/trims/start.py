@@ -175,3 +175,13 @@ def untrimmed_warning(run) -> str | None:
     return (f"--start scene: scene {run.scene.name!r} of the {run.scene.aircraft.name} starts from the closed-form "
             "trim estimate, not a trim, so it starts with a transient; without --start scene it starts from its "
             "periodic trim")
+
+
+def estimate_warning(scene, who: str) -> str | None:
+    """A warning for ``who`` (a command that runs the scene from its own initial state) when
+    that state is the closed-form estimate of a free-flying trimmable scene."""
+    if default_start(scene) != TRIM or not _scene_origin(scene)[1]:
+        return None
+    return (f"{who} starts scene {scene.name!r} of the {scene.aircraft.name} from its own initial state, the "
+            "closed-form trim estimate, not a trim: expect a start-up transient ('heli simulate' starts from the "
+            "periodic trim)")
