@@ -225,8 +225,7 @@ def cmd_trim(args) -> int:
 
         key = store.write(args.write, entry_of(res, scene))
         out.update(written=str(args.write), key=key)
-        lines.append(f"stored as {key!r} in {args.write}: 'heli simulate {scene.name}{_aircraft_option(args)}"
-                     f"{_speed_option(args)}' starts from it")
+        lines.append(f"stored as {key!r} in {args.write}: " + _who_starts(args, scene, res))
     elif args.write:
         lines.append(f"{args.write} not written: the trim did not converge")
     elif res.converged:
@@ -236,13 +235,23 @@ def cmd_trim(args) -> int:
     return 0 if res.converged else 1
 
 
-def _aircraft_option(args) -> str:
+def _who_starts(args, scene, res) -> str:
+    """Which ``heli simulate`` starts from a stored trim ``res``, or why none does (it looks up
+    level flight trimmed by RK4 at the scene's steps per revolution)."""
+    if res.climb_rate or res.method != "rk4" or res.steps_per_rev != scene.steps_per_rev:
+        return (f"'heli simulate' starts from level-flight trims by rk4 at {scene.steps_per_rev} steps per revolution "
+                f"(this one: climb {res.climb_rate:g} m/s, {res.method} at {res.steps_per_rev}), so not from this one")
     craft = getattr(args, "aircraft", None)
-    return "" if craft is None else f" --aircraft {craft.key if craft.packaged else craft.path}"
+    options = ("" if craft is None else f" --aircraft {craft.key if craft.packaged else craft.path}") + \
+        ("" if getattr(args, "speed", None) is None else f" --set speed={args.speed:g}") + \
+        ("" if getattr(args, "aero", None) is None else f" --aero {args.aero}")
+    from mbs.trims.store import beside
 
-
-def _speed_option(args) -> str:
-    return "" if getattr(args, "speed", None) is None else f" --set speed={args.speed:g}"
+    read = [user_trims().resolve(), beside(scene.aircraft).resolve()] if scene.aircraft else [user_trims().resolve()]
+    if Path(args.write).resolve() not in read:
+        return (f"'heli simulate' does not read this file: it reads {user_trims()} (--write without PATH) and "
+                "<aircraft stem>_trim.toml beside the aircraft file")
+    return f"'heli simulate {scene.name}{options}' starts from it"
 
 
 def _trim_lines(res) -> list[str]:
