@@ -125,3 +125,11 @@ def test_runs_that_start_from_the_estimate_say_so(home):
                            "initial state, the closed-form trim estimate")
     assert estimate_warning(scenes.get("forward-flight"), "x") is None  # the Bo105's stored trim: its controls
     assert estimate_warning(scenes.get("ground-run", craft), "x") is None  # clamped: no flight to trim
+
+
+def test_heli_scenes_says_where_the_flying_scenes_start(capsys):
+    assert cli.main(["scenes"]) == 0
+    out = capsys.readouterr().out
+    assert "heli simulate starts it from its periodic trim (stored per aircraft file, or trimmed and stored on first " \
+           "use)" in out and "trimmed controls and attitude" not in out
+    assert "hover controls (a stored hover trim's, else the closed-form estimate's)" in out
