@@ -1,11 +1,11 @@
 """``heli`` subcommands of the FMU: ``fmu build``, ``demo`` and ``bench fmu``."""
 from __future__ import annotations
 
-import shutil
 import sys
 from pathlib import Path
 
 from mbs import arguments as A
+from mbs import atomic
 from mbs.cli import add_json, emit
 
 
@@ -33,8 +33,7 @@ def cmd_fmu_build(args) -> int:
         path, seconds = build.ensure_fmu(scenes, force=args.force, log=_log, aircraft=args.aircraft)
     dest = args.out / path.name if args.out.suffix != ".fmu" else args.out
     try:
-        dest.parent.mkdir(parents=True, exist_ok=True)
-        shutil.copy2(path, dest)
+        atomic.copy(path, dest)
     except OSError as exc:
         raise ValueError(f"cannot write the FMU to {dest}: {dest.parent} is not a writable folder "
                          f"({exc.strerror or exc}); choose another --out") from None
@@ -51,7 +50,7 @@ def cmd_demo(args) -> int:
 
     res = demo.run(Path(args.out), args.revs, log=_log, aircraft=args.aircraft)
     lines = [f"{res['scene']}: {res['revs']:g} revolutions through the FMU under fmpy from its periodic trim "
-             f"(communication step {res['communication_step_s'] * 1e3:.3f} ms, collective step and cyclic doublet)",
+             f"(communication step {res['communication_step_s'] * 1e3:.3f} ms; {res['inputs_seen']})",
              f"FMU: {res['fmu_cached']} ({'built in %.1f s' % res['build_s'] if res['build_s'] else 'from the cache'})",
              f"fmpy run: {res['fmpy_wall_s']:.2f} s wall for {res['simulated_s']:.3f} s simulated "
              f"({res['realtime_factor']:.1f}x real time); total {res['total_s']:.1f} s",
@@ -86,16 +85,28 @@ def cmd_bench_fmu(args) -> int:
 
 
 def cmd_cosim(args) -> int:
-    from fmu import cosim
+    import math
 
+    from fmu import cosim
+    from mbs import aircraft
+
+    step = 2 * math.pi / abs((args.aircraft or aircraft.load()).omega) / 100
+    if args.stop < step:
+        raise ValueError(f"--stop {args.stop:g} s is less than one communication step ({step * 1e3:.3g} ms, 1/100 of "
+                         f"a revolution); give --stop {step:.3g} or more")
     res = cosim.run(Path(args.out), args.stop, log=_log, aircraft=args.aircraft)
     c, o = res["closed"], res["open"]
-    lines = [f"hover, 1 m/s initial disturbance, {res['stop_s']:g} s in steps of {res['step_s'] * 1e3:.6f} ms "
+
+    def when(key: str) -> str:
+        return f"at {o[key]:.2f} s" if o[key] is not None else f"not within the {res['stop_s']:g} s run"
+
+    name = args.aircraft.name if args.aircraft else "MBB Bo105"
+    lines = [f"{name}, hover, 1 m/s initial disturbance, {res['stop_s']:g} s in steps of {res['step_s'] * 1e3:.6f} ms "
              f"({res['steps']} steps)",
              f"closed loop: attitude within {c['max_attitude_deg']:.2f} deg of the trim (within 2 deg after "
              f"{c['attitude_within_2deg_after_s']:.2f} s), position within {c['max_drift_m']:.2f} m of the start",
-             f"open loop: attitude beyond 2 deg at {o['attitude_beyond_2deg_s']} s, beyond 20 deg at "
-             f"{o['attitude_beyond_20deg_s']} s; drift beyond 5 m at {o['drift_beyond_5m_s']} s",
+             f"open loop: attitude beyond 2 deg {when('attitude_beyond_2deg_s')}, beyond 20 deg "
+             f"{when('attitude_beyond_20deg_s')}; drift beyond 5 m {when('drift_beyond_5m_s')}",
              f"algebraic loops: {len(res['algebraic_loops'])} (with every output depending on every input, as "
              f"without ModelStructure dependencies: {res['algebraic_loops_without_dependencies']})",
              f"libcosim vs fmpy master: largest difference {res['libcosim_vs_fmpy_max_abs']:.3g}; wall time "
@@ -134,12 +145,27 @@ def scene_family(text: str) -> str:
     return ",".join(names)
 
 
+MAX_DEMO_REVS = 10_000
+"""Revolutions of an FMU run at most: its results.csv holds every communication step (about 1 GB
+at this length); longer runs belong to heli simulate, which estimates their size first."""
+
+
 def demo_revs(text: str) -> float:
-    """Argument type of the FMU runs' ``--revs``: at least one communication step (1/100 rev)."""
+    """Argument type of the FMU runs' ``--revs``: at least one communication step (1/100 rev),
+    at most :data:`MAX_DEMO_REVS`."""
     revs = A.positive(text)
     if round(revs * 100) < 1:
         raise A.Bad(f"{text} is less than one communication step (0.01 revolutions)")
+    if revs > MAX_DEMO_REVS:
+        raise A.Bad(f"{text} revolutions would record {revs * 100:.3g} communication steps (results.csv of about "
+                    f"{revs * 0.1 / 1e3:.3g} GB); give {MAX_DEMO_REVS} or fewer, or run long cases with 'heli simulate "
+                    "--every N'")
     return revs
+
+
+cosim_stop = A.positive_at_most(3600, lambda text, stop: f"{text} s is more than an hour of closed loop (the "
+                                "hover-hold case settles within a minute); give 3600 or less")
+"""Argument type of ``heli cosim --stop``: a simulated time in (0, 3600] s."""
 
 
 def register(sub, bench) -> None:
@@ -181,7 +207,7 @@ def register(sub, bench) -> None:
     p = sub.add_parser("cosim", help="closed loop: helicopter FMU + hover-hold controller FMU in one SSP file, run "
                        "in libcosim and in an fmpy master loop; writes the .ssp files, hover_hold.png and .csv")
     p.add_argument("--out", type=A.output_folder, default="out/cosim", help="output folder (default out/cosim)")
-    p.add_argument("--stop", type=A.positive, default=60.0, help="simulated time in s (default 60)")
+    p.add_argument("--stop", type=cosim_stop, default=60.0, help="simulated time in s, at most 3600 (default 60)")
     A.add_aircraft(p)
     add_json(p)
     p.set_defaults(fn=cmd_cosim)

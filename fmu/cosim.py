@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from fmu import controller
+from mbs import atomic
 
 HELI, CTRL = "helicopter", "controller"
 RECORDED = list(controller.INPUTS)
@@ -276,8 +277,10 @@ def max_difference(a: dict, b: dict) -> float:
     return max(float(np.max(np.abs(np.asarray(a[m]) - np.asarray(b[m])))) for m in names)
 
 
-def plot(closed: dict, open_: dict, trim: dict, path: Path) -> Path:
-    """Attitude, position and controls of the closed and open loop against time."""
+def plot(closed: dict, open_: dict, trim: dict, path: Path, aircraft: str = "Bo105") -> Path:
+    """Attitude, position and controls of the closed and open loop against time; the attitude
+    and position axes fit the run, up to ±25 deg and ±60 m (beyond, the open loop's divergence
+    would flatten the closed loop)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -300,11 +303,12 @@ def plot(closed: dict, open_: dict, trim: dict, path: Path) -> Path:
     for ax in axes:
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=7, ncol=3)
-    axes[0].set_ylim(-25, 25)
-    axes[1].set_ylim(-60, 60)
-    fig.suptitle("Bo105 hover after a 1 m/s disturbance: helicopter FMU + hover-hold controller FMU (libcosim)")
+    for ax, most in ((axes[0], 25.0), (axes[1], 60.0)):
+        low, high = ax.get_ylim()
+        ax.set_ylim(max(low, -most), min(high, most))
+    fig.suptitle(f"{aircraft} hover after a 1 m/s disturbance: helicopter FMU + hover-hold controller FMU (libcosim)")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    atomic.savefig(fig, path, dpi=110)
     plt.close(fig)
     return path
 
@@ -329,12 +333,12 @@ def run(out: Path, stop: float = 60.0, log=None, aircraft=None) -> dict:
         via_fmpy = run_fmpy(closed_ssp, stop, step, Path(tmp), _state_names(heli))
     open_ = run_libcosim(open_ssp, stop, step)
     trim = dsg["trim_inputs"]
-    figure = plot(closed, open_, trim, out / "hover_hold.png")
+    figure = plot(closed, open_, trim, out / "hover_hold.png", craft.name)
     page = viewer_page(via_fmpy, out / "viewer.html", aircraft=craft)
     csv = out / "hover_hold.csv"
     names = ["time", *RECORDED, *controller.OUTPUTS]
-    np.savetxt(csv, np.column_stack([closed[m] for m in names]), delimiter=",", header=",".join(names), comments="",
-               fmt="%.12g")
+    atomic.write(csv, lambda tmp: np.savetxt(tmp, np.column_stack([closed[m] for m in names]), delimiter=",",
+                                             header=",".join(names), comments="", fmt="%.12g"))
     return {"stop_s": stop, "step_s": step, "steps": len(closed["time"]), "closed": excursions(closed, trim),
             "open": excursions(open_, trim), "libcosim_vs_fmpy_max_abs": max_difference(closed, via_fmpy),
             "algebraic_loops": loops, "algebraic_loops_without_dependencies": len(algebraic_loops(closed_ssp, False)),

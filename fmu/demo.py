@@ -59,26 +59,30 @@ def run(out: Path, revs: float = 10.0, log=print, aircraft=None) -> dict:
     t0 = time.perf_counter()
     res = hosts.run_fmpy(path, stop, dt, table, {"scene": SCENE, "initial_state": START}, names)
     run_s = time.perf_counter() - t0
-    out.mkdir(parents=True, exist_ok=True)
-    copy = Path(shutil.copy2(path, out / path.name))
+    from mbs import atomic
+    from mbs.results import RESULTS_DIGEST
+
+    files = {"results": out / "results.csv", "hinge_angles": out / "hinge_angles.png", "fmu": out / path.name}
     summary = {**run_record(scenes.get(SCENE, aircraft=craft)), "initial_state": START, "trim": trim["trim"],
-               "fmu": str(copy),
+               "fmu": str(files["fmu"]),
                "fmu_cached": str(path), "revs": revs, "communication_step_s": dt,
                "simulated_s": stop, "build_s": build_s, "fmpy_wall_s": run_s,
                "realtime_factor": stop / run_s, "importer": "fmpy.simulate_fmu",
-               "schedule": hosts.table_rows(table),
+               "schedule": hosts.table_rows(table), "inputs_seen": _inputs_seen(table, stop),
                "parameters": {**_fmu_parameters(path), **{n: float(res[n][-1]) for n in facts["inputs"]}}}
-    files = {"results": _write_csv(res, out / "results.csv"),
-             "hinge_angles": hinge_plot(res, table, dt * steps_per_rev, spec, out / "hinge_angles.png"),
-             "fmu": copy}
-    summary["files"] = {k: str(v) for k, v in files.items()}
-    (out / "run.json").write_text(json.dumps(summary, indent=1))
-    summary["files"]["run"] = str(out / "run.json")
+    summary["files"] = {**{k: str(v) for k, v in files.items()}, "run": str(out / "run.json")}
+    with atomic.Files() as written:  # renamed together: the folder never mixes two runs
+        _write_csv(res, written.temporary(files["results"]))
+        summary[RESULTS_DIGEST] = atomic.sha256(written.pending[0][0])
+        hinge_plot(res, table, dt * steps_per_rev, spec, written.temporary(files["hinge_angles"]),
+                   f"{SCENE} of the {craft.name} at {trim['trim']['speed']:g} m/s")
+        shutil.copyfile(path, written.temporary(files["fmu"]))
+        written.temporary(out / "run.json").write_text(json.dumps(summary, indent=1))
     viewer = _viewer(out)
     if viewer:
         summary["files"]["viewer"] = str(viewer)
     summary["total_s"] = time.perf_counter() - start
-    (out / "run.json").write_text(json.dumps(summary, indent=1))
+    atomic.write_text(out / "run.json", json.dumps(summary, indent=1))
     return summary
 
 
@@ -97,18 +101,32 @@ def _write_csv(res: np.ndarray, path: Path) -> Path:
     return path
 
 
-def hinge_plot(res: np.ndarray, table: np.ndarray, revolution: float, spec: dict, path: Path) -> Path:
+def hinge_plot(res: np.ndarray, table: np.ndarray, revolution: float, spec: dict, path: Path,
+               what: str = SCENE) -> Path:
     """The pitch inputs (collectives, cyclics) and the scene's hinge-angle panels against time
-    (s and revolutions), in degrees; dotted lines at the input switches of ``table``."""
+    (s and revolutions), in degrees; dotted lines at the input switches of ``table`` within the
+    run; the title names ``what`` (scene, aircraft, speed) and the inputs that happen in the run."""
     from mbs import plots
 
     inputs = list(table.dtype.names[1:])
     panels = {"collective pitch (rad)": [n for n in inputs if "cyclic" not in n],
               "cyclic pitch (rad)": [n for n in inputs if "cyclic" in n], **spec["scenes"][SCENE]["plots"]}
-    events = sorted({float(t) for t in table["time"][1:] if t <= res["time"][-1]})
+    end = res["time"][-1]
+    events = sorted({float(t) for t in table["time"][1:] if t < end})
     return plots.time_panels(res["time"], revolution, res, panels, path,
-                             f"{SCENE} through the FMU (fmpy) from its periodic trim: collective step and "
-                             "longitudinal-cyclic doublet", events)
+                             f"{what} through the FMU (fmpy) from its periodic trim: {_inputs_seen(table, end)}",
+                             events)
+
+
+def _inputs_seen(table: np.ndarray, end: float) -> str:
+    """The pitch inputs of ``table`` that change before ``end`` (s), as a title says them."""
+    said = []
+    for n in table.dtype.names[1:]:
+        times = table["time"][1:][np.diff(table[n]) != 0]
+        if times.size and times[0] < end:
+            what = "collective step" if n == "collective" else f"{n.replace('_', '-')} doublet"
+            said.append(what + (" (its start: the run ends before the rest)" if times[-1] >= end else ""))
+    return " and ".join(said) or "trim inputs held (the run ends before the first input)"
 
 
 def fmu_spec(fmu: Path) -> dict:

@@ -22,9 +22,23 @@ def start_value(text: str) -> tuple[str, object]:
 
 
 def fmu_file(text: str) -> Path:
-    path = Path(text)
+    """Argument type: an FMU, i.e. a zip archive with a ``modelDescription.xml``."""
+    import zipfile
+
+    path = Path(text).expanduser()
+    if path.is_dir():
+        raise A.Bad(f"{text} is a folder; give an .fmu file ('heli fmu build --native' makes one)")
     if not path.is_file():
-        raise A.Bad(f"{text}: no such FMU file")
+        raise A.Bad(f"{text}: no such FMU file ('heli fmu build --native' makes one)")
+    try:
+        with zipfile.ZipFile(path) as z:
+            z.getinfo("modelDescription.xml")
+    except (zipfile.BadZipFile, OSError) as exc:
+        raise A.Bad(f"{text} is not an FMU: an FMU is a zip archive, and this file is not one "
+                    f"({getattr(exc, 'strerror', None) or exc}); give an .fmu file") from None
+    except KeyError:
+        raise A.Bad(f"{text} is a zip archive without a modelDescription.xml, so not an FMU; give an .fmu file") \
+            from None
     return path
 
 
@@ -54,15 +68,11 @@ def cmd_linearize(args) -> int:
 
 
 def _write(path: Path, lin) -> None:
-    data = {"A": lin.A, "B": lin.B, "C": lin.C, "D": lin.D, "x": lin.x, "u": lin.u,
-            "states": np.array(lin.states, dtype=object), "inputs": np.array(lin.inputs, dtype=object),
-            "outputs": np.array(lin.outputs, dtype=object)}
-    if path.suffix.lower() == ".mat":
-        from scipy.io import savemat
+    from mbs.analysis.derivatives import write_matrix_file
 
-        savemat(str(path), data)
-    else:
-        np.savez(path, **{k: (v.astype(str) if v.dtype == object else v) for k, v in data.items()})
+    write_matrix_file(path, {"A": lin.A, "B": lin.B, "C": lin.C, "D": lin.D, "x": lin.x, "u": lin.u,
+                             "states": np.array(lin.states, dtype=object), "inputs": np.array(lin.inputs, dtype=object),
+                             "outputs": np.array(lin.outputs, dtype=object)})
 
 
 def cmd_bench_me(args) -> int:
@@ -92,7 +102,7 @@ def register(fsub, bench) -> None:
     p.add_argument("fmu", type=fmu_file, help="the .fmu file")
     p.add_argument("--set", action="append", type=start_value, metavar="NAME=VALUE",
                    help="start value of a parameter or input before initialisation (e.g. scene=hover); repeatable")
-    p.add_argument("--time", type=float, default=None, help="time of the point, s (default the start time)")
+    p.add_argument("--time", type=A.finite, default=None, help="time of the point, s (default the start time)")
     p.add_argument("--interface", choices=["ModelExchange", "CoSimulation"], default=None,
                    help="default: model exchange when the FMU has it")
     p.add_argument("--out", type=A.output_file(".npz", ".mat"), default=None,

@@ -70,29 +70,11 @@ def _version(dist: str) -> str | None:
 
 
 def residual(entry: dict, system, scene) -> float:
-    """Max-norm scaled periodicity residual of the stored ``entry`` for ``system`` (the
-    scene's model): ``S x(τ) - x(0)`` over every state but the position, after the trim's
-    shooting interval ``τ`` with its controls held; ``inf`` when the model's states or
-    controls are not those of the entry."""
-    from mbs.analysis.period import scene_period
-    from mbs.analysis.shooting import residual_scales
-    from mbs.analysis.trim import reference_radius
+    """Max-norm scaled periodicity residual of the stored ``entry`` for ``system`` (the scene's
+    model): :func:`mbs.trims.entry.residual`, the check of every stored trim."""
+    from mbs.trims.entry import residual as periodicity
 
-    info = system.info
-    try:
-        x0 = np.array([entry["state"][n] for n in info.state_names])
-        p = system.params(entry["controls"])
-    except (KeyError, ValueError):
-        return float("inf")
-    period = scene_period(scene, system, p)
-    n = period.revs * entry["steps_per_rev"]
-    traj = system.run(x0, 0.0, period.duration / n, n, every=n, p=p, method=entry["method"])
-    if not traj.ok:
-        return float("inf")
-    keep = [i for i, name in enumerate(info.state_names) if name not in ("fuselage.x", "fuselage.y", "fuselage.z")]
-    r = period.symmetry(info.nx)[keep] * traj.x[-1][keep] - x0[keep]
-    radius = reference_radius(scene)
-    return float(np.max(np.abs(r) / residual_scales([info.state_names[i] for i in keep], period.omega, radius)))
+    return periodicity(entry, system, scene)
 
 
 def stored() -> dict:

@@ -50,14 +50,75 @@ def real_number(low: float = -math.inf, strict: bool = False) -> Callable[[str],
     return convert
 
 
-def within(low: float, high: float, unit: str) -> Callable[[str], float]:
-    """Type: a finite number in ``[low, high]`` (``unit`` named in the message)."""
-    def convert(text: str) -> float:
+class Within:
+    """Type: a finite number in ``[low, high]`` (``unit``); ``what`` names the range in the
+    message and ``hint(value)`` adds what the user may have meant. :meth:`check` checks a value
+    found otherwise (one of a sweep's)."""
+
+    def __init__(self, low: float, high: float, unit: str, what: str, hint: Callable[[float], str] = lambda v: ""):
+        self.low, self.high, self.unit, self.what, self.hint = low, high, unit, what, hint
+
+    def __call__(self, text: str) -> float:
         value = real_number()(text)
-        if not low <= value <= high:
-            raise Bad(f"{text} {unit} is outside {low:g} to {high:g} {unit}")
+        self.check(value, text)
+        return value
+
+    def check(self, value: float, text: str | None = None) -> None:
+        if not self.low <= value <= self.high:
+            raise Bad(f"{text or f'{value:g}'} {self.unit} is outside {self.what}, {self.low:g} to {self.high:g} "
+                      f"{self.unit}{self.hint(value)}")
+
+
+SPEED_RANGE = (-20.0, 90.0)
+"""Flight speeds (m/s) the commands accept: rearward flight to 175 kt, beyond every packaged
+aircraft's never-exceed speed (the FMU's ``initial_forward_speed`` has the same range)."""
+CLIMB_RANGE = (-20.0, 20.0)
+"""Climb rates (m/s, up positive) the commands accept: about 4000 ft/min either way."""
+KNOT = 0.514444  # m/s
+
+
+def _knots(value: float) -> str:
+    """`` (speeds are in m/s: 100 kt would be 51.4 m/s)`` when ``value`` in knots would be a speed."""
+    ms = value * KNOT
+    return f" (speeds are in m/s: {value:g} kt would be {ms:.3g} m/s)" if SPEED_RANGE[0] <= ms <= SPEED_RANGE[1] \
+        else ""
+
+
+flight_speed = Within(*SPEED_RANGE, "m/s", "the flight speeds the model covers (rearward flight to 175 kt)", _knots)
+climb_rate = Within(*CLIMB_RANGE, "m/s", "the climb rates the model covers (4000 ft/min down or up)")
+
+
+def within(low: float, high: float, unit: str, what: str = "the range it takes") -> Within:
+    """Type: a finite number in ``[low, high]`` (``unit`` named in the message)."""
+    return Within(low, high, unit, what)
+
+
+def positive_at_most(high: float, why: Callable[[str, float], str]) -> Callable[[str], float]:
+    """Type: a positive finite number at most ``high``; ``why(text, value)`` says what a larger
+    one would mean and what to give."""
+    def convert(text: str) -> float:
+        value = real_number(0.0, strict=True)(text)
+        if value > high:
+            raise Bad(why(text, value))
         return value
     return convert
+
+
+def fraction(text: str) -> float:
+    """Type: a fraction in (0, 1] (0.01 is 1 %)."""
+    value = real_number(0.0, strict=True)(text)
+    if value > 1:
+        raise Bad(f"{text} is a fraction and must be at most 1 (0.01 is 1 %; {text} would be {100 * value:g} %)")
+    return value
+
+
+def tolerance(text: str) -> float:
+    """Type: a residual tolerance in (0, 1e-3]: a looser one is no solution."""
+    value = real_number(0.0, strict=True)(text)
+    if value > 1e-3:
+        raise Bad(f"{text} is too loose for a periodic solution (at most 1e-3; the default 1e-10 is reached in a few "
+                  "iterations)")
+    return value
 
 
 positive_int = whole_number(1)
@@ -105,10 +166,17 @@ def _named(text: str, what: str) -> None:
         raise Bad(f"{text!r} is empty; give a {what}")
 
 
+FILE_SUFFIXES = (".csv", ".json", ".png", ".html", ".fmu", ".toml", ".parquet", ".mat", ".npz", ".ssp")
+
+
 def output_folder(text: str) -> Path:
-    """Type: a folder that can be created or written (not an empty name)."""
+    """Type: a folder that can be created or written (not an empty name, nor a new folder named
+    like a file: ``--out run.csv`` would make a folder called run.csv)."""
     _named(text, "folder name ('.' for the working folder)")
     path = Path(text).expanduser()
+    if path.suffix.lower() in FILE_SUFFIXES and not path.is_dir():
+        raise Bad(f"{text!r} is named like a file, but --out is the folder the files are written into; give a folder "
+                  f"(e.g. {str(path.with_suffix('')) or 'out'!r})")
     problem = folder_problem(path)
     if problem:
         raise Bad(f"cannot write to {text!r}: {problem}")

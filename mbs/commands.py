@@ -1,13 +1,12 @@
 """Core subcommands of ``heli``: scenes, simulate, trim, figures (``heli demo`` is in :mod:`fmu.commands`)."""
 from __future__ import annotations
 
-import os
 import re
 import sys
 from pathlib import Path
 
 from mbs import arguments as A
-from mbs.cli import add_json, emit
+from mbs.cli import add_json, emit, say
 
 FIXED_METHODS = ("euler", "rk4", "rk8")  # mbs.integrators.FIXED_STEP, named here to keep casadi out of start-up
 
@@ -85,29 +84,46 @@ def cmd_simulate(args) -> int:
     from mbs.run_cost import check_size
     from mbs.simulate import prepare, write
 
+    from mbs.trims import start as begin
+
     scene = _scene(args)
-    _check_revs(args.revs, args.steps_per_rev or scene.steps_per_rev)
+    _check_revs(args.revs, args.steps_per_rev or scene.steps_per_rev, args.every)
+    if args.dtype == "float32" and args.backend == "vm":
+        raise ValueError("--dtype float32 needs --backend compiled: the virtual machine computes in float64 only")
     settings = dict(_settings(args.set))
     speed = settings.pop("speed", None)
+    start = args.start or begin.default_start(scene)
+    begin.check(start, scene)
+    if speed is not None and start == begin.TRIM:
+        from mbs.inputs import check_settings
+
+        check_settings({"speed": speed}, {}, scene.name, _model_facts(scene)[1])
     run = prepare(scene, args.revs, args.steps_per_rev, args.dtype, args.backend, params=settings, every=args.every,
-                  method=args.method, inputs=args.inputs, speed=speed)
+                  method=args.method, inputs=args.inputs, speed=None if start == begin.TRIM else speed)
+    cost = run.cost()  # time and size first: a run too large is refused before a trim is computed for it
+    check_size(cost, args.max_gb)
+    if start == begin.TRIM:
+        begin.from_trim(run, speed, log=say, progress=Progress(f"trim {scene.name}", not args.quiet))
+        run.settings.update({} if speed is None else {"speed": speed})
+    else:
+        run.start = begin.scene_record(run)
+        run.warnings += [w for w in [begin.untrimmed_warning(run)] if w]
     for text in run.warnings:
         warn(text)
     step = run.check_step(args.step_tol)
     if not step.ok or step.ratio is None:
         warn(step.message())
-    cost = run.cost(step.step_s)
-    check_size(cost, args.max_gb)
     if cost.worth_saying():
-        print(f"heli simulate: {cost.message()}", file=sys.stderr, flush=True)
+        say(f"heli simulate: {cost.message()}")
     show, slow = not args.quiet, cost.rows * cost.row_s > 2.0
     sim = run.execute(Progress(f"simulate {scene.name}", show), Progress("outputs and energies", show and slow))
     sim.step_error = step
     paths = write(sim, Path(args.out), Progress("writing results.csv", show and slow))
     res = {**sim.summary(), "files": {k: str(v) for k, v in paths.items()}, "warnings": run.warnings,
            "cost": cost.summary()}
-    lines = [f"{sim.scene.name}: {sim.revs:g} revolutions, {res['steps']} {sim.method} steps ({sim.system.dtype}, "
+    lines = [f"{sim.title()}: {sim.revs:g} revolutions, {res['steps']} {sim.method} steps ({sim.system.dtype}, "
              f"{sim.system.backend}) in {sim.traj.wall_s:.3f} s, {res['realtime_factor']:.1f}x real time",
+             f"start: {start_words(run.start)}",
              f"result: {sim.traj.message}" + ("" if step.ok else " (but the step is too coarse: see the warning)"),
              f"step check ({1e3 * step.wall_s:.0f} ms): {step.message()}"]
     if "max_rel_energy_error" in res:
@@ -117,11 +133,24 @@ def cmd_simulate(args) -> int:
     return 0 if sim.traj.ok else 1
 
 
-def _check_revs(revs: float, steps_per_rev: int) -> None:
-    """Refuse a ``--revs`` shorter than one step."""
-    if round(revs * steps_per_rev) < 1:
+def start_words(start: dict) -> str:
+    """Where a run started (:mod:`mbs.trims.start`), in words."""
+    if start.get("from") == "periodic trim":
+        where = f"trimmed now and stored in {start['file']}" if start["computed_now"] else f"stored in {start['file']}"
+        return f"the periodic trim at {start['speed']:g} m/s ({where}; roll {start['roll_deg']:+.3f} deg, pitch " \
+               f"{start['pitch_deg']:+.3f} deg)"
+    return start.get("what", "the scene's initial state")
+
+
+def _check_revs(revs: float, steps_per_rev: int, every: int = 1) -> None:
+    """Refuse a ``--revs`` shorter than one step, and an ``--every`` longer than the run."""
+    steps = round(revs * steps_per_rev)
+    if steps < 1:
         raise ValueError(f"--revs {revs:g} is less than one step ({steps_per_rev} steps per revolution): give "
                          f"--revs {1 / steps_per_rev:g} or more")
+    if every > steps > 1:
+        raise ValueError(f"--every {every} is more than the run's {steps} steps: results.csv would hold its first and "
+                         f"last rows only; give --every {max(1, steps // 10)} or less, or more --revs")
 
 
 def _settings(items: list[str] | None) -> dict[str, float]:
@@ -194,15 +223,42 @@ def cmd_trim(args) -> int:
                max_iterations=args.iterations, progress=Progress(f"trim {args.scene}", not args.quiet),
                turn_rate=args.turn_rate, bank=args.bank)
     out, lines = res.summary(), _trim_lines(res)
-    if args.write and res.converged:
-        from mbs.trim import write_trim
+    if args.write and res.converged and (args.turn_rate or args.bank is not None):
+        lines.append(f"{args.write} not written: the stored trims are of straight flight at zero sideslip, the ones "
+                     "'heli simulate' starts from (this one: " + res.flight.constraint +
+                     f", turn rate {args.turn_rate:g} rad/s)")
+    elif args.write and res.converged:
+        from mbs.trims import entry_of, store
 
-        out["written"] = str(write_trim(res, args.write))
-        lines.append(f"wrote {out['written']}")
+        key = store.write(args.write, entry_of(res, scene))
+        out.update(written=str(args.write), key=key)
+        lines.append(f"stored as {key!r} in {args.write}: " + _who_starts(args, scene, res))
     elif args.write:
         lines.append(f"{args.write} not written: the trim did not converge")
+    elif res.converged:
+        lines.append(f"not stored (--write stores it; 'heli simulate {scene.name}' starts from a stored trim of the "
+                     "same aircraft file, scene and speed, or trims on first use)")
     emit(out, args.json, lines)
     return 0 if res.converged else 1
+
+
+def _who_starts(args, scene, res) -> str:
+    """Which ``heli simulate`` starts from a stored trim ``res``, or why none does (it looks up
+    level flight trimmed by RK4 at the scene's steps per revolution)."""
+    if res.climb_rate or res.method != "rk4" or res.steps_per_rev != scene.steps_per_rev:
+        return (f"'heli simulate' starts from level-flight trims by rk4 at {scene.steps_per_rev} steps per revolution "
+                f"(this one: climb {res.climb_rate:g} m/s, {res.method} at {res.steps_per_rev}), so not from this one")
+    craft = getattr(args, "aircraft", None)
+    options = ("" if craft is None else f" --aircraft {craft.key if craft.packaged else craft.path}") + \
+        ("" if getattr(args, "speed", None) is None else f" --set speed={args.speed:g}") + \
+        ("" if getattr(args, "aero", None) is None else f" --aero {args.aero}")
+    from mbs.trims.store import beside
+
+    read = [user_trims().resolve(), beside(scene.aircraft).resolve()] if scene.aircraft else [user_trims().resolve()]
+    if Path(args.write).resolve() not in read:
+        return (f"'heli simulate' does not read this file: it reads {user_trims()} (--write without PATH) and "
+                "<aircraft stem>_trim.toml beside the aircraft file")
+    return f"'heli simulate {scene.name}{options}' starts from it"
 
 
 def _trim_lines(res) -> list[str]:
@@ -212,7 +268,7 @@ def _trim_lines(res) -> list[str]:
     per = res.period
     flip = f", teeter reversed; period {per.full_revs} revolutions" if per.flip else ""
     flip += f", tail blades exchanged; period {per.full_revs} revolutions" if per.source else ""
-    lines = [f"{res.scene} at {res.speed:g} m/s, climb {res.climb_rate:g} m/s: periodic shooting over {per.revs} "
+    lines = [f"{res.scene}{_of(res)} at {res.speed:g} m/s, climb {res.climb_rate:g} m/s: periodic shooting over {per.revs} "
              f"main-rotor revolution(s){flip}; {res.method}, {res.steps_per_rev} steps/rev",
              *gear_lines(res),
              *[f"  iteration {k + 1}: max |scaled residual| {it.residual:.3e}, step {it.step:g}"
@@ -290,7 +346,7 @@ def cmd_floquet(args) -> int:
 
 def _floquet_lines(res) -> list[str]:
     """The human-readable report of :func:`mbs.analysis.floquet.floquet`."""
-    return [f"{res.scene} at {res.speed:g} m/s: Floquet analysis over {res.period_revs} main-rotor revolutions "
+    return [f"{res.scene}{_of(res)} at {res.speed:g} m/s: Floquet analysis over {res.period_revs} main-rotor revolutions "
             f"(monodromy over {res.interval_revs}; periodic solution in {res.trim.iterations} Newton iterations; "
             f"analysis {res.wall_s:.2f} s); rotor-mode frequencies in the {res.frame} frame",
             *gear_lines(res.trim),
@@ -307,7 +363,7 @@ def _floquet_files(res, out: Path) -> list[str]:
 
     stem = out / f"floquet_{res.scene}"
     return [str(floquet_plot.write_csv(res, stem.with_suffix(".csv"))),
-            str(floquet_plot.figure(res, stem.with_suffix(".png")))]
+            str(floquet_plot.figure(res, stem.with_suffix(".png"), _of(res)))]
 
 
 def _floquet_sweep(args, scene) -> int:
@@ -341,7 +397,14 @@ def _floquet_sweep(args, scene) -> int:
 def _fan_title(args, ana) -> str:
     settings = ", ".join(f"{k} = {v:g}" for k, v in ana.settings.items())
     frame = "rotating-frame" if args.frame == "rotating" else "fixed-frame"
-    return f"{args.scene}: fan plot ({frame} frequencies{'; ' + settings if settings else ''})"
+    craft = f" of the {args.aircraft.name}" if getattr(args, "aircraft", None) else " of the MBB Bo105"
+    return f"{args.scene}{craft}: fan plot ({frame} frequencies{'; ' + settings if settings else ''})"
+
+
+def _of(res) -> str:
+    """`` of the MBB Bo105``: the aircraft of a result (its own, or that of the trim it rests on)."""
+    name = getattr(res, "aircraft", None) or getattr(getattr(res, "trim", None), "aircraft", None)
+    return f" of the {name}" if isinstance(name, str) else ""
 
 
 def _sweep_point(p) -> dict:
@@ -382,7 +445,7 @@ def _derivative_lines(res) -> list[str]:
 
     ref = res.reference
     syms = [CONTROL_SYMBOLS.get(c, c) for c in res.controls]
-    lines = [f"{res.scene} at {res.speed:g} m/s: derivatives with the rotor in its periodic equilibrium "
+    lines = [f"{res.scene}{_of(res)} at {res.speed:g} m/s: derivatives with the rotor in its periodic equilibrium "
              f"(quasi-static rotor, implicit-function theorem on the trim; {res.wall_s:.2f} s)",
              f"  reference: U_e {ref['U_e']:.3f}, V_e {ref['V_e']:.3f}, W_e {ref['W_e']:.3f} m/s, "
              f"Theta_e {np.degrees(ref['Theta_e']):+.3f} deg, Phi_e {np.degrees(ref['Phi_e']):+.3f} deg",
@@ -436,8 +499,11 @@ def cmd_figures(args) -> int:
 
 def user_trims() -> Path:
     """The user's trim file, ``$XDG_DATA_HOME/rotor-mbs/trims.toml`` (default
-    ``~/.local/share/rotor-mbs/trims.toml``): where ``heli trim --write`` stores a trim."""
-    return Path(os.environ.get("XDG_DATA_HOME") or Path.home() / ".local" / "share") / "rotor-mbs" / "trims.toml"
+    ``~/.local/share/rotor-mbs/trims.toml``): where ``heli trim --write`` stores a trim and
+    ``heli simulate`` finds it (:mod:`mbs.trims`)."""
+    from mbs.trims.store import default_file
+
+    return default_file()
 
 
 def trim_file(text: str) -> Path:
@@ -472,7 +538,8 @@ def _add_periodic_arguments(p) -> None:
     """The arguments of the analyses at a periodic solution (trim, Floquet, derivatives)."""
     A.add_scene(p, nargs="?", default="forward-flight", what="scene (default forward-flight)")
     A.add_aircraft(p)
-    p.add_argument("--speed", type=A.finite, default=None, help="flight speed in m/s (default: the scene's)")
+    p.add_argument("--speed", type=A.flight_speed, default=None,
+                   help=f"flight speed in m/s, {A.SPEED_RANGE[0]:g} to {A.SPEED_RANGE[1]:g} (default: the scene's)")
     p.add_argument("--method", choices=("rk4", "rk8"), default="rk4", help="fixed-step method (default rk4)")
     _steps_per_rev(p)
     _backend(p)
@@ -514,18 +581,22 @@ def register(sub, bench) -> None:
     p = sub.add_parser("trim", help="periodic trim: controls, attitude and periodic rotor states by Newton "
                        "with the exact AD Jacobian of the period map")
     _add_periodic_arguments(p)
-    p.add_argument("--climb-rate", type=A.finite, default=0.0, help="climb rate in m/s, up positive (default 0)")
-    p.add_argument("--bank", type=A.within(-1.2, 1.2, "rad"), default=None,
+    p.add_argument("--climb-rate", type=A.climb_rate, default=0.0,
+                   help=f"climb rate in m/s, up positive, {A.CLIMB_RANGE[0]:g} to {A.CLIMB_RANGE[1]:g} (default 0)")
+    p.add_argument("--bank", type=A.within(-1.2, 1.2, "rad", "the bank angles a trim holds"), default=None,
                    help="hold this roll angle in rad (right wing down positive) and trim the sideslip instead "
                         "(--bank 0: a zero-bank trim); default: zero sideslip, the roll trimmed")
-    p.add_argument("--turn-rate", type=A.within(-1.0, 1.0, "rad/s"), default=0.0,
+    p.add_argument("--turn-rate", type=A.within(-1.0, 1.0, "rad/s", "the turn rates a trim holds"), default=0.0,
                    help="steady turn: the heading's rate in rad/s, right positive (default 0: straight flight)")
-    p.add_argument("--tol", type=A.positive, default=1e-10, help="max |scaled residual| to reach (default 1e-10)")
+    p.add_argument("--tol", type=A.tolerance, default=1e-10,
+                   help="max |scaled residual| to reach, at most 1e-3 (default 1e-10)")
     p.add_argument("--iterations", type=A.positive_int, default=20,
                    help="most Newton iterations before giving up (default 20)")
     p.add_argument("--write", metavar="PATH", nargs="?", const=str(user_trims()), default=None,
-                   type=trim_file, help="store the converged trim in the TOML file PATH (other entries kept; the "
-                   f"format of mbs/aircraft/data/bo105_trim.toml); without PATH in {user_trims()}")
+                   type=trim_file, help="store the converged trim in the TOML file PATH (other trims kept), keyed by "
+                   "the aircraft file (its SHA-256), scene, aerodynamics switches, speed, climb rate, method and steps "
+                   f"per revolution; without PATH in {user_trims()}. 'heli simulate' starts from a stored trim of the "
+                   "same model found there or in <aircraft stem>_trim.toml beside the aircraft file")
     _aero(p)
     _quiet(p)
     add_json(p)
@@ -583,7 +654,12 @@ def register(sub, bench) -> None:
                    help="input table: a CSV file with a 'time' column (s) and columns named after parameters (the "
                         "FMU demo's and fmpy's format); linear between rows, a time written twice is a jump, each "
                         "step holds the values at its start; written into results.csv as columns")
-    p.add_argument("--step-tol", type=A.positive, default=0.01, metavar="FRACTION",
+    p.add_argument("--start", choices=("trim", "scene"), default=None,
+                   help="initial state: trim, the scene's periodic trim at the run's speed and parameters (stored for "
+                        "the aircraft file, or trimmed on first use and stored; the default for the scenes that fly: "
+                        "forward-flight, hover and the swashplate scenes), or scene, the scene's own initial state "
+                        "(the default for the others); run.json records it")
+    p.add_argument("--step-tol", type=A.fraction, default=0.01, metavar="FRACTION",
                    help="largest step error allowed, as a fraction of each state's range over the first revolution "
                         "(default 0.01): a step-doubling check (three revolutions' worth of steps) warns above it "
                         "with the --steps-per-rev that would do")

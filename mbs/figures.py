@@ -6,7 +6,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from mbs import plots, scenes
+from mbs import atomic, plots, scenes
 from mbs.simulate import simulate
 
 
@@ -43,5 +43,5 @@ def make_all(out: Path, progress=None, aircraft=None) -> dict:
     p2b, s2b = fig2(out, 10.0, progress, aircraft)
     p3, s3 = fig3(out, progress, aircraft)
     result = {"files": [str(p2), str(p2b), str(p3)], "fig2": s2, "fig2_10rev": s2b, "fig3": s3}
-    (out / "figures.json").write_text(json.dumps(result, indent=1))
+    atomic.write_text(out / "figures.json", json.dumps(result, indent=1))
     return result

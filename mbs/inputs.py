@@ -25,10 +25,9 @@ from pathlib import Path
 
 import numpy as np
 
+from mbs.arguments import SPEED_RANGE  # the initial forward speed that --set speed=V accepts, m/s
+
 SPEED = "speed"
-SPEED_RANGE = (-20.0, 90.0)
-"""Initial forward speed (m/s) that ``--set speed=V`` accepts: the range of the FMU's
-``initial_forward_speed``."""
 
 
 @dataclass
@@ -104,7 +103,8 @@ def _lines(path: Path) -> list[str]:
 
 def _check_header(path: Path, names: list[str]) -> None:
     if names[0] != "time":
-        raise ValueError(f"{path}: the first column must be 'time' (s), not {names[0]!r}")
+        hint = next((f"; separate the columns with commas, not {c!r}" for c in ";\t" if c in names[0]), "")
+        raise ValueError(f"{path}: the first column must be 'time' (s), not {names[0]!r}{hint}")
     if len(names) < 2:
         raise ValueError(f"{path}: no input columns after 'time'")
     seen = {n for n in names if names.count(n) > 1 or not n}
@@ -156,8 +156,16 @@ def check_settings(settings: dict[str, float], parameters: dict, scene: str, fre
             _check_value(f"--set {name}={value:g}", name, value, parameters, scene, known)
 
 
+CONSTANT_IN_A_RUN = {
+    "omega": "the driven hubs turn at azimuth = omega t with no rotor acceleration modelled, so a rotor speed that "
+             "changes during a run would give a wrong azimuth (a ramp turns the rotor too slowly, a step jumps it)",
+}
+"""Parameters that must keep one value through a run (an input table may not change them): why."""
+
+
 def check_table(table: InputTable, parameters: dict, scene: str, settings: dict[str, float]) -> None:
-    """Refuse a column that is not a parameter (or is also ``--set``) and a value outside its range."""
+    """Refuse a column that is not a parameter (or is also ``--set``), one that changes a
+    parameter of :data:`CONSTANT_IN_A_RUN`, and a value outside its range."""
     where = f"--inputs {table.path}"
     for k, name in enumerate(table.names):
         if name == SPEED:
@@ -165,6 +173,14 @@ def check_table(table: InputTable, parameters: dict, scene: str, settings: dict[
                              "set it with --set speed=V")
         if name in settings:
             raise ValueError(f"{where}: column {name!r} is also given by --set {name}=...; give it in one place")
+        if name in CONSTANT_IN_A_RUN and name in parameters:
+            values = table.values[:, k]
+            change = np.flatnonzero(values != values[0])
+            what = (f"changes from {values[0]:g} to {values[change[0]]:g} (line {table.line(int(change[0]))}), but"
+                    if change.size else "is an input table column, but it sets the run's step and revolutions and")
+            raise ValueError(f"{where}: column {name!r} {what} {CONSTANT_IN_A_RUN[name]}; give one value with --set "
+                             f"{name}=VALUE, or one run per value with 'heli sweep simulate {scene} --param "
+                             f"{name}=LO:HI:N'")
         for i, value in enumerate(table.values[:, k]):
             _check_value(f"{where}: line {table.line(i)}", name, float(value), parameters, scene, list(parameters))
 
@@ -176,8 +192,12 @@ def _check_value(where: str, name: str, value: float, parameters: dict, scene: s
     q = parameters[name]
     low, high, unit = q.get("low", -math.inf), q.get("high", math.inf), q.get("unit", "")
     if not low <= value <= high:
+        hint = (f" (angles are in rad: {value:g} deg would be {math.radians(value):.4g} rad)"
+                if unit == "rad" and low <= math.radians(value) <= high else
+                f" (rotor speeds are in rad/s: {value:g} rpm would be {value * math.pi / 30:.4g} rad/s)"
+                if unit == "rad/s" and low <= value * math.pi / 30 <= high else "")
         raise ValueError(f"{where}: {name} = {value:g} {unit} is outside its range [{low:g}, {high:g}] {unit}"
-                         .replace("  ", " ").rstrip())
+                         .replace("  ", " ").rstrip() + hint)
 
 
 def _check_speed(value: float, scene: str, free: bool) -> None:

@@ -11,6 +11,8 @@ from pathlib import Path
 
 import numpy as np
 
+from mbs import atomic
+
 DASHES = ("-", "--", "-.", ":")
 
 
@@ -28,7 +30,7 @@ def save_figure(fig, plt, path: Path, title: str) -> Path:
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
+    atomic.savefig(fig, path, dpi=110)
     plt.close(fig)
     return path
 
@@ -65,7 +67,7 @@ def time_panels(t: np.ndarray, revolution: float, columns: dict, panels: dict[st
     axes[-1, 0].set_xlabel("time (s)", fontsize=8)
     axes[-1, 0].set_xlim(t[0], t[-1])
     fig.suptitle(title, fontsize=10)
-    fig.savefig(path, dpi=110)
+    atomic.savefig(fig, path, dpi=110)
     plt.close(fig)
     return Path(path)
 
@@ -73,8 +75,9 @@ def time_panels(t: np.ndarray, revolution: float, columns: dict, panels: dict[st
 def hinge_angles(sim, path: Path, title: str | None = None) -> Path:
     """One panel per entry of ``scene.plots`` (the paper's Fig. 2 layout), in degrees."""
     panels = sim.scene.plots or {"states": sim.system.info.q_names[:4]}
+    start = {"periodic trim": ", from its periodic trim", "scene": ""}.get(sim.start.get("from"), "")
     return time_panels(sim.traj.t, sim.scene.revolution(sim.system, sim.params), sim.columns(), panels, path,
-                       title or f"{sim.scene.name}: hinge angles")
+                       title or f"{sim.title()}{start}: hinge angles ({sim.method}, {sim.steps_per_rev} steps/rev)")
 
 
 def energy_error(sims: list, path: Path, title: str | None = None, log: bool = False) -> Path:
@@ -101,7 +104,8 @@ def energy_error(sims: list, path: Path, title: str | None = None, log: bool = F
     ax.set_ylabel("|E − E0| / |E0|" if log else "relative energy error (E − E0)/E0")
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.005, 1.0), frameon=False)
-    ax.set_title(title or f"{sims[0].scene.name}: relative total-energy error, RK4", fontsize=10)
-    fig.savefig(path, dpi=110)
+    ax.set_title(title or f"{sims[0].title()}: relative total-energy error, {sims[0].method}, "
+                          f"{sims[0].steps_per_rev} steps/rev", fontsize=10)
+    atomic.savefig(fig, path, dpi=110)
     plt.close(fig)
     return Path(path)

@@ -20,14 +20,18 @@ _HINGE = (("rad",), ("rad/s",))
 _SLIDER = (("m",), ("m/s",))
 _FREE = (("m",) * 3 + ("1",) * 4, ("m/s",) * 3 + ("rad/s",) * 3)
 NOT_RESULTS = "not a results table of 'heli simulate' or 'heli demo'"
+RESULTS_DIGEST = "results_sha256"
+"""The entry of ``run.json`` holding the SHA-256 of the ``results.csv`` written with it."""
 
 
 def joint_units(joint) -> tuple[tuple[str, ...], tuple[str, ...]]:
     """Units of a joint's position and velocity coordinates (``""`` for a joint type not known here)."""
     kind = type(joint).__name__
-    if kind == "Serial":
-        parts = [joint_units(j) for j in joint.parts]
+    if kind in ("Serial", "LoopJoint"):  # a loop joint's coordinates: those of its independent parts
+        parts = [joint_units(j) for j in getattr(joint, "independent", joint.parts)]
         return tuple(u for q, _ in parts for u in q), tuple(u for _, v in parts for u in v)
+    if kind == "Modal":  # a flexible body's modal coordinates: tip deflection over length and tip twist
+        return ("rad",) * joint.nq, ("rad/s",) * joint.nv
     known = {"Hinge": _HINGE, "Slider": _SLIDER, "FreeJoint": _FREE}
     return known.get(kind, (("",) * joint.nq, ("",) * joint.nv))
 
@@ -47,9 +51,12 @@ def column_units(model) -> dict[str, str]:
 
 def write_csv(columns: dict[str, np.ndarray], path: Path, progress=None, chunk: int = 20000) -> Path:
     """``columns`` (name -> (n,) values) as ``path``: a header row, then the values (17 digits),
-    ``chunk`` rows at a time with ``progress(rows written, n)`` after each."""
+    ``chunk`` rows at a time with ``progress(rows written, n)`` after each; written under a
+    temporary name and renamed when complete (:mod:`mbs.atomic`)."""
+    from mbs import atomic
+
     table = np.column_stack(list(columns.values()))
-    with open(path, "w") as f:
+    with atomic.replacing(path) as tmp, open(tmp, "w") as f:
         f.write(",".join(columns) + "\n")
         for start in range(0, len(table), chunk):
             np.savetxt(f, table[start:start + chunk], delimiter=",", fmt="%.17g")
@@ -73,6 +80,7 @@ def read_results(folder_or_csv: Path) -> tuple[dict[str, np.ndarray], dict]:
     path = results_path(folder_or_csv)
     names = _header(path)
     meta = read_run_json(path.parent / "run.json")
+    check_pair(path, meta)
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # numpy's "input contained no data": said below
@@ -82,6 +90,18 @@ def read_results(folder_or_csv: Path) -> tuple[dict[str, np.ndarray], dict]:
     if data.shape[0] == 0:
         raise ValueError(f"{path} has a header but no rows")
     return {n: data[:, i] for i, n in enumerate(names)}, meta
+
+
+def check_pair(path: Path, meta: dict) -> None:
+    """Refuse a ``results.csv`` (``path``) whose ``run.json`` (``meta``) records the SHA-256 of
+    another table: the folder mixes the files of two runs."""
+    from mbs import atomic
+
+    recorded = meta.get(RESULTS_DIGEST)
+    if recorded and recorded != atomic.sha256(path):
+        raise ValueError(f"{path} and the run.json beside it are not of the same run (run.json records the SHA-256 "
+                         f"of another results.csv): the folder mixes two runs; run the scene again into it, or give "
+                         "the folder where both were written together")
 
 
 def read_run_json(path: Path) -> dict:
@@ -102,8 +122,13 @@ def _header(path: Path) -> list[str]:
     try:
         with open(path, newline="") as f:
             first = f.readline()
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ValueError(f"{path} cannot be read as text: {getattr(exc, 'strerror', None) or exc}") from None
+    except UnicodeDecodeError:
+        raise ValueError(f"{path} is not a text table (a binary file, such as a chart); give the folder of a run or "
+                         "its results.csv") from None
+    except OSError as exc:
+        raise ValueError(f"{path} cannot be read: {exc.strerror or exc}") from None
+    if path.suffix.lower() == ".json":
+        raise ValueError(f"{path} is a run record, not its table; give the folder of the run or its results.csv")
     if not first.strip():
         raise ValueError(f"{path} is empty: {NOT_RESULTS}")
     names = [n.strip() for n in next(csv.reader([first]))]

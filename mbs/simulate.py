@@ -7,8 +7,9 @@ table by parameter name (:mod:`mbs.inputs`; the value in force from that row on)
 of every column is in ``run.json`` (``"units"``; :mod:`mbs.results`). ``run.json`` records
 the scene (with its aircraft file and aerodynamics switches: see :func:`run_record`),
 parameters, ``--set`` values and input table, integrator, the step-error estimate and
-figures, so that a results folder can be re-opened (e.g. by the viewer,
-:func:`scene_of_run`) without guessing.
+figures, the initial state and where it came from (``"initial_state"``: a periodic trim,
+:mod:`mbs.trims.start`, or the scene's own start) and the SHA-256 of ``results.csv``, so that
+a results folder can be re-opened (e.g. by the viewer, :func:`scene_of_run`) without guessing.
 
 :func:`prepare` sets a run up without running it (:class:`Run`: its step-error check and cost
 estimate come before the work); :func:`simulate` prepares and runs.
@@ -55,11 +56,20 @@ class Simulation:
     units: dict = field(default_factory=dict)
     step_error: object = None
     every: int = 1
+    start: dict = field(default_factory=dict)
 
     @property
     def max_rel_energy_error(self) -> float:
         e = self.energy[:, -1]
         return float(np.abs(e / e[0] - 1).max())
+
+    def title(self) -> str:
+        """``forward-flight of the MBB Bo105 at 10 m/s``: scene, aircraft and initial speed."""
+        from mbs.inputs import initial_speed
+
+        craft = f" of the {self.scene.aircraft.name}" if self.scene.aircraft is not None else ""
+        speed = initial_speed(self.system.info, self.traj.x[0])
+        return f"{self.scene.name}{craft}" + ("" if speed is None else f" at {speed:.3g} m/s")
 
     def columns(self) -> dict[str, np.ndarray]:
         info = self.system.info
@@ -88,6 +98,8 @@ class Simulation:
                "set": dict(self.settings)}
         if self.inputs is not None:
             out["inputs"] = self.inputs.summary()
+        out["initial_state"] = {**self.start, "state": dict(zip(self.system.info.state_names,
+                                                                map(float, self.traj.x[0])))}
         if self.step_error is not None:
             out["step_error"] = self.step_error.summary()
         if self.scene.conservative:
@@ -108,27 +120,40 @@ def run_record(scene: _scenes.Scene) -> dict:
                                               "sha256": craft.digest}, "aero": aero_switches(scene)}
 
 
-def scene_of_run(meta: dict, where: str = "run.json") -> _scenes.Scene:
+def scene_of_run(meta: dict, where: str = "run.json", aircraft=None) -> _scenes.Scene:
     """The scene a ``run.json`` (``meta``, read from ``where``) records: ValueError naming what is
-    missing, or an aircraft file that is gone or has changed since the run."""
-    from mbs import aircraft
-    from mbs.models.helicopter import with_aero
+    missing, or an aircraft file that is gone or has changed since the run. ``aircraft``: the
+    run's aircraft file found elsewhere (an :class:`mbs.aircraft.Aircraft`: a file that moved),
+    which must be the one that ran (the same SHA-256)."""
+    from mbs import aircraft as ac
+    from mbs.models.helicopter import aero_switches, with_aero
 
     if "scene" not in meta:
         raise ValueError(f"no run.json with a scene name next to {where}: cannot tell which model to show")
     recorded = meta.get("aircraft")
     craft = None
-    if recorded:
+    if aircraft is not None:
+        if not recorded:
+            raise ValueError(f"--aircraft {aircraft.path}: the run's scene {meta['scene']!r} has no aircraft file "
+                             f"({where} records none); drop --aircraft")
+        if aircraft.digest != recorded["sha256"]:
+            raise ValueError(f"--aircraft {aircraft.path} is not the aircraft file the run was made with (its SHA-256 "
+                             f"differs from the one {where} records for {recorded['file']}); give that file")
+        craft = aircraft
+    elif recorded:
         try:
-            craft = aircraft.load(recorded["file"])
-        except aircraft.AircraftError as exc:
-            raise ValueError(f"{where}: the run's aircraft {recorded['name']!r} cannot be loaded: {exc}") from None
+            craft = ac.load(recorded["file"])
+        except ac.AircraftError as exc:
+            raise ValueError(f"{where}: the run's aircraft {recorded['name']!r} cannot be loaded: {exc}; if the file "
+                             "moved, give its new place with --aircraft FILE") from None
         if craft.digest != recorded["sha256"]:
             raise ValueError(f"{where}: the aircraft file {recorded['file']} has changed since the run; the model "
                              "would not be the one that ran (restore the file, or run again)")
     scene = _scenes.get(meta["scene"], aircraft=craft)
     aero = meta.get("aero")
-    return with_aero(scene, ",".join(aero) or "none") if aero is not None else scene
+    if aero is None or (scene.aircraft is not None and sorted(aero) == sorted(aero_switches(scene))):
+        return scene  # the scene's own switches (a scene without aerodynamics has none to set)
+    return with_aero(scene, ",".join(aero) or "none")
 
 
 ROW_SAMPLE = 200  # rows timed and measured for the cost estimate (at most a revolution)
@@ -138,7 +163,8 @@ ROW_SAMPLE = 200  # rows timed and measured for the cost estimate (at most a rev
 class Run:
     """A run set up and not yet started (:func:`prepare`): ``steps`` steps of ``h`` s from ``x0``
     with parameters ``p`` (and the input table ``inputs``), rows every ``every`` steps;
-    ``warnings``: what the set-up changed or could not honour, one line each."""
+    ``warnings``: what the set-up changed or could not honour, one line each; ``start``: where
+    ``x0`` came from (``run.json``'s ``"initial_state"``: :mod:`mbs.trims.start`)."""
 
     scene: _scenes.Scene
     system: System
@@ -155,6 +181,7 @@ class Run:
     units: dict = field(default_factory=dict)
     options: dict = field(default_factory=dict)
     warnings: list = field(default_factory=list)
+    start: dict = field(default_factory=lambda: {"from": "scene", "what": "the scene's initial state"})
 
     @property
     def revs(self) -> float:
@@ -177,7 +204,7 @@ class Run:
 
         res = step_error.estimate(self.system, self.x0, self.p, self.h, self.steps_per_rev, self.steps,
                                   self.method, tolerance or step_error.DEFAULT_TOLERANCE,
-                                  run=lambda h, n, every: self.window(h, n, every)[0])
+                                  run=lambda h, n, every: self.window(h, n, every)[0], units=self.units)
         res.unit = self.units.get(res.state, "")
         return res
 
@@ -214,7 +241,7 @@ class Run:
         energy, outputs = _histories(evaluator, traj, p, progress)
         return Simulation(self.scene, self.system, traj, self.p, self.revs, self.steps_per_rev, energy, outputs,
                           self.compensated, self.method, rows_p, self.inputs, dict(self.settings), dict(self.units),
-                          every=self.every)
+                          every=self.every, start=dict(self.start))
 
 
 def _histories(system: System, traj: Trajectory, p, progress=None) -> tuple[np.ndarray, np.ndarray]:
@@ -261,6 +288,8 @@ def prepare(scene: str | _scenes.Scene, revs: float = 1.0, steps_per_rev: int | 
     x = system.x0() if x0 is None else system.check_state(x0)
     run = Run(scene, system, p, x, scene.revolution(system, p) / steps_per_rev, n, steps_per_rev, every, method,
               compensated, inputs, settings, units, dict(options or {}))
+    if x0 is not None:
+        run.start = {"from": "given", "what": "the initial state given to the run (x0)"}
     if speed is not None:
         run.x0 = inp.with_forward_speed(system.info, x, speed)
     run.warnings += _setup_warnings(run, revs, speed, x)
@@ -308,8 +337,8 @@ def _setup_warnings(run: Run, revs: float, speed: float | None, x_default: np.nd
         controls = [q["name"] for q in run.system.info.parameters if q.get("control")]
         out.append(f"--set speed={speed:g}: the run starts at {speed:g} m/s with the attitude"
                    f"{' and controls' if controls else ''} of scene {run.scene.name!r} at {own:g} m/s, so it starts "
-                   f"with a transient; 'heli trim {run.scene.name} --speed {speed:g}' gives the trimmed controls "
-                   "to --set")
+                   f"with a transient; without --start scene 'heli simulate' starts from the periodic trim at "
+                   f"{speed:g} m/s")
     if run.inputs is not None:
         stop = run.steps * run.h
         out += [f"--inputs {run.inputs.path}: the jump at t = {t:.6g} s acts at the next step start, t = {a:.6g} s "
@@ -347,15 +376,22 @@ def _float64_twin(scene, options) -> System:
 
 def write(sim: Simulation, out: Path, progress=None) -> dict[str, Path]:
     """Write ``results.csv`` (``progress(rows, n)`` as it goes), ``run.json`` and the plots into
-    ``out``; returns the paths."""
-    from mbs import plots
-    from mbs.results import write_csv
+    ``out``; returns the paths. The files are written under temporary names and renamed
+    together at the end (:class:`mbs.atomic.Files`): Ctrl-C or an error leaves the folder as
+    it was, and ``run.json`` records the SHA-256 of the ``results.csv`` it belongs to."""
+    from mbs import atomic, plots
+    from mbs.results import RESULTS_DIGEST, write_csv
 
     out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    paths = {"results": write_csv(sim.columns(), out / "results.csv", progress), "run": out / "run.json"}
-    paths["run"].write_text(json.dumps(sim.summary(), indent=1))
-    paths["hinge_angles"] = plots.hinge_angles(sim, out / "hinge_angles.png")
+    names = {"results": "results.csv", "run": "run.json", "hinge_angles": "hinge_angles.png"}
     if sim.scene.conservative:
-        paths["energy_error"] = plots.energy_error([sim], out / "energy_error.png")
+        names["energy_error"] = "energy_error.png"
+    paths = {k: out / v for k, v in names.items()}
+    with atomic.Files(stale=(out / "energy_error.png",)) as files:
+        tmp = {k: files.temporary(p) for k, p in paths.items()}
+        write_csv(sim.columns(), tmp["results"], progress)
+        tmp["run"].write_text(json.dumps({**sim.summary(), RESULTS_DIGEST: atomic.sha256(tmp["results"])}, indent=1))
+        plots.hinge_angles(sim, tmp["hinge_angles"])
+        if "energy_error" in tmp:
+            plots.energy_error([sim], tmp["energy_error"])
     return paths

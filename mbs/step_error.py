@@ -4,7 +4,9 @@ The first main-rotor revolution (or the whole run, when shorter) is run twice: w
 step ``h`` and with ``h/2``. For a method of order ``p`` the error of the ``h`` solution is
 ``|x_h - x_{h/2}| 2^p / (2^p - 1)`` (Richardson), at every step of the window. Each state's
 largest error is compared with its scale: its range over the window, at least a thousandth
-of its magnitude and 1e-6 (SI units: rad, m, m/s, rad/s; inflow ratios). The worst state's
+of its magnitude and a floor by its unit (:data:`FLOORS`: 1e-4 rad, 1e-3 rad/s, 1e-4 m,
+1e-3 m/s; 1e-6 otherwise), so that a state that barely moves (the fuselage's rates in a
+trimmed run, a few thousandths of a degree per second) is not judged by its own vibration. The worst state's
 ratio, against the tolerance (default 1 %), decides; the step that would do follows from the
 order, ``steps_per_rev (ratio / tolerance)^(1/p)``, with 10 % margin, rounded up to a
 multiple of 10.
@@ -21,6 +23,14 @@ from dataclasses import dataclass
 import numpy as np
 
 DEFAULT_TOLERANCE = 0.01
+FLOORS = {"rad": 1e-4, "rad/s": 1e-3, "m": 1e-4, "m/s": 1e-3}
+"""Smallest scale of a state's error by its unit (1 % of it: 6e-5 deg, 6e-4 deg/s, 1 µm, 10 µm/s)."""
+FLOOR = 1e-6
+
+
+def floors(names: list[str], units: dict[str, str]) -> np.ndarray:
+    """The scale floor of each state ``names`` from its unit (``units``: name -> unit)."""
+    return np.array([FLOORS.get(units.get(n, ""), FLOOR) for n in names])
 
 
 def order_of(method: str) -> int:
@@ -78,12 +88,13 @@ class StepError:
 
 
 def estimate(system, x0, p, h: float, steps_per_rev: int, n_steps: int, method: str = "rk4",
-             tolerance: float = DEFAULT_TOLERANCE, run=None) -> StepError:
+             tolerance: float = DEFAULT_TOLERANCE, run=None, units: dict | None = None) -> StepError:
     """Step-doubling estimate for a run of ``n_steps`` steps of ``h`` s from ``x0`` with
     parameters ``p``: the window is one revolution, ``steps_per_rev`` steps, even for a shorter
     run (a window of a few steps sees too little motion to judge the step). ``run(h, n, every)``
     runs the window (default ``system.run``; a run with an input table passes its own) and
-    returns a :class:`mbs.backends.system.Trajectory`."""
+    returns a :class:`mbs.backends.system.Trajectory`; ``units``: state name -> unit (the
+    scale floors, :func:`floors`)."""
     run = run or (lambda hh, n, every: system.run(x0, 0.0, hh, n, every=every, p=p, method=method))
     window = max(1, steps_per_rev)
     start = time.perf_counter()
@@ -96,14 +107,16 @@ def estimate(system, x0, p, h: float, steps_per_rev: int, n_steps: int, method: 
     elif not fine.ok:
         base.note = f"the run at half the step fails ({fine.message})"
     else:
-        base = _compare(base, coarse.x, fine.x, system.info.state_names, order_of(method))
+        names = system.info.state_names
+        base = _compare(base, coarse.x, fine.x, names, order_of(method), floors(names, units or {}))
     base.wall_s = time.perf_counter() - start
     return base
 
 
-def _compare(res: StepError, coarse: np.ndarray, fine: np.ndarray, names: list[str], order: int) -> StepError:
+def _compare(res: StepError, coarse: np.ndarray, fine: np.ndarray, names: list[str], order: int,
+             floor: np.ndarray) -> StepError:
     error = np.abs(coarse - fine).max(axis=0) * 2**order / (2**order - 1)
-    scale = np.maximum.reduce([np.ptp(fine, axis=0), 1e-3 * np.abs(fine).max(axis=0), np.full(fine.shape[1], 1e-6)])
+    scale = np.maximum.reduce([np.ptp(fine, axis=0), 1e-3 * np.abs(fine).max(axis=0), floor])
     ratio = error / scale
     i = int(np.argmax(ratio))
     res.ratio, res.state, res.error, res.scale = float(ratio[i]), names[i], float(error[i]), float(scale[i])

@@ -1,4 +1,5 @@
 import json
+import os
 import sys
 import zipfile
 from pathlib import Path
@@ -9,6 +10,14 @@ sys.path.insert(0, str(Path(__file__).parent))
 
 import mbs  # noqa: E402
 from mbs.models.demo import spinning_rotor  # noqa: E402
+
+
+@pytest.fixture(scope="session", autouse=True)
+def user_data_folder(tmp_path_factory):
+    """An empty user data folder for the session (``XDG_DATA_HOME``): the trims that ``heli
+    simulate`` and ``heli trim --write`` store go there, not into the user's own."""
+    os.environ["XDG_DATA_HOME"] = str(tmp_path_factory.mktemp("share"))
+    return os.environ["XDG_DATA_HOME"]
 
 
 @pytest.fixture(scope="session")

@@ -249,6 +249,25 @@ def test_a_new_aircraft_from_the_template_loads_and_warns_until_filled_in(tmp_pa
     assert "still carry the template's Bo105 values" in capsys.readouterr().out
 
 
+def test_the_templates_optional_blocks_load_when_uncommented(tmp_path, capsys):
+    """Removing one '# ' from each line of the commented [swashplate] and [elastic_blade] blocks
+    gives a file that loads (it was invalid TOML: value = None), with the Bo105's swashplate; a
+    file without the block is refused by the swashplate scenes with that way out."""
+    path = tmp_path / "mine.toml"
+    assert run_main(["aircraft", "new", "My Heli", "--out", str(path)], capsys)[0] == 0
+    code, err = run_main(["simulate", "forward-flight-swashplate", "--aircraft", str(path), "--out", str(tmp_path / "o")],
+                         capsys)
+    assert code == 2 and "has no [swashplate] section" in err and "uncomment the [swashplate] block" in err
+    lines, block = [], False
+    for line in path.read_text().splitlines():
+        block = line.startswith(("# [swashplate]", "# [elastic_blade]")) or (block and not line.startswith("["))
+        lines.append(line[2:] if block and line.startswith("# ") else line)
+    (tmp_path / "full.toml").write_text("\n".join(lines))
+    craft = aircraft.load(tmp_path / "full.toml")
+    assert craft.data["swashplate"] == aircraft.load().data["swashplate"]
+    assert craft.data["elastic_blade"]["torsion_frequency"] == aircraft.load().data["elastic_blade"]["torsion_frequency"]
+
+
 # -- the sense of rotation ------------------------------------------------------------------------
 
 MIRROR = {"fuselage.y": -1, "fuselage.qx": -1, "fuselage.qz": -1, "fuselage.v": -1, "fuselage.p": -1,

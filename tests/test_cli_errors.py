@@ -162,6 +162,54 @@ CASES = [
     # a run too large for its output limit: size and time said, with the --every that fits
     ("simulate hover --revs 1e5", ["results.csv would be about", "GB", "more than --max-gb 1", "--every"]),
     ("derivatives hover --mat A.MAT.txt", ["--mat", "'A.MAT.txt' must be a file name ending in .mat or .npz"]),
+    # a new user's mistakes: each named, with what to do
+    ("simulate hover --speed 10", ["unrecognized arguments: --speed 10", "--set speed=V", "heli simulate --help"]),
+    ("simulate hover --aicraft lynx", ["unrecognized arguments: --aicraft lynx", "did you mean --aircraft?"]),
+    ("trim hover --sped 10", ["did you mean --speed?", "heli trim --help"]),
+    ("simulate structural --out A --out B", ["--out is given 2 times; give it once"]),
+    ("simulate structural --revs 0.5 --revs 1", ["--revs is given 2 times"]),
+    ("simulate structural --every 1000", ["--every 1000 is more than the run's 100 steps", "give --every 10 or less"]),
+    ("simulate hover --set collective=15", ["collective = 15 rad is outside", "15 deg would be 0.2618 rad"]),
+    ("simulate ground-run --set omega=400", ["omega = 400 rad/s is outside", "400 rpm would be 41.89 rad/s"]),
+    ("simulate forward-flight --set speed=10kt", ["'speed=10kt'", "without the unit 'kt'"]),
+    ("simulate hover --set collective=0.3,lateral_cyclic=0.01", ["one NAME=VALUE per --set; repeat --set"]),
+    ("simulate hover --dtype float32 --backend vm", ["--dtype float32 needs --backend compiled"]),
+    ("simulate hover --step-tol 5", ["--step-tol", "must be at most 1 (0.01 is 1 %; 5 would be 500 %)"]),
+    ("simulate hover --aero full,none", ["'full' stands alone"]),
+    ("simulate hover --aero pitt-peters,pitt-peters", ["switch 'pitt-peters' is named twice"]),
+    ("simulate hover --inputs IN_SEMI", ["--inputs", "separate the columns with commas, not ';'"]),
+    ("simulate hover --inputs IN_OMEGA", ["column 'omega' changes from 44.4 to 40", "--set omega=VALUE"]),
+    ("simulate hover --aircraft lynx.toml", ["lynx.toml: no such file", "did you mean lynx?"]),
+    ("simulate hover --aircraft Bo105", ["did you mean bo105?"]),
+    ("simulate hover --aircraft mine", ["mine: no such file", "did you mean mine.toml?"]),
+    ("simulate structural --start trim", ["--start trim", "scene 'structural' has no periodic trim"]),
+    ("simulate structural --out run.csv", ["--out", "'run.csv' is named like a file", "'run'"]),
+    ("trim hover --tol 1", ["--tol", "1 is too loose for a periodic solution"]),
+    ("trim hover --speed 1e3", ["--speed", "1e3 m/s is outside the flight speeds the model covers", "-20 to 90 m/s"]),
+    ("trim hover --speed 100", ["--speed", "100 kt would be 51.4 m/s"]),
+    ("trim hover --climb-rate 50", ["--climb-rate", "50 m/s is outside the climb rates"]),
+    ("loads --speed 300", ["--speed", "300 m/s is outside the flight speeds"]),
+    ("loads ground-run --speed 20", ["--speed 20", "scene 'ground-run' has no free fuselage"]),
+    ("loads ground-run --sweep 0:20:3", ["--sweep 0:20:3", "no free fuselage, so no flight speed to sweep"]),
+    ("loads hover --steps-per-rev 20", ["--steps-per-rev 20", "21/rev", "give --steps-per-rev 50 or more"]),
+    ("loads hover --sweep 0:60:1", ["--sweep", "N = 1 gives 0 m/s only, never 60"]),
+    ("sweep trim hover --speed 0:70:1", ["--speed", "N = 1 gives LO (0) only, never HI (70)"]),
+    ("sweep trim hover --speed 0:200:3", ["--speed", "200 m/s is outside the flight speeds"]),
+    ("sweep trim hover --speed 0:10:100000", ["100000 points on one axis", "give fewer"]),
+    ("sweep simulate hover --param collective=0.2:0.3:5 --revs 1e9", ["--revs", "give 10000 or fewer"]),
+    ("floquet ground-resonance --sweep omega=20:60:1", ["--sweep", "N = 1 gives 20 only, never 60"]),
+    ("demo --revs 1e6", ["--revs", "results.csv of about 100 GB", "give 10000 or fewer"]),
+    ("cosim --stop 0.0001", ["--stop 0.0001 s is less than one communication step"]),
+    ("cosim --stop 1e6", ["--stop", "give 3600 or less"]),
+    ("aircraft check DIR", ["is a folder; give an aircraft file"]),
+    ("aircraft list bo105", ["unrecognized arguments: bo105", "'heli aircraft check NAME' shows one"]),
+    ("scenes hover", ["unrecognized arguments: hover", "'heli scenes' lists every scene and takes none"]),
+    ("view RECORD", ["is a run record, not its table", "give the folder of the run"]),
+    ("view CHART", ["is not a text table (a binary file, such as a chart)"]),
+    ("view --simulate hover --aircraft nosuch.toml", ["--aircraft", "nosuch.toml: no such file"]),
+    ("fmu linearize NOTZIP", ["argument fmu", "is not an FMU: an FMU is a zip archive"]),
+    ("fmu linearize EMPTYZIP", ["argument fmu", "without a modelDescription.xml"]),
+    ("fmu linearize DIR", ["argument fmu", "is a folder; give an .fmu file"]),
     ("", ["the following arguments are required: COMMAND"]),
     ("nosuch", ["COMMAND", "'nosuch'"]),
 ]
@@ -177,6 +225,8 @@ INPUT_TABLES = {  # --inputs files: name -> text
     "IN_NAME": "time,colective\n0,0.25\n",
     "IN_RANGE": "time,collective\n0,0.25\n\n0.1,0.5\n",  # a blank line 3 does not count as a row
     "IN_SPEED": "time,speed\n0,10\n",
+    "IN_SEMI": "time;collective\n0;0.25\n",
+    "IN_OMEGA": "time,omega\n0,44.4\n0.5,40\n",
 }
 RUN_JSON = '{"scene": "hover", "result": "successful"}'
 FOLDERS = {  # results folders heli view must refuse: name -> (results.csv, run.json)
@@ -201,8 +251,17 @@ def places(tmp_path, monkeypatch) -> dict[str, str]:
     (tmp_path / "trims.toml").write_text("[hover\nspeed = 0\n")
     (tmp_path / "results").mkdir()
     (tmp_path / "results" / "results.csv").write_text("time\n0\n")
+    (tmp_path / "record.json").write_text('{"scene": "hover"}')
+    (tmp_path / "chart.png").write_bytes(b"\x89PNG\r\n\x1a\n\x00\x00")
+    (tmp_path / "notzip.fmu").write_text("not a zip")
+    (tmp_path / "mine.toml").write_text("# an aircraft file")
+    import zipfile
+    with zipfile.ZipFile(tmp_path / "empty.fmu", "w") as z:
+        z.writestr("readme.txt", "no model description")
     out = {"FILE": str(tmp_path / "a-file"), "DIR": str(tmp_path / "results"), "PKG": str(PACKAGE_TRIMS), "EMPTY": "",
-           "EMPTYFILE": str(tmp_path / "empty.csv"), "BADTOML": str(tmp_path / "trims.toml")}
+           "EMPTYFILE": str(tmp_path / "empty.csv"), "BADTOML": str(tmp_path / "trims.toml"),
+           "RECORD": str(tmp_path / "record.json"), "CHART": str(tmp_path / "chart.png"),
+           "NOTZIP": str(tmp_path / "notzip.fmu"), "EMPTYZIP": str(tmp_path / "empty.fmu")}
     for name, text in INPUT_TABLES.items():
         (tmp_path / f"{name.lower()}.csv").write_text(text)
         out[name] = str(tmp_path / f"{name.lower()}.csv")

@@ -62,7 +62,7 @@ def test_the_trim_sweep_power_chart_shows_the_engine_power(tmp_path, monkeypatch
         drawn[path.name] = panels
         return path
     monkeypatch.setattr(sweep_charts, "_line_chart", capture)
-    monkeypatch.setattr(sweep_charts, "_trim_summary", lambda rows, names, controls, power, path: drawn.setdefault(
+    monkeypatch.setattr(sweep_charts, "_trim_summary", lambda rows, names, controls, power, path, what: drawn.setdefault(
         path.name, power) and path)
     rows = [{"speed": v, "status": "ok", "collective": 0.2, "roll": 0.0, "pitch": 0.0, "main_rotor.power": 3e5,
              "tail_rotor.power": 2e4, "engine.power": 3.5e5} for v in (0.0, 20.0)]

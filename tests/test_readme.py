@@ -76,7 +76,8 @@ def user_path() -> str:
 
 def run_block(block: Block, folder: Path) -> subprocess.CompletedProcess:
     env = {k: v for k, v in os.environ.items() if k not in ("VIRTUAL_ENV", "PYTHONHOME", "PYTHONPATH")}
-    env.update(PATH=user_path(), MPLBACKEND="Agg", PYTHONUNBUFFERED="1")
+    env.update(PATH=user_path(), MPLBACKEND="Agg", PYTHONUNBUFFERED="1",
+               XDG_DATA_HOME=str(folder / "share"))  # a user's empty data folder: no trims stored yet
     script = folder / f"block_{block.line}.{'py' if block.language == 'python' else 'sh'}"
     script.write_text(runnable(block))
     python = str(folder / ".venv" / "bin" / "python")
@@ -93,11 +94,16 @@ def install_command_1(folder: Path) -> None:
 
 
 @pytest.fixture(scope="session")
-def readme_runs(tmp_path_factory) -> dict[int, subprocess.CompletedProcess]:
+def readme_folder(tmp_path_factory) -> Path:
+    """The folder the README's blocks run in."""
+    return tmp_path_factory.mktemp("readme")
+
+
+@pytest.fixture(scope="session")
+def readme_runs(readme_folder) -> dict[int, subprocess.CompletedProcess]:
     """Each runnable block's process, run in README order in one folder after command 1."""
-    folder = tmp_path_factory.mktemp("readme")
-    install_command_1(folder)
-    return {b.line: run_block(b, folder) for b in blocks() if runnable(b) is not None}
+    install_command_1(readme_folder)
+    return {b.line: run_block(b, readme_folder) for b in blocks() if runnable(b) is not None}
 
 
 def test_the_readme_has_its_blocks():
@@ -111,6 +117,26 @@ def test_block_runs_as_written(block, readme_runs):
     proc = readme_runs[block.line]
     assert proc.returncode == 0, f"{block.name} failed:\n{block.text}\nstdout:\n{proc.stdout[-3000:]}\n" \
                                  f"stderr:\n{proc.stderr[-3000:]}"
+
+
+def test_the_quick_start_flies_a_trimmed_aircraft(readme_runs, readme_folder):
+    """The new aircraft of the quick start flies from its periodic trim: ``run.json`` says so and
+    holds the initial state, and the roll stays within 0.5 deg of the trim's over the 5
+    revolutions (from the closed-form estimate it went from -2.9 to +6.1 deg)."""
+    import json
+
+    import numpy as np
+
+    out = readme_folder / "out" / "mine"
+    meta = json.loads((out / "run.json").read_text())
+    start = meta["initial_state"]
+    assert meta["revs"] == 5 and start["from"] == "periodic trim" and not start["computed_now"]  # the stored one
+    assert start["file"] == str(readme_folder / "share" / "rotor-mbs" / "trims.toml")
+    data = np.genfromtxt(out / "results.csv", delimiter=",", names=True, deletechars="")
+    w, x, y, z = (data[f"fuselage.q{c}"] for c in "wxyz")
+    roll = np.degrees(np.arctan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y)))
+    assert roll[0] == pytest.approx(start["roll_deg"], abs=1e-9) and start["state"]["fuselage.qw"] == w[0]
+    assert np.abs(roll - start["roll_deg"]).max() < 0.5
 
 
 def test_the_test_command_is_what_ci_runs():

@@ -27,7 +27,7 @@ def test_a_coarse_step_is_said_with_the_step_that_would_do(tmp_path, capsys):
     """forward-flight at 10 steps/rev (the tail rotor's teeter goes wild) reported success
     before; now a warning names the state, the estimate and the step that would do."""
     code, out, err = run_main(["simulate", "forward-flight", "--steps-per-rev", "10", "--out", str(tmp_path),
-                               "--quiet"], capsys)
+                               "--quiet", "--start", "scene"], capsys)
     assert code == 0
     warning = [line for line in err.splitlines() if "warning" in line]
     assert len(warning) == 1 and warning[0].startswith(
@@ -37,7 +37,7 @@ def test_a_coarse_step_is_said_with_the_step_that_would_do(tmp_path, capsys):
     step = json.loads((tmp_path / "run.json").read_text())["step_error"]
     assert not step["ok"] and step["suggested_steps_per_rev"] == 80 and step["ratio"] > 1
     code, out, err = run_main(["simulate", "forward-flight", "--steps-per-rev", "80", "--out", str(tmp_path),
-                               "--quiet"], capsys)
+                               "--quiet", "--start", "scene"], capsys)
     assert "warning" not in err and json.loads((tmp_path / "run.json").read_text())["step_error"]["ok"]
 
 
@@ -93,14 +93,35 @@ def test_progress_shows_the_time_left(monkeypatch):
 
     from mbs import _progress
 
-    clock = iter([0.0, 2.0, 4.0])
+    clock = iter([0.0, 5.0, 7.0, 9.0])
     monkeypatch.setattr(_progress.time, "perf_counter", lambda: next(clock))
     stream = io.StringIO()
     bar = _progress.Progress("simulate hover", stream=stream)
+    bar(0, 100)  # after 5 s of set-up
     bar(25, 100)  # 2 s for a quarter: 6 s left
     assert "25.0%" in stream.getvalue() and "about 6 s left" in stream.getvalue()
     bar(100, 100)
     assert stream.getvalue().endswith("\n") and stream.getvalue().count("left") == 1
+
+
+def test_progress_does_not_count_the_set_up_as_work_to_come(monkeypatch):
+    """A trim's first iteration reports after a minute of compiling; its next one a second later:
+    about 17 s left for the 17 iterations to come, not 17 minutes; a bar left unfinished (the trim
+    converged early) is erased before the next line."""
+    import io
+
+    from mbs import _progress
+
+    clock = iter([0.0, 60.0, 61.0, 62.0])
+    monkeypatch.setattr(_progress.time, "perf_counter", lambda: next(clock))
+    stream = io.StringIO()
+    bar = _progress.Progress("trim hover", stream=stream)
+    bar(1, 20)
+    bar(2, 20)
+    assert "about 18 s left" in stream.getvalue() and "min" not in stream.getvalue()
+    bar(3, 20)
+    _progress.clear()
+    assert stream.getvalue().endswith("\r" + " " * bar.width + "\r")
 
 
 def test_revs_that_are_no_whole_number_of_steps_are_said(tmp_path, capsys):
@@ -136,7 +157,8 @@ def test_every_results_column_has_its_unit_in_run_json(tmp_path, capsys):
 def test_view_opens_the_model_the_run_was_made_with(extra, tmp_path, capsys):
     from viewer import from_results
 
-    assert run_main(["simulate", "hover", "--revs", "0.2", *extra, "--out", str(tmp_path), "--quiet"], capsys)[0] == 0
+    assert run_main(["simulate", "hover", "--revs", "0.2", *extra, "--out", str(tmp_path), "--quiet", "--start", "scene"],
+                    capsys)[0] == 0
     rec = from_results(tmp_path)
     data = (tmp_path / "results.csv").read_text().split("\n", 1)[0].split(",")
     assert rec.info.state_names == data[1:1 + rec.info.nx]
@@ -148,7 +170,7 @@ def test_view_opens_the_model_the_run_was_made_with(extra, tmp_path, capsys):
 
 def test_view_refuses_a_diverged_run_before_building_anything(tmp_path, capsys, monkeypatch):
     code, out, err = run_main(["simulate", "forward-flight", "--steps-per-rev", "8", "--revs", "3",
-                               "--out", str(tmp_path), "--quiet"], capsys)
+                               "--out", str(tmp_path), "--quiet", "--start", "scene"], capsys)
     assert code == 1 and "non-finite" in out
 
     def no_build(*args, **kwargs):

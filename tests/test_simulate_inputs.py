@@ -31,7 +31,7 @@ def run_main(argv: list[str], capsys) -> tuple[int, str, str]:
 
 def test_set_controls_and_parameters_equal_the_run_with_those_parameters(tmp_path, capsys):
     code, out, err = run_main(["simulate", "hover", "--set", "collective=0.25", "--set", "omega=42",
-                               "--out", str(tmp_path), "--quiet", "--json"], capsys)
+                               "--out", str(tmp_path), "--quiet", "--json", "--start", "scene"], capsys)
     assert code == 0, err
     res = json.loads(out)
     assert res["set"] == {"collective": 0.25, "omega": 42.0}
@@ -49,10 +49,10 @@ def test_set_speed_starts_in_level_flight_at_that_speed(tmp_path, capsys):
     in the ground frame the fuselage moves at V along x, at the start's attitude; the controls
     stay the scene's (its trim at 10 m/s), which a warning says."""
     code, out, err = run_main(["simulate", "forward-flight", "--set", "speed=25", "--revs", "0.1",
-                               "--out", str(tmp_path), "--quiet"], capsys)
+                               "--out", str(tmp_path), "--quiet", "--start", "scene"], capsys)
     assert code == 0, err
     assert ("warning: --set speed=25: the run starts at 25 m/s with the attitude and controls of scene "
-            "'forward-flight' at 10 m/s") in err and "heli trim forward-flight --speed 25" in err
+            "'forward-flight' at 10 m/s") in err and "starts from the periodic trim at 25 m/s" in err
     data = columns(tmp_path / "results.csv")
     q = [data[f"fuselage.q{a}"][0] for a in "wxyz"]
     v = [data[f"fuselage.{a}"][0] for a in "uvw"]
@@ -111,7 +111,7 @@ def test_the_fmu_demos_input_table_gives_the_run_of_the_fmus_core_twin(tmp_path,
     np.savetxt(path, np.column_stack([table[n] for n in table.dtype.names]), delimiter=",",
                header=",".join(table.dtype.names), comments="", fmt="%.17g")
     code, out, err = run_main(["simulate", "forward-flight", "--inputs", str(path), "--out", str(tmp_path / "run"),
-                               "--quiet", "--json"], capsys)
+                               "--quiet", "--json", "--start", "scene"], capsys)
     assert code == 0, err
     assert "warning" not in err
     twin = hosts.run_core("forward-flight", hosts.grid(100 * h, 2 * h), table, max_step=h,
@@ -167,3 +167,29 @@ def test_stretches_hold_what_the_table_gives_at_every_step(seed):
     at_steps = table.at(h * np.arange(n))
     owner = np.searchsorted(starts, np.arange(n), side="right") - 1
     np.testing.assert_array_equal(at_steps, table.at(h * starts)[owner])
+
+
+@pytest.mark.parametrize("table, line", [
+    ("time,omega\n0,44.4\n0.5,40\n", 3),          # a ramp: azimuth omega(t) t would turn the rotor too slowly
+    ("time,omega\n0,44.4\n0.1,44.4\n0.1,40\n", 4),  # a step: omega(t) t would jump the azimuth back
+])
+def test_an_omega_column_that_changes_is_refused(tmp_path, capsys, table, line):
+    """The driven hubs turn at ``omega t``: a rotor speed changing within a run would be
+    integrated wrong, so the column is refused with what to do instead (before anything is
+    built); a constant column is the run of ``--set omega``."""
+    path = tmp_path / "omega.csv"
+    path.write_text(table)
+    code, out, err = run_main(["simulate", "ground-run", "--inputs", str(path), "--out", str(tmp_path / "o")], capsys)
+    lines = err.strip().splitlines()
+    assert code == 2 and len(lines) == 1, err
+    assert f"column 'omega' changes from 44.4 to 40 (line {line})" in lines[0]
+    assert "--set omega=VALUE" in lines[0] and "heli sweep simulate ground-run --param omega=LO:HI:N" in lines[0]
+    assert not (tmp_path / "o").exists()
+
+
+def test_a_constant_omega_column_is_refused_for_set(tmp_path, capsys):
+    """Even a constant column: the step and the revolutions of --revs are the rotor speed's."""
+    path = tmp_path / "omega.csv"
+    path.write_text("time,omega\n0,40\n1,40\n")
+    code, out, err = run_main(["simulate", "ground-run", "--inputs", str(path)], capsys)
+    assert code == 2 and "column 'omega' is an input table column" in err and "--set omega=VALUE" in err

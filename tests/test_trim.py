@@ -110,7 +110,7 @@ def test_heli_trim_reports_and_writes_to_a_user_path(tmp_path, capsys):
     assert res["torque"] * 44.4 == pytest.approx(res["power"], rel=1e-12)
     assert {"main_rotor.inflow_ratio", "tail_rotor.torque", "tail_rotor.power"} <= set(res["outputs"])
     assert any(line.startswith("converged") for line in out) and any("iteration 1" in line for line in out)
-    assert '["forward-flight"]' in path.read_text() and "collective" in path.read_text()
+    assert '["forward-flight at 30 m/s, MBB Bo105, ' in path.read_text() and res["key"] in path.read_text()
 
 
 def test_heli_trim_exits_non_zero_when_not_converged(capsys):

@@ -11,7 +11,7 @@ import time
 import numpy as np
 import pytest
 
-from mbs import scenes
+from mbs import atomic, scenes
 from mbs.simulate import simulate, write
 from viewer import animation as anim
 from viewer import build_scene, export_html, from_results, motion, pack
@@ -188,6 +188,8 @@ def _with_collective_step(tmp_path, revs: float = 1.0):
     lines = csv.read_text().splitlines()
     step = [0.1 if i < 50 else 0.3 for i in range(len(lines) - 1)]
     csv.write_text("\n".join([lines[0] + ",collective"] + [f"{l},{c}" for l, c in zip(lines[1:], step)]) + "\n")
+    run = json.loads((tmp_path / "run.json").read_text())  # the table's new digest: run.json is its record
+    (tmp_path / "run.json").write_text(json.dumps({**run, "results_sha256": atomic.sha256(csv)}))
     return sim, np.array(step)
 
 
@@ -244,7 +246,7 @@ def test_last_revolutions_and_slow_motion(tmp_path):
 @pytest.mark.parametrize("options, message", [
     ({"slow": 0.0}, "slow"), ({"revs": -1.0}, "revs"), ({"every": 0}, "every"),
     ({"trace": ["rotor"]}, "unknown body 'rotor'"), ({"follow": "cabin"}, "unknown body 'cabin'"),
-    ({"start": 99.0}, "start = 99.0"),
+    ({"start": 99.0}, "--start 99 s is outside the run"),
 ])
 def test_bad_options_are_named(flight, tmp_path, options, message):
     with pytest.raises(ValueError, match=re.escape(message)):

@@ -55,9 +55,10 @@ def cmd_view(args) -> int:
 
     results = Path(args.results)
     out = Path(args.html) if args.html else (results if results.is_dir() else results.parent) / "viewer.html"
-    exp = export_html(results, out, revs=None if args.revs == 0 else args.revs, start=args.start, every=args.every,
+    exp = export_html(_source(args), out, revs=None if args.revs == 0 else args.revs, start=args.start, every=args.every,
                       slow=args.slow, trace=not args.no_trace, follow=_follows(args), backend=args.backend,
                       max_bytes=args.max_mb * 1e6)
+    _say_shorter(args, exp.motion.recording)
     res = exp.summary()
     rows = "every row" if exp.every == 1 else f"1 row in {exp.every}"
     emit(res, args.json, [f"{res['scene']}: t = {exp.sim_time[0]:.4g} to {exp.sim_time[1]:.4g} s, {exp.keys} keyframes "
@@ -66,11 +67,30 @@ def cmd_view(args) -> int:
     return 0
 
 
+def _source(args):
+    """The results path, or its recording with the aircraft file of ``--aircraft`` (a file that moved)."""
+    if args.aircraft is None:
+        return Path(args.results)
+    from viewer.motion import from_results
+
+    return from_results(Path(args.results), args.backend, args.aircraft)
+
+
+def _say_shorter(args, rec) -> None:
+    """Warn when ``--revs`` asks for more revolutions than the run has (all of it is shown)."""
+    from mbs.cli import warn
+
+    if args.revs and rec.revolution:
+        has = (rec.t[-1] - rec.t[0]) / rec.revolution
+        if args.revs > has * (1 + 1e-6):
+            warn(f"--revs {args.revs:g}: the run has {has:.4g} revolutions; all of it is shown")
+
+
 def _serve(args) -> int:
     from viewer.live import LiveViewer
     from viewer.motion import motion
 
-    mo = motion(Path(args.results), None if args.revs == 0 else args.revs, args.start, args.every, backend=args.backend)
+    mo = motion(_source(args), None if args.revs == 0 else args.revs, args.start, args.every, backend=args.backend)
     signal.signal(signal.SIGTERM, _terminate_as_exit)
     with LiveViewer(mo.recording.system, follow=_follows(args), web_port=args.port) as live:
         emit({"url": live.url, "pid": live.pid, "keys": len(mo.t)}, args.json,
@@ -89,7 +109,12 @@ def _live_simulation(args) -> int:
     from mbs._progress import Progress
     from viewer.live import LiveViewer
 
-    scene = scenes.get(args.simulate)
+    from mbs.cli import warn
+    from mbs.trims.start import estimate_warning
+
+    scene = scenes.get(args.simulate, aircraft=args.aircraft)
+    if estimate_warning(scene, "heli view --simulate"):
+        warn(estimate_warning(scene, "heli view --simulate"))
     system = scene.system(args.backend)
     signal.signal(signal.SIGTERM, _terminate_as_exit)
     with LiveViewer(system, follow=_follows(args), web_port=args.port) as live:
@@ -116,6 +141,10 @@ def register(sub, bench) -> None:
                    help="output file (default: viewer.html beside the results)")
     p.add_argument("--serve", action="store_true", help="stream to a meshcat server on 127.0.0.1 until Ctrl-C")
     A.add_scene(p, "--simulate", what="run this scene and stream each step live (implies a server)")
+    p.add_argument("--aircraft", metavar="FILE", type=A.aircraft_file, default=None,
+                   help="with --simulate: the aircraft (a file, or bo105, lynx, puma) whose scene runs; with results: "
+                        "the run's aircraft file where it is now, when it has moved since the run (it must be the same "
+                        "file: its SHA-256 is checked against run.json's)")
     p.add_argument("--revs", type=A.non_negative, default=0.0,
                    help="main-rotor revolutions shown, the last ones (default 0: the whole run)")
     p.add_argument("--start", type=A.finite, default=None,

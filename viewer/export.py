@@ -23,6 +23,7 @@ from viewer import loads as hub_loads
 from viewer import pack
 from viewer import scene as sc
 from viewer import series
+from viewer import swashplate as swash
 from viewer.motion import Motion, as_recording, key_times, motion
 from viewer.page import html_page
 
@@ -91,9 +92,10 @@ class Export:
                 "scene": self.motion.recording.name, "bodies": self.scene.body_names}
 
 
-def record(scene: sc.Scene, mo: Motion, arrows: hub_loads.HubArrows | None = None) -> RecordingWindow:
-    """The commands drawing ``scene`` at the first key of ``mo`` (with the tip-path lines and
-    the hub-load ``arrows``)."""
+def record(scene: sc.Scene, mo: Motion, arrows: hub_loads.HubArrows | None = None,
+           mech: swash.Mechanism | None = None) -> RecordingWindow:
+    """The commands drawing ``scene`` at the first key of ``mo`` (with the tip-path lines, the
+    hub-load ``arrows`` and the swashplate ``mech``)."""
     window = RecordingWindow()
     traces = anim.tip_paths(scene, mo) if scene.traced else {}
     world0 = anim.world_at(anim.keyframes(scene, mo), float(mo.t[0]))
@@ -101,16 +103,20 @@ def record(scene: sc.Scene, mo: Motion, arrows: hub_loads.HubArrows | None = Non
         window.send(command)
     for command in hub_loads.commands(scene.frame_path(arrows.frame), arrows) if arrows else []:
         window.send(command)
+    for command in swash.commands(scene.paths[swash.HUB], mech) if mech else []:
+        window.send(command)
     return window
 
 
 def document(scene: sc.Scene, mo: Motion, slow: float, follow: bool,
-             arrows: hub_loads.HubArrows | None = None) -> tuple[dict, int]:
-    """The page's data document for ``mo`` (with the hub-load ``arrows``) and the number of plot rows."""
+             arrows: hub_loads.HubArrows | None = None, mech: swash.Mechanism | None = None) -> tuple[dict, int]:
+    """The page's data document for ``mo`` (with the hub-load ``arrows`` and the swashplate
+    ``mech``) and the number of plot rows."""
     rec = mo.recording
     rows = series.plot_rows(rec, float(mo.t[0]), float(mo.t[-1]))
     plot = pack.plot_data(scene, rec.t[rows], series.panels(rec, rows))
-    tracks = hub_loads.tracks(scene.frame_path(arrows.frame), arrows) if arrows else None
+    tracks = (hub_loads.tracks(scene.frame_path(arrows.frame), arrows) if arrows else []) + \
+        (swash.tracks(scene.paths[swash.HUB], mech) if mech else [])
     doc = pack.document(scene, anim.keyframes(scene, mo), plot, series.azimuth(rec, mo.t), rec.revolution,
                         1.0 / slow, follow, tracks)
     return doc, len(rows)
@@ -168,19 +174,22 @@ def export_html(source, path: str | Path, revs: float | None = None, start: floa
 
     def render(mo: Motion, stride: int) -> str:
         arrows = hub_loads.hub_arrows(rec, mo.t) if loads else None
-        doc, rows = document(scene, mo, slow, bool(follow), arrows)
+        mech = swash.mechanism(rec, mo.t)
+        doc, rows = document(scene, mo, slow, bool(follow), arrows, mech)
         plot_rows[:] = [rows]
         info = {"model": rec.info.name, "scene": name, "slow": slow, "t0": float(mo.t[0]), "t1": float(mo.t[-1]),
                 "keys": len(mo.t), "every": stride, "bodies": scene.paths, "world": sc.WORLD,
                 "arrows": arrows.per_metre if arrows else None}
         label = f"{name}: t = {mo.t[0]:.4g} to {mo.t[-1]:.4g} s" + (f", every {stride} rows" if stride > 1 else "")
         label += f"; {arrows.legend()}" if arrows else ""
-        return html_page(record(scene, mo, arrows).packed(), info, doc, title or f"{name} (rotor-mbs viewer)", label)
+        return html_page(record(scene, mo, arrows, mech).packed(), info, doc, title or f"{name} (rotor-mbs viewer)",
+                         label)
 
     mo, text, every = fitted(rec, scene, revs, start, every, max_bytes, render)
     out = Path(path)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text(text, encoding="utf-8")
+    from mbs import atomic
+
+    atomic.write_text(out, text)
     return Export(out, out.stat().st_size, len(mo.t), float((mo.t[-1] - mo.t[0]) * slow), (float(mo.t[0]), float(mo.t[-1])),
                   slow, every, plot_rows[0], float(np.degrees(mo.max_key_angle().max(initial=0.0))), mo, scene)
 

@@ -40,6 +40,7 @@ class Recording:
     revolution: float | None = None
     P: np.ndarray | None = None
     plots: dict | None = None  # the scene's hinge-angle panels (title -> names)
+    scene: object = None  # the :class:`mbs.scenes.Scene` it is a run of, when known
 
     @property
     def info(self):
@@ -69,10 +70,10 @@ def from_simulation(sim) -> Recording:
     if system.dtype != np.float64:
         system = sim.scene.system("vm")
     return _checked(Recording(system, sim.traj.t, sim.traj.x, sim.params, sim.scene.name,
-                              sim.scene.revolution(system, sim.params), plots=sim.scene.plots))
+                              sim.scene.revolution(system, sim.params), plots=sim.scene.plots, scene=sim.scene))
 
 
-def from_results(path: str | Path, backend: str = "vm") -> Recording:
+def from_results(path: str | Path, backend: str = "vm", aircraft=None) -> Recording:
     """Recording of a results folder or ``results.csv`` written by :func:`mbs.simulate.write`.
 
     Everything that can be wrong with the files is found before the model is built (one-line
@@ -80,7 +81,8 @@ def from_results(path: str | Path, backend: str = "vm") -> Recording:
     value. The scene recorded in ``run.json`` (its aircraft and aerodynamics switches too:
     :func:`mbs.simulate.scene_of_run`) is rebuilt with ``backend`` ("vm" or "compiled"); its
     parameters are taken from ``run.json``, or row by row from columns of the same name
-    (inputs that change during the run).
+    (inputs that change during the run). ``aircraft``: the run's aircraft file where it is now,
+    when it has moved (:func:`mbs.simulate.scene_of_run`).
     """
     from mbs.results import read_results
     from mbs.simulate import scene_of_run
@@ -88,7 +90,7 @@ def from_results(path: str | Path, backend: str = "vm") -> Recording:
     cols, meta = read_results(Path(path))
     where = Path(path) / "run.json" if Path(path).is_dir() else Path(path).parent / "run.json"
     _check_run(path, cols, meta)
-    scene = scene_of_run(meta, str(where))
+    scene = scene_of_run(meta, str(where), aircraft)
     system = scene.system(backend)
     names = system.info.state_names
     missing = [n for n in ["time", *names] if n not in cols]
@@ -101,7 +103,8 @@ def from_results(path: str | Path, backend: str = "vm") -> Recording:
     if varying:
         P = np.array([system.params(p, **{n: cols[n][i] for n in varying}) for i in range(len(cols["time"]))])
     x = np.column_stack([cols[n] for n in names])
-    return _checked(Recording(system, cols["time"], x, p, scene.name, scene.revolution(system, p), P, scene.plots))
+    return _checked(Recording(system, cols["time"], x, p, scene.name, scene.revolution(system, p), P, scene.plots,
+                              scene))
 
 
 def _check_run(path, cols: dict, meta: dict) -> None:
@@ -196,8 +199,12 @@ def key_times(rec: Recording, revs: float | None = 1.0, start: float | None = No
         t1 = min(t1, start + span)
     start = t0 if start is None else start
     if not t0 - 1e-12 <= start <= rec.t[-1]:
-        raise ValueError(f"start = {start} s is outside the recording [{t0}, {rec.t[-1]}] s")
+        raise ValueError(f"--start {start:g} s is outside the run, {t0:g} to {rec.t[-1]:.6g} s; give a time within it")
     rows = np.flatnonzero((rec.t >= start - 1e-12) & (rec.t <= t1 + 1e-12))
+    if len(rows) < 2 and len(rec.t) > 1 and revs is not None:
+        need = 2 * float(np.max(np.diff(rec.t))) / (rec.revolution or (rec.t[-1] - t0))
+        raise ValueError(f"--revs {revs:g} shows less than one step between recorded rows ({np.max(np.diff(rec.t)):.3g} "
+                         f"s apart); give --revs {need:.3g} or more, or 0 for the whole run")
     if len(rows) == 0:
         return np.array([start])
     keep = rows[::every]

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import re
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -27,7 +27,11 @@ from viewer import kinematics as kin
 ROOT = "/meshcat/model"
 WORLD = ROOT + "/world"
 RESERVED = ("shape", "tip_path", "hub_loads")
-LEAF_COLORS = ["#d62728", "#1f77b4", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#17becf"]
+LEAF_COLORS = ["#d62728", "#1f77b4", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#17becf", "#bcbd22",
+               "#393b79", "#ad494a", "#31a354"]
+"""Distinct colours of the leaves and of the main-rotor blades (the first four those the
+helicopter model gives its blades)."""
+BLADE = re.compile(r"blade(\d+)(?:[_:].*)?")
 ROOT_COLOR, INNER_COLOR = "#c8ccd2", "#50565e"
 
 
@@ -193,11 +197,31 @@ def build_scene(info, flat: bool = False, trace=True, follow: str | None | bool 
         paths[n] = (WORLD if parents[i] < 0 else paths[names[parents[i]]]) + "/" + n
     defaults = _default_colors(info, parents)
     parts = {b["name"]: [_part(s, b["name"], defaults[b["name"]]) for s in _parts_of(b)] for b in info.bodies}
+    _distinct_blades(parts)
     colors = {n: (parts[n][0].color if parts[n] else defaults[n]) for n in names}
     traced = _traced(info, parents, parts, trace)
     frames = {b: _trace_frame(names, parents, b, info) for b in traced}
     return Scene(info, paths, parts, colors, flat, traced, frames, _follow(info, parents, follow),
                  _extent(info, parents, parts))
+
+
+def _distinct_blades(parts: dict[str, list[Part]]) -> None:
+    """Give the main-rotor blades distinct colours when the model repeats its few (a five-bladed
+    rotor's fifth blade had the first one's): every part of blade ``k`` (its segments and
+    sections too) that has another blade's colour takes ``LEAF_COLORS[k - 1]``."""
+    first: dict[int, int] = {}
+    for name, body_parts in parts.items():
+        m = BLADE.fullmatch(name)
+        if m and body_parts and name == f"blade{m.group(1)}":
+            first[int(m.group(1))] = body_parts[0].color
+    if len(set(first.values())) == len(first):
+        return
+    for name, body_parts in parts.items():
+        m = BLADE.fullmatch(name)
+        if m and int(m.group(1)) in first:
+            k = int(m.group(1))
+            new = color_int(LEAF_COLORS[(k - 1) % len(LEAF_COLORS)], "palette")
+            parts[name] = [replace(p, color=new) if p.color == first[k] else p for p in body_parts]
 
 
 def _traced(info, parents, parts, trace) -> list[str]:
@@ -268,7 +292,27 @@ def commands(scene: Scene, local0: np.ndarray, world0: np.ndarray, traces: dict[
         line = g.Line(g.PointsGeometry(np.asarray(points, dtype=np.float32).T),
                       g.LineBasicMaterial(color=tint(scene.colors[blade])))
         out.append(cmd.SetObject(line, path=_path(Path, p)))
-    return out + _view(scene, cmd, Path)
+    return out + _view(scene, cmd, Path, max(scene.extent, posed_extent(scene, local0)))
+
+
+def posed_extent(scene: Scene, local0: np.ndarray) -> float:
+    """The model's radius (m) about the root at the pose ``local0`` (nb, 4, 4): every part's
+    reach from the origin of the root body, through the actual joint transforms (a flexible blade's sections
+    sit along the span through their joints' motion, not their ``at`` offsets, which
+    :attr:`Scene.extent` reads)."""
+    names, world = scene.body_names, {}
+    best = 0.5
+    for i, name in enumerate(names):
+        parent = scene.paths[name].rsplit("/", 1)[0]
+        above = next((world[n] for n in names[:i] if scene.paths[n] == parent), np.eye(4))
+        world[name] = above @ np.asarray(local0[i], dtype=float)
+        if parent == WORLD:  # about the root's own origin, wherever it has flown
+            world[name][:3, 3] = 0.0
+        for part in scene.parts[name]:
+            size = np.asarray(part.dims if part.kind == "box" else (2 * part.dims[0], part.dims[1], 2 * part.dims[0]))
+            centre = (world[name] @ part.transform)[:3, 3]
+            best = max(best, float(np.linalg.norm(centre) + np.linalg.norm(size) / 2))
+    return best
 
 
 def _material(g, color: int, flat: bool):
@@ -279,9 +323,10 @@ def _path(Path, text: str):
     return Path(tuple(text.strip("/").split("/")))
 
 
-def _view(scene: Scene, cmd, Path) -> list:
-    """Camera above and behind-left of the model; in flat mode no background, grid, axes."""
-    d = 1.35 * scene.extent
+def _view(scene: Scene, cmd, Path, extent: float | None = None) -> list:
+    """Camera above and behind-left of the model, ``extent`` (m, default the scene's) away in
+    proportion; in flat mode no background, grid, axes."""
+    d = 1.35 * (extent or scene.extent)
     world = np.array([-0.55, 0.65, 0.85]) * d  # meshcat frame (z up): from the left rear, above
     out = [cmd.SetProperty("position", [float(world[0]), float(world[2]), float(-world[1])],
                            _path(Path, "/Cameras/default/rotated/<object>"))]

@@ -4,9 +4,11 @@ the main-rotor azimuth (readout), taken from a :class:`viewer.motion.Recording`.
 Hinge angles are the scene's plot panels (``Scene.plots``: coordinates or outputs), else the
 coordinates called ``*.flap``, ``*.lag`` and ``*.teeter``. Pitch inputs are the parameters
 whose names contain "collective" or "cyclic", and any other parameter that changes during
-the run. Rotor power: the outputs called ``*.power``, when the model has them; hub loads: the
-main rotor's force and moment on the airframe (``main_rotor.hub.*``). Angles are shown in
-degrees, power in kW, loads in kN and kN m.
+the run. With a swashplate: the blade pitch its links set (``blade<k>.pitch``) and its
+actuators' displacements (``actuator<k>.displacement``). Rotor power: the outputs called
+``*.power``, when the model has them; hub loads: the main rotor's force and moment on the
+airframe (``main_rotor.hub.*``). Angles are shown in degrees, displacements in mm, power in
+kW, loads in kN and kN m.
 """
 from __future__ import annotations
 
@@ -89,6 +91,15 @@ def power_panels(rec) -> dict[str, list[str]]:
     return {"rotor and engine power (W)": [n for n in rec.info.output_names if n.endswith(".power")]}
 
 
+def swashplate_panels(rec) -> dict[str, list[str]]:
+    """Panel title -> names: the blade pitch the pitch links set and the swashplate actuators'
+    displacements, when the model has a swashplate."""
+    names = rec.info.output_names
+    return {"blade pitch set by the pitch links (rad)": [n for n in names if re.fullmatch(r"blade\d+\.pitch", n)],
+            "swashplate actuator displacements, up (m)": [n for n in names
+                                                          if re.fullmatch(r"actuator\d+\.displacement", n)]}
+
+
 def load_panels(rec) -> dict[str, list[str]]:
     """Panel title -> names: the main rotor's hub force and moment on the airframe (body axes),
     when the model has them."""
@@ -100,13 +111,15 @@ def load_panels(rec) -> dict[str, list[str]]:
 
 
 UNITS = {"(rad)": ("(deg)", np.degrees), "(W)": ("(kW)", lambda w: w * 1e-3), "(N)": ("(kN)", lambda f: f * 1e-3),
-         "(N m)": ("(kN m)", lambda m: m * 1e-3)}
+         "(N m)": ("(kN m)", lambda m: m * 1e-3), "(m)": ("(mm)", lambda x: x * 1e3)}
 
 
 def panels(rec, rows: np.ndarray) -> list[Panel]:
-    """The plot: pitch inputs first (if any), then the hinge-angle panels, rotor power and the
-    main-rotor hub loads; angles in degrees, power in kW, loads in kN and kN m."""
-    groups = {**input_panels(rec), **hinge_panels(rec), **power_panels(rec), **load_panels(rec)}
+    """The plot: pitch inputs first (if any), the swashplate's actuators and blade pitch (if
+    any), then the hinge-angle panels, rotor power and the main-rotor hub loads; angles in
+    degrees, displacements in mm, power in kW, loads in kN and kN m."""
+    groups = {**input_panels(rec), **swashplate_panels(rec), **hinge_panels(rec), **power_panels(rec),
+              **load_panels(rec)}
     out = []
     for title, names in groups.items():
         if names:

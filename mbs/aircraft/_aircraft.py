@@ -76,9 +76,14 @@ def resolve(source: str | Path) -> Path:
     if isinstance(source, str) and source in packaged():
         return packaged()[source]
     path = Path(source).expanduser()
+    if path.is_dir():
+        raise AircraftError(path, ["is a folder; give an aircraft file (.toml) or a packaged aircraft's name"])
     if not path.is_file():
         known = ", ".join(packaged())
-        raise AircraftError(path, [f"no such file (a packaged aircraft is one of {known}; "
+        near = path.with_suffix(".toml") if path.suffix != ".toml" and path.with_suffix(".toml").is_file() else None
+        name = str(source).lower().removesuffix(".toml")
+        hint = f"did you mean {near}? " if near else f"did you mean {name}? " if name in packaged() else ""
+        raise AircraftError(path, [f"no such file ({hint}a packaged aircraft is one of {known}; "
                                    "'heli aircraft new NAME' writes a template)"])
     return path
 

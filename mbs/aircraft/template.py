@@ -22,13 +22,16 @@ HEADER = """\
 """
 
 COMMENTED = ("elastic_blade", "swashplate", "stabilator", "controls", "conventions", "envelope", "lag_damper")
+"""Optional sections written commented out (their entries are required once the section is there)."""
 EXAMPLES = {"airfoils": [[0.0, "root_airfoil.c81"], [0.85, "tip_airfoil.c81"]],
             "chord_table": [[0.2, 0.27], [0.9, 0.27], [1.0, 0.2]],
             "twist_table": [[0.0, 0.07], [0.7, 0.0], [1.0, -0.03]],
             "mass_table": [[0.05, 30.0], [0.2, 8.0], [1.0, 5.5]],
             "section_inertia_table": [[0.05, 0.005, 0.2, 0.2], [1.0, 0.0005, 0.03, 0.03]]}
 """What an optional entry without a value of the Bo105's looks like (written commented out)."""
-"""Optional sections written commented out (their entries are required once the section is there)."""
+NEEDED_BY = {"elastic_blade": "the elastic-rotor scene's blades (elastic, 8 segments)",
+             "swashplate": "the swashplate scenes, forward-flight-swashplate and forward-flight-actuators"}
+"""What needs an optional section that the template writes commented out."""
 
 
 def template(name: str, source: str = "TEMPLATE") -> str:
@@ -38,28 +41,39 @@ def template(name: str, source: str = "TEMPLATE") -> str:
     base = load("bo105").data
     out = [HEADER.format(name=name, source=source)]
     for section, entries in ENTRIES.items():
-        optional = section in OPTIONAL_SECTIONS
-        out.append(f"{'# ' if section in COMMENTED else ''}[{section}]"
-                   + ("  # optional: leave the section out for the defaults" if optional else ""))
+        values = base.get(section, {})
+        lines = [f"[{section}]" + _optional(section)]
         for key, spec in entries.items():
-            value = name if key == "name" else base.get(section, {}).get(key, spec.default)
+            value = name if key == "name" else values.get(key, spec.default)
             if key in EXAMPLES:
                 value = EXAMPLES[key]
             value = (spec.choices[0] if spec.choices else "...") if value is None else value
             line = f"{key} = {{ value = {_toml(value)}, unit = \"{spec.unit}\", source = \"{source}\" }}"
-            commented = section in COMMENTED or spec.default is not None or _elsewhere(spec, base.get(section, {}))
             if spec.only_if:
                 line += f"  # only with {spec.only_if[0]} = \"{spec.only_if[1]}\""
             shown = {"airfoils": "none: the analytic section", "table": "none"}.get(spec.kind, spec.default)
-            out += [f"# {spec.text} ({spec.unit}" + (f"; default {shown})" if spec.default is not None else ")"),
-                    ("# " if commented else "") + line]
-        out += _derived_comment(section) + [""]
+            lines += [f"# {spec.text} ({spec.unit}" + (f"; default {shown})" if spec.default is not None else ")"),
+                      ("# " if spec.default is not None or _elsewhere(spec, values) else "") + line]
+        lines += _derived_comment(section)
+        out += [f"# {line}" for line in lines] if section in COMMENTED else lines  # uncommented: one '# ' less
+        out.append("")
     return "\n".join(out)
 
 
 def _elsewhere(spec, values: dict) -> bool:
     """Whether ``spec`` applies only with another value of its section's switch than the template's."""
     return bool(spec.only_if) and spec.only_if[0] in values and values[spec.only_if[0]] != spec.only_if[1]
+
+
+def _optional(section: str) -> str:
+    """The comment of an optional section's header line."""
+    if section in NEEDED_BY:
+        return (f"  # optional, needed by {NEEDED_BY[section]}: remove one '# ' from each line of the block to "
+                "use it (lines still commented then are defaults or do not apply)")
+    if section in COMMENTED:
+        return ("  # optional: remove one '# ' from each line of the block and fill in the values marked "
+                "'...' (lines still commented then are defaults or do not apply)")
+    return "  # optional: leave the section out for the defaults" if section in OPTIONAL_SECTIONS else ""
 
 
 def _toml(value) -> str:

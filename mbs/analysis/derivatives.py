@@ -265,15 +265,21 @@ def write_matrices(res: Derivatives, path) -> str:
             "controls": np.array(res.controls, dtype=object), "speed": res.speed,
             "eigenvalues": np.array([m.eigenvalue for m in res.modes]),
             "mode_names": np.array([m.name for m in res.modes], dtype=object)}
-    path.parent.mkdir(parents=True, exist_ok=True)
-    if path.suffix.lower() == ".mat":
-        from scipy.io import savemat
-
-        with open(path, "wb") as f:  # a file object: savemat would append .mat to a name ending in .MAT
-            savemat(f, data)
-    elif path.suffix.lower() == ".npz":
-        with open(path, "wb") as f:  # a file object: np.savez would append .npz to a name ending in .NPZ
-            np.savez(f, **{k: (v.astype(str) if getattr(v, "dtype", None) == object else v) for k, v in data.items()})
-    else:
+    if path.suffix.lower() not in (".mat", ".npz"):
         raise ValueError(f"unknown matrix file type {path.suffix!r}: use .mat (MATLAB) or .npz")
+    write_matrix_file(path, data)
     return str(path)
+
+
+def write_matrix_file(path, data: dict) -> None:
+    """``data`` (name -> array) as a ``.mat`` (scipy's :func:`~scipy.io.savemat`) or ``.npz`` file
+    ``path`` (by its suffix, any case), written atomically; object arrays of names as text."""
+    from mbs import atomic
+
+    with atomic.replacing(path) as tmp, open(tmp, "wb") as f:  # a file object: no suffix appended
+        if str(path).lower().endswith(".mat"):
+            from scipy.io import savemat
+
+            savemat(f, data)
+        else:
+            np.savez(f, **{k: (v.astype(str) if getattr(v, "dtype", None) == object else v) for k, v in data.items()})

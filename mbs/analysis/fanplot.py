@@ -17,12 +17,14 @@ evaluation again a Floquet analysis.
 from __future__ import annotations
 
 import csv
+import re
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+from mbs import atomic
 from mbs.analysis.floquet import Floquet, analyse, coordinate_functions
 from mbs.analysis.period import periodic_scene
 from mbs.analysis.shooting import TrimLayout
@@ -86,6 +88,8 @@ def parse_sweep(spec: str) -> tuple[str, np.ndarray]:
         raise ValueError(f"sweep {spec!r}: expected NAME=LO:HI:N, e.g. omega=20:60:30") from None
     if len(values) < 1 or not np.all(np.isfinite(values)):
         raise ValueError(f"sweep {spec!r}: need N >= 1 finite values")
+    if len(values) == 1 and float(lo) != float(hi):
+        raise ValueError(f"sweep {spec!r}: N = 1 gives {lo} only, never {hi}; give N >= 2")
     return name.strip(), values
 
 
@@ -94,10 +98,14 @@ def parse_settings(items: list[str] | None) -> dict[str, float]:
     out = {}
     for item in items or []:
         name, sep, value = item.partition("=")
+        if "," in value and "=" in value:
+            raise ValueError(f"setting {item!r}: one NAME=VALUE per --set; repeat --set for each name")
         try:
             out[name.strip()] = float(value)
         except ValueError:
-            raise ValueError(f"setting {item!r}: expected NAME=VALUE with a number") from None
+            unit = re.fullmatch(r"\s*[-+.\d]+(?:e[-+]?\d+)?\s*([a-zA-Z/°]+)\s*", value)
+            hint = f" (without the unit {unit.group(1)!r}: values are in SI units, m/s, rad, rad/s)" if unit else ""
+            raise ValueError(f"setting {item!r}: expected NAME=VALUE with a number{hint}") from None
         if not sep:
             raise ValueError(f"setting {item!r}: expected NAME=VALUE")
     return out
@@ -230,7 +238,7 @@ def _mode_row(m, name: str) -> dict:
 def write_csv(table: list[dict], path: Path) -> Path:
     """Write the rows of :func:`rows` (columns :data:`CSV_COLUMNS`)."""
     path.parent.mkdir(parents=True, exist_ok=True)
-    with open(path, "w", newline="") as f:
+    with atomic.replacing(path) as tmp, open(tmp, "w", newline="") as f:
         w = csv.DictWriter(f, CSV_COLUMNS, restval="")
         w.writeheader()
         w.writerows(table)
@@ -258,7 +266,7 @@ def figure(points: list[SweepPoint], parameter: str, bands: list[tuple[float, fl
     fig.suptitle(title, fontsize=10)
     fig.tight_layout(rect=(0, 0, 0.75, 0.96))
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
+    atomic.savefig(fig, path, dpi=110)
     plt.close(fig)
     return path
 

@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from mbs import atomic
 from mbs.analysis.floquet import GROUPS, Floquet
 
 CSV_COLUMNS = ("mode", "group", "real_per_s", "imag_rad_s", "frequency_hz", "per_rev", "damping_ratio",
@@ -38,15 +39,16 @@ def write_csv(res: Floquet, path: Path) -> Path:
     """Write :func:`rows` of ``res`` to ``path`` (floats at full precision)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    with open(path, "w", newline="") as f:
+    with atomic.replacing(path) as tmp, open(tmp, "w", newline="") as f:
         w = csv.DictWriter(f, CSV_COLUMNS)
         w.writeheader()
         w.writerows(rows(res))
     return path
 
 
-def figure(res: Floquet, path: Path) -> Path:
-    """Draw the two panels of ``res`` into the PNG ``path``."""
+def figure(res: Floquet, path: Path, of: str = "") -> Path:
+    """Draw the two panels of ``res`` into the PNG ``path``; ``of`` names the aircraft in the
+    title (`` of the MBB Bo105``)."""
     from mbs.plots import _pyplot
 
     plt = _pyplot()
@@ -57,11 +59,11 @@ def figure(res: Floquet, path: Path) -> Path:
     handles.append(left.scatter([], [], s=90, facecolors="none", edgecolors="tab:red", label="unstable"))
     fig.legend(handles=handles, loc="lower center", ncol=len(handles), frameon=False, fontsize=9,
                title="mode group (largest share of the energy)", title_fontsize=9)
-    fig.suptitle(_title(res), fontsize=11)
+    fig.suptitle(_title(res, of), fontsize=11)
     fig.tight_layout(rect=(0, 0.1, 1, 0.95))
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
+    atomic.savefig(fig, path, dpi=110)
     plt.close(fig)
     return path
 
@@ -72,11 +74,11 @@ def _groups(res: Floquet) -> list[str]:
     return [g for g in GROUPS if g in present]
 
 
-def _title(res: Floquet) -> str:
+def _title(res: Floquet, of: str = "") -> str:
     growth = max((m.exponent.real for m in res.modes), default=0.0)
     verdict = "stable" if res.stable else f"UNSTABLE (largest Re λ = {growth:+.3g} 1/s)"
     frame = "fixed-frame" if res.frame.startswith("fixed") else "rotating-frame"
-    return (f"{res.scene} at {res.speed:g} m/s: Floquet exponents and multipliers over {res.period_revs} "
+    return (f"{res.scene}{of} at {res.speed:g} m/s: Floquet exponents and multipliers over {res.period_revs} "
             f"revolutions ({frame} frequencies): {verdict}")
 
 

@@ -501,6 +501,6 @@ def write_trim(result: Trim, path: Path, key: str | None = None) -> Path:
              "# (mbs/analysis/trim.py). Angles in rad, speed and inflow in m/s, residual scaled (per R, rev).", ""]
     for name, e in sorted(entries.items()):
         lines += [f'["{name}"]'] + [f'"{k}" = {float(v)!r}' for k, v in e.items()] + [""]
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text("\n".join(lines))
-    return path
+    from mbs import atomic
+
+    return atomic.write_text(path, "\n".join(lines))

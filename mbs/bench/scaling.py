@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike
 
+from mbs import atomic
 from mbs.bench.speed import toolchain
 from mbs.bench.timing import machine, median_time
 from mbs.joints import Hinge
@@ -180,7 +181,7 @@ def verdict(fit: dict, limit: float = 2.0) -> dict:
 
 
 def write_csv(rows: list[dict], path: Path) -> None:
-    with open(path, "w", newline="") as f:
+    with atomic.replacing(path) as tmp, open(tmp, "w", newline="") as f:
         w = csv.DictWriter(f, COLUMNS)
         w.writeheader()
         for r in rows:
@@ -212,7 +213,7 @@ def write_chart(rows: list[dict], path: Path) -> None:
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    atomic.savefig(fig, path, dpi=120)
     plt.close(fig)
 
 

@@ -33,6 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
+from mbs import atomic
 from mbs.cli import add_json, emit
 
 SAMPLES_PER_REV = 10
@@ -218,7 +219,7 @@ def _summary(scene, revs, span, samples, ref_info, points, idx, names) -> dict:
 # -- files ---------------------------------------------------------------------------------
 
 def write_csv(res: dict, path: Path) -> Path:
-    with open(path, "w", newline="") as f:
+    with atomic.replacing(path) as tmp, open(tmp, "w", newline="") as f:
         w = csv.DictWriter(f, COLUMNS)
         w.writeheader()
         for p in res["points"]:
@@ -258,7 +259,7 @@ def write_chart(res: dict, path: Path) -> Path:
                  f"RK4 at {ref['check_steps']} steps agrees to {ref['agreement_rad']:.1e} rad")
     fig.text(0.01, 0.01, _omission_text(res), fontsize=7, va="bottom", wrap=True)
     fig.tight_layout(rect=(0, 0.08, 1, 0.95))
-    fig.savefig(path, dpi=110)
+    atomic.savefig(fig, path, dpi=110)
     plt.close(fig)
     return path
 

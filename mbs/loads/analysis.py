@@ -56,6 +56,12 @@ class RotorLoads:
     trim_reason: str
     wall_s: float
     tail_blades: int = 2
+    aircraft: str | None = None
+
+    @property
+    def title(self) -> str:
+        """``hover of the MBB Bo105 at 0 m/s``: scene, aircraft and speed."""
+        return f"{self.scene}" + (f" of the {self.aircraft}" if self.aircraft else "") + f" at {self.speed:g} m/s"
 
     def column(self, name: str) -> int:
         if name not in self.names:
@@ -70,8 +76,10 @@ class RotorLoads:
         """Amplitude of the output ``name`` at ``order`` per main-rotor revolution (0: |mean|)."""
         k = np.flatnonzero(np.isclose(self.orders, order, atol=1e-9))
         if not k.size:
-            raise ValueError(f"order {order:g}/rev is not resolved by {self.revs} revolutions of "
-                             f"{len(self.t)} samples")
+            per_rev = len(self.t) // self.revs
+            raise ValueError(f"order {order:g}/rev is not resolved by {self.revs} revolutions of {len(self.t)} samples "
+                             f"({per_rev} per revolution resolve orders below {per_rev / 2:g}/rev): give "
+                             f"--steps-per-rev {steps_resolving(order)} or more")
         return float(abs(self.amplitudes[k[0], self.column(name)]))
 
     def largest(self, name: str, keep) -> tuple[float, float]:
@@ -198,6 +206,29 @@ def check_scene(scene):
     return periodic_scene(sc)
 
 
+def steps_resolving(order: float) -> int:
+    """The fewest steps per revolution (a multiple of 10) whose samples resolve ``order`` per
+    revolution (more than two samples per cycle)."""
+    return int(np.ceil((2 * order + 1) / 10) * 10)
+
+
+def highest_order(sc) -> tuple[float, str]:
+    """The highest order (per main-rotor revolution) the loads of the scene ``sc`` report, twice
+    the blade passage of its main rotor or of its tail rotor, and which it is (words)."""
+    from mbs.models.helicopter.config import config_of
+
+    if sc.aircraft is None:
+        return 0.0, "no rotor"
+    d, cfg = sc.aircraft.data, config_of(sc)
+    nb = cfg.blade_count(int(d["main_rotor"]["n_blades"]))
+    tr = d["tail_rotor"]
+    tail = 2 * tr["n_blades"] * tr["gear_ratio"] if cfg.tail_rotor else 0.0
+    if tail > 2 * nb:
+        return float(tail), (f"twice the blade passage of the tail rotor: {tr['n_blades']:g} blades at "
+                             f"{tr['gear_ratio']:g} times the rotor speed")
+    return float(2 * nb), f"twice the blade passage of the main rotor's {nb} blades"
+
+
 def rotor_loads(scene="forward-flight", speed: float | None = None, steps_per_rev: int | None = None,
                 backend: str = "compiled", system=None, stepper=None, progress=None) -> RotorLoads:
     """The loads of ``scene`` (a name or :class:`mbs.scenes.Scene`) at its periodic solution
@@ -230,7 +261,8 @@ def _record(sc, sol, system, start: float) -> RotorLoads:
     tail_blades = sum(1 for b in info.bodies if re.fullmatch(r"tail_blade\d+", b["name"]))
     return RotorLoads(sc.name, sol.speed, per.revolution, per.full_revs, traj.t[1:], info.output_names, values,
                       orders, amplitudes, n_blades, gear, stations(info, sc.aircraft.data if sc.aircraft else None),
-                      sol.thrust, _reason(sol), time.perf_counter() - start, tail_blades)
+                      sol.thrust, _reason(sol), time.perf_counter() - start, tail_blades,
+                      sc.aircraft.name if sc.aircraft else None)
 
 
 def _reason(sol) -> str:

@@ -34,7 +34,7 @@ def hub_harmonics(res: RotorLoads, path: Path, rotor: str = "main_rotor", highes
         ax.grid(alpha=0.3, which="both")
         ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5), frameon=False)
     axes[-1].set_xlabel("order (per main-rotor revolution); grey lines: multiples of the blade count")
-    return save_figure(fig, plt, path, f"{res.scene} at {res.speed:g} m/s: {rotor.replace('_', '-')} hub loads on the "
+    return save_figure(fig, plt, path, f"{res.title}: {rotor.replace('_', '-')} hub loads on the "
                  "airframe (body axes), harmonics")
 
 
@@ -61,7 +61,7 @@ def vibratory(points: list[RotorLoads], path: Path, failed: list[float] = ()) ->
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5), frameon=False)
     axes[-1].set_xlabel("speed (m/s)")
-    name = points[0].scene if points else "?"
+    name = (points[0].scene + (f" of the {points[0].aircraft}" if points[0].aircraft else "")) if points else "no trim"
     return save_figure(fig, plt, path, f"{name}: vibratory main-rotor hub loads and power against speed")
 
 
@@ -80,4 +80,4 @@ def spanwise(res: RotorLoads, path: Path, blade: str = "blade1") -> Path:
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)
-    return save_figure(fig, plt, path, f"{res.scene} at {res.speed:g} m/s: {blade} loads along the span (rotating frame)")
+    return save_figure(fig, plt, path, f"{res.title}: {blade} loads along the span (rotating frame)")

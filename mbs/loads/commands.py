@@ -21,19 +21,28 @@ def parse_speeds(text: str):
         raise ValueError(f"sweep {text!r}: expected LO:HI:N (speeds in m/s), e.g. 0:60:13") from None
     if not (len(values) >= 1 and np.all(np.isfinite(values))):
         raise ValueError(f"sweep {text!r}: need N >= 1 finite speeds")
+    if len(values) == 1 and float(lo) != float(hi):
+        raise ValueError(f"sweep {text!r}: N = 1 gives {lo} m/s only, never {hi}; give N >= 2, or --speed {lo}")
+    for v in (values[0], values[-1]):
+        try:
+            A.flight_speed.check(v)
+        except A.Bad as exc:
+            raise ValueError(f"sweep {text!r}: {exc}") from None
     return values
 
 
 def cmd_loads(args) -> int:
     if args.sweep and args.speed is not None:
         raise ValueError(f"give --speed or --sweep, not both (--speed {args.speed:g}, --sweep {args.sweep})")
+    scene = core._scene(args)
+    _check(args, scene)
     if args.sweep:
-        return _sweep(args)
+        return _sweep(args, scene)
     from mbs._progress import Progress
     from mbs.loads import files
     from mbs.loads.analysis import rotor_loads
 
-    res = rotor_loads(core._scene(args), args.speed, args.steps_per_rev, args.backend,
+    res = rotor_loads(scene, args.speed, args.steps_per_rev, args.backend,
                       progress=Progress(f"loads {args.scene}", not args.quiet))
     out, lines = res.summary(), loads_lines(res)
     if args.out:
@@ -50,7 +59,7 @@ def _cell(x: float) -> str:
 def loads_lines(res) -> list[str]:
     """The human-readable report of :func:`mbs.loads.analysis.rotor_loads`."""
     nb = res.n_blades
-    lines = [f"{res.scene} at {res.speed:g} m/s: loads over {res.revs} main-rotor revolution(s) of the periodic "
+    lines = [f"{res.title}: loads over {res.revs} main-rotor revolution(s) of the periodic "
              f"solution, {len(res.t)} samples ({res.trim_reason}; {res.wall_s:.2f} s)"]
     for rotor in ("main_rotor", "tail_rotor"):
         rows = res.hub_rows(rotor)
@@ -102,13 +111,32 @@ def _span_lines(res) -> list[str]:
                 f"{r[f'{w}_mean']:10.4g} {r[f'{w}_1/rev']:10.4g}" for w in ("flap", "lag", "torsion")) for r in rows]]
 
 
-def _sweep(args) -> int:
+def _check(args, scene) -> None:
+    """Refuse, before any work: a scene without periodic solution, a speed (or a speed sweep)
+    on a scene that does not fly, and steps too few to resolve the orders the loads report."""
+    import math
+
+    from mbs.loads.analysis import check_scene, highest_order, steps_resolving
+
+    check_scene(scene)
+    if args.sweep and not core._model_facts(scene)[1]:
+        raise ValueError(f"--sweep {args.sweep}: scene {scene.name!r} has no free fuselage, so no flight speed to sweep "
+                         "(its rotor turns in still air); sweep forward-flight or hover")
+    core._check_speed(args, scene)
+    order, which = highest_order(scene)
+    if args.steps_per_rev and args.steps_per_rev <= 2 * order:
+        raise ValueError(f"--steps-per-rev {args.steps_per_rev}: the loads of scene {scene.name!r} go up to "
+                         f"{order:g}/rev ({which}), which needs more than {math.floor(2 * order)} samples per "
+                         f"revolution; give --steps-per-rev {steps_resolving(order)} or more")
+
+
+def _sweep(args, scene) -> int:
     from mbs._progress import Progress
     from mbs.loads import charts, files
     from mbs.loads.sweep import speed_sweep
 
     speeds = parse_speeds(args.sweep)
-    res = speed_sweep(core._scene(args), speeds, args.steps_per_rev, args.backend,
+    res = speed_sweep(scene, speeds, args.steps_per_rev, args.backend,
                       Progress(f"loads sweep {args.scene}", not args.quiet))
     out_dir = Path(args.out or f"out/loads/{args.scene}")
     paths = [files.sweep_csv(res.rows(), out_dir / f"vibratory_hub_loads_{res.scene}.csv"),
@@ -150,7 +178,8 @@ def register(sub, bench) -> None:
                        "blade root and spanwise loads, shaft and engine power; --sweep: against speed")
     A.add_scene(p, nargs="?", default="forward-flight", what="scene (default forward-flight)")
     A.add_aircraft(p)
-    p.add_argument("--speed", type=A.finite, default=None, help="flight speed in m/s (default: the scene's)")
+    p.add_argument("--speed", type=A.flight_speed, default=None,
+                   help=f"flight speed in m/s, {A.SPEED_RANGE[0]:g} to {A.SPEED_RANGE[1]:g} (default: the scene's)")
     p.add_argument("--sweep", metavar="LO:HI:N", default=None, type=A.checked_by(parse_speeds),
                    help="loads at N speeds from LO to HI m/s (e.g. 0:72:13): table, CSV and the chart of the "
                         "vibratory hub loads and the power against speed (in --out, default out/loads/SCENE)")

@@ -7,14 +7,14 @@ from pathlib import Path
 
 import numpy as np
 
+from mbs import atomic
 from mbs.loads import charts
 from mbs.loads.analysis import RotorLoads
 
 
 def _table(path: Path, header: list[str], columns: list[np.ndarray]) -> Path:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    np.savetxt(path, np.column_stack(columns), delimiter=",", header=",".join(header), comments="", fmt="%.17g")
-    return path
+    return atomic.write(path, lambda tmp: np.savetxt(tmp, np.column_stack(columns), delimiter=",",
+                                                    header=",".join(header), comments="", fmt="%.17g"))
 
 
 def period_csv(res: RotorLoads, path: Path) -> Path:
@@ -34,8 +34,7 @@ def harmonics_csv(res: RotorLoads, path: Path) -> Path:
 def sweep_csv(rows: list[dict], path: Path) -> Path:
     """The sweep's rows (:meth:`mbs.loads.sweep.LoadsSweep.rows`), blanks where a value is missing."""
     keys = list(dict.fromkeys(k for r in rows for k in r))
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with path.open("w", newline="") as f:
+    with atomic.replacing(path) as tmp, tmp.open("w", newline="") as f:
         w = csv.DictWriter(f, keys)
         w.writeheader()
         w.writerows(rows)

@@ -20,11 +20,36 @@ CONTROLS = ("collective", "lateral_cyclic", "longitudinal_cyclic", "tail_collect
 
 
 def write(kind: str, result: pa.Table, names: list[str], out: Path) -> list[Path]:
-    """Draw the charts of a ``kind`` sweep into ``out``; returns their paths."""
+    """Draw the charts of a ``kind`` sweep into ``out``; returns their paths. Every title names
+    the scene and its aircraft (from the sweep's settings stored with ``result``)."""
+    from mbs.sweep.table import settings_of
+
     rows = result.to_pylist()
     if not rows:
         return []
-    return {"trim": _trim, "simulate": _simulate, "floquet": _floquet}[kind](rows, names, Path(out))
+    settings = settings_of(result)
+    scene = _scene(settings)
+    what = settings.get("scene", "sweep") + (f" of the {scene.aircraft.name}" if scene and scene.aircraft else "")
+    if kind == "simulate":
+        return _simulate(rows, names, Path(out), what, _units(scene))
+    return {"trim": _trim, "floquet": _floquet}[kind](rows, names, Path(out), what)
+
+
+def _scene(settings: dict):
+    """The sweep's scene of its aircraft, or None when the settings do not say."""
+    from mbs.sweep.models import scene_of
+
+    try:
+        return scene_of(settings["scene"], settings.get("options", {}))
+    except (KeyError, ValueError, OSError):
+        return None
+
+
+def _units(scene) -> dict[str, str]:
+    """The unit of every column of ``scene``'s runs (empty when unknown)."""
+    from mbs.results import column_units
+
+    return column_units(scene.model()) if scene is not None else {}
 
 
 def _pyplot():
@@ -74,30 +99,32 @@ def _line_chart(rows, names, panels: dict[str, list[str]], scale: float, ylabel:
     return save_figure(fig, plt, path, title)
 
 
-def _axis_label(name: str) -> str:
-    return {"speed": "speed (m/s)", "omega": "rotor speed Ω (rad/s)", "climb_rate": "climb rate (m/s)"}.get(name, name)
+def _axis_label(name: str, units: dict | None = None) -> str:
+    known = {"speed": "speed (m/s)", "omega": "rotor speed Ω (rad/s)", "climb_rate": "climb rate (m/s)"}
+    unit = (units or {}).get(name, "")
+    return known.get(name, f"{name} ({unit})" if unit and unit != "1" else name)
 
 
 POWER = ("main_rotor.power", "tail_rotor.power", "engine.power")
 """Aerodynamic shaft power of each rotor and the power the engines deliver (:mod:`mbs.loads.engine`)."""
 
 
-def _trim(rows: list[dict], names: list[str], out: Path) -> list[Path]:
+def _trim(rows: list[dict], names: list[str], out: Path, what: str = "trim") -> list[Path]:
     """Controls and attitude (deg) and the rotors' power (kW) against the first axis."""
     controls = [c for c in CONTROLS if any(c in r for r in rows)]
     power = [c for c in POWER if any(r.get(c) is not None for r in rows)]
     deg = 180 / np.pi
     paths = [_line_chart(rows, names, {c: [c] for c in controls}, deg, "deg", out / "trim_controls.png",
-                         "trim: controls"),
+                         f"{what}, trimmed: controls"),
              _line_chart(rows, names, {"roll": ["roll"], "pitch": ["pitch"]}, deg, "deg", out / "trim_attitude.png",
-                         "trim: attitude")]
+                         f"{what}, trimmed: attitude")]
     if power:
         paths.append(_line_chart(rows, names, {"rotor and engine power": power}, 1e-3, "kW", out / "trim_power.png",
-                                 "trim: rotors' aerodynamic shaft power and engine power"))
-    return paths + [_trim_summary(rows, names, controls, power, out / "trim_summary.png")]
+                                 f"{what}, trimmed: rotors' aerodynamic shaft power and engine power"))
+    return paths + [_trim_summary(rows, names, controls, power, out / "trim_summary.png", what)]
 
 
-def _trim_summary(rows, names, controls, power, path: Path) -> Path:
+def _trim_summary(rows, names, controls, power, path: Path, what: str = "trim") -> Path:
     """Collectives, cyclics, attitude (deg) and power (kW) side by side, one line per quantity
     (first group)."""
     plt = _pyplot()
@@ -117,32 +144,55 @@ def _trim_summary(rows, names, controls, power, path: Path) -> Path:
         ax.set_xlabel(_axis_label(names[0]))
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.18), ncol=2, frameon=False)
-    return save_figure(fig, plt, path, "trim over speed: controls, attitude and power")
+    return save_figure(fig, plt, path, f"{what}, trimmed over {_axis_label(names[0])}: controls, attitude and power")
 
 
-def _simulate(rows: list[dict], names: list[str], out: Path) -> list[Path]:
-    """The envelope of every recorded quantity against the first axis."""
+PANELS_PER_PAGE, COLUMNS = 24, 4
+
+
+def _simulate(rows: list[dict], names: list[str], out: Path, what: str = "simulation",
+              units: dict | None = None) -> list[Path]:
+    """The envelope of every recorded quantity against the first axis: small multiples, four
+    across, each titled with the quantity and its unit (angles in degrees), at most
+    :data:`PANELS_PER_PAGE` to a chart (``simulate_envelopes.png``, ``simulate_envelopes_2.png``
+    ...)."""
     quantities = list(dict.fromkeys(k[:-4] for r in rows for k in r if k.endswith(".min")))
-    if not quantities:
-        return []
+    pages = [quantities[i:i + PANELS_PER_PAGE] for i in range(0, len(quantities), PANELS_PER_PAGE)]
+    return [_envelope_page(rows, names, page, units or {}, out / f"simulate_envelopes{'' if k == 0 else f'_{k + 1}'}.png",
+                           f"{what}: min-max envelope and mean of each quantity over the run"
+                           + (f" ({k + 1} of {len(pages)})" if len(pages) > 1 else ""))
+            for k, page in enumerate(pages)]
+
+
+def _envelope_page(rows, names, quantities: list[str], units: dict, path: Path, title: str) -> Path:
     plt = _pyplot()
-    fig, axes = plt.subplots(len(quantities), 1, figsize=(8, 2.2 * len(quantities)), sharex=True, squeeze=False)
-    for ax, q in zip(axes[:, 0], quantities):
+    n_rows = -(-len(quantities) // COLUMNS)
+    fig, axes = plt.subplots(n_rows, COLUMNS, figsize=(3.4 * COLUMNS, 2.3 * n_rows + 0.8), sharex=True, squeeze=False)
+    for ax, q in zip(axes.flat, quantities):
+        unit = units.get(q, "")
+        scale, unit = (180 / np.pi, "deg") if unit == "rad" else (180 / np.pi, "deg/s") if unit == "rad/s" \
+            else (1.0, unit)
         for label, group in _groups(rows, names).items():
-            x, lo = _series(group, names[0], f"{q}.min")
-            hi, mean = _series(group, names[0], f"{q}.max")[1], _series(group, names[0], f"{q}.mean")[1]
+            x, lo = _series(group, names[0], f"{q}.min", scale)
+            hi, mean = _series(group, names[0], f"{q}.max", scale)[1], _series(group, names[0], f"{q}.mean", scale)[1]
             ax.fill_between(x, lo, hi, alpha=0.25)
-            ax.plot(x, mean, marker="o", ms=3, label=f"mean {label}".strip())
+            ax.plot(x, mean, marker="o", ms=2.5, lw=1.0, label=f"mean {label}".strip())
         _mark_failed(ax, rows, names[0])
-        ax.set_ylabel(q, fontsize=8)
+        ax.set_title(f"{q}" + (f" ({unit})" if unit and unit != "1" else ""), fontsize=8)
+        ax.tick_params(labelsize=7)
         ax.grid(alpha=0.3)
+    for k, ax in enumerate(axes.flat):
+        if k >= len(quantities):
+            ax.set_visible(False)
+        elif k + COLUMNS >= len(quantities):  # the lowest panel of its column: its x axis labelled
+            ax.xaxis.set_tick_params(labelbottom=True)
+            ax.set_xlabel(_axis_label(names[0], units), fontsize=8)
     if len(names) > 1 or any(r["status"] != "ok" for r in rows):
-        axes[0, 0].legend(fontsize=7)
-    axes[-1, 0].set_xlabel(_axis_label(names[0]))
-    return [save_figure(fig, plt, out / "simulate_envelopes.png", "simulation: min-max envelope and mean")]
+        axes[0, 0].legend(fontsize=6)
+    return save_figure(fig, plt, path, title)
 
 
-def _floquet(rows: list[dict], names: list[str], out: Path) -> list[Path]:
+def _floquet(rows: list[dict], names: list[str], out: Path, what: str = "Floquet") -> list[Path]:
     """Frequency and ``Re λ`` of every mode against the first axis, one colour per mode name."""
     plt = _pyplot()
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(9, 6.4), sharex=True)
@@ -162,4 +212,4 @@ def _floquet(rows: list[dict], names: list[str], out: Path) -> list[Path]:
     top.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5), frameon=False)
     for ax in (top, bottom):
         ax.grid(alpha=0.3)
-    return [save_figure(fig, plt, out / "floquet_modes.png", "Floquet: frequency and damping of every mode")]
+    return [save_figure(fig, plt, out / "floquet_modes.png", f"{what}, Floquet analysis: frequency and damping of every mode")]

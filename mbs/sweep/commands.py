@@ -15,12 +15,25 @@ def cmd_sweep(args) -> int:
 
     axes, options = _axes(args), _options(args)
     out = args.out or A.output_folder(f"out/sweep/{args.kind}-{args.scene}")
+    if args.kind == "simulate":
+        _warn_untrimmed(args)
     start = time.perf_counter()
     result = run(args.kind, args.scene, axes, options, out=out, workers=args.workers, scheduler=args.scheduler,
                  progress=Progress(f"sweep {args.kind} {args.scene}", not args.quiet))
     res = _summary(args, result, run_info(result), out, time.perf_counter() - start)
     emit(res, args.json, _lines(res))
     return 0 if res["errors"] == 0 and res["ok"] > 0 else 1
+
+
+def _warn_untrimmed(args) -> None:
+    """Say when every point of a simulate sweep starts from the closed-form estimate."""
+    from mbs import scenes
+    from mbs.cli import warn
+    from mbs.trims.start import estimate_warning
+
+    text = estimate_warning(scenes.get(args.scene, aircraft=args.aircraft), "every point of the sweep")
+    if text:
+        warn(text)
 
 
 def _axes(args) -> dict:
@@ -87,11 +100,23 @@ def _point(row: dict, axes: list[str]) -> str:
     return ", ".join(f"{k} = {row[k]:g}" for k in axes)
 
 
-def _range(flag: str):
+_point_revs = A.positive_at_most(10_000, lambda text, revs: f"{text} revolutions a point is about {revs * 100:.3g} "
+                                 "steps each (hours per point); give 10000 or fewer")
+"""Type of ``sweep simulate --revs``: positive, at most 10000 revolutions a point."""
+
+
+def _range(flag: str, limits=None):
+    """Type of a ``LO:HI:N`` axis; ``limits`` (:class:`mbs.arguments.Within`) checks its ends."""
     def parse(text: str):
         from mbs.sweep.grid import parse_range
 
-        return parse_range(flag, text)
+        values = parse_range(flag, text)
+        for v in (values[0], values[-1]) if limits else ():
+            try:
+                limits.check(v)
+            except A.Bad as exc:
+                raise ValueError(f"{text!r}: {exc}") from None
+        return values
     return parse
 
 
@@ -136,15 +161,18 @@ def register(sub, bench) -> None:
     kinds = p.add_subparsers(dest="kind", required=True, metavar="KIND")
     t = kinds.add_parser("trim", help="periodic trim at every speed (and parameter value)")
     _common(t)
-    t.add_argument("--speed", required=True, metavar="LO:HI:N", type=A.checked_by(_range("--speed")),
+    t.add_argument("--speed", required=True, metavar="LO:HI:N", type=A.checked_by(_range("--speed", A.flight_speed)),
                    help="speeds in m/s, e.g. 0:70:15")
-    t.add_argument("--climb-rate", type=A.finite, default=0.0, help="climb rate in m/s, up positive (default 0)")
+    t.add_argument("--climb-rate", type=A.climb_rate, default=0.0,
+                   help=f"climb rate in m/s, up positive, {A.CLIMB_RANGE[0]:g} to {A.CLIMB_RANGE[1]:g} (default 0)")
     t.add_argument("--method", choices=("rk4", "rk8"), default="rk4", help="fixed-step method (default rk4)")
-    t.add_argument("--tol", type=A.positive, default=1e-10, help="max |scaled residual| to reach (default 1e-10)")
+    t.add_argument("--tol", type=A.tolerance, default=1e-10,
+                   help="max |scaled residual| to reach, at most 1e-3 (default 1e-10)")
     t.add_argument("--iterations", type=A.positive_int, default=20, help="most Newton iterations (default 20)")
     s = kinds.add_parser("simulate", help="simulation at every parameter value; min, max, mean of each output")
     _common(s)
-    s.add_argument("--revs", type=A.positive, default=1.0, help="main-rotor revolutions per point (default 1)")
+    s.add_argument("--revs", type=_point_revs, default=1.0,
+                   help="main-rotor revolutions per point, at most 10000 (default 1)")
     s.add_argument("--method", choices=("euler", "rk4", "rk8"), default="rk4", help="fixed-step method (default rk4)")
     s.add_argument("--dtype", choices=["float64", "float32"], default="float64",
                    help="precision of the compiled code (default float64)")

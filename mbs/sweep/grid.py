@@ -14,6 +14,10 @@ KEY_DIGITS = 9
 point of ``0:70:15`` and ``0:70:29`` is recognised despite round-off in ``linspace``."""
 
 
+MAX_POINTS = 1000
+"""Points on one axis at most."""
+
+
 def parse_range(flag: str, text: str) -> np.ndarray:
     """``"LO:HI:N"`` -> N evenly spaced values from LO to HI (inclusive); ``flag`` names the
     option in errors, e.g. ``--speed '0:70' must be LO:HI:N``."""
@@ -26,6 +30,11 @@ def parse_range(flag: str, text: str) -> np.ndarray:
         raise ValueError(f"{flag} {text!r} must be LO:HI:N (e.g. 0:70:15)") from None
     if n < 1 or not (np.isfinite(lo) and np.isfinite(hi)):
         raise ValueError(f"{flag} {text!r}: N must be >= 1 and LO, HI finite")
+    if n > MAX_POINTS:
+        raise ValueError(f"{flag} {text!r}: {n} points on one axis is more than a sweep can finish (at most "
+                         f"{MAX_POINTS}: each point is a trim, a run or a Floquet analysis of seconds); give fewer")
+    if n == 1 and lo != hi:
+        raise ValueError(f"{flag} {text!r}: N = 1 gives LO ({lo:g}) only, never HI ({hi:g}); give N >= 2")
     return np.linspace(lo, hi, n)
 
 

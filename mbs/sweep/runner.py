@@ -39,10 +39,10 @@ def run(kind: str, scene: str, axes: dict[str, np.ndarray], options: dict | None
     if workers is not None and workers < 0:
         raise ValueError(f"--workers {workers} must be >= 0 (0: a plain loop, no Dask)")
     settings = {"kind": kind, "scene": scene, "axes": names, "options": options}
+    models.check_axes(kind, scene, options, names)  # on the symbolic model: before anything is compiled
     old = table.read(out) if out else None
     if out:  # before anything is compiled: a resumed sweep must be the same sweep
         table.check_settings(old, settings, Path(out))
-    models.check_axes(kind, scene, options, names)  # on the symbolic model: before anything is compiled
     models.loaded(kind, scene, options)  # compiled here, once, before any task
     rows = table.finished(old, names)
     todo = [Task(kind, scene, p, options, _cache()) for p in grid.points(axes) if grid.key(p, names) not in rows]

@@ -10,13 +10,13 @@ when a sweep resumes into the same folder.
 from __future__ import annotations
 
 import json
-import os
 from pathlib import Path
 
 import pyarrow as pa
 import pyarrow.csv as pacsv
 import pyarrow.parquet as pq
 
+from mbs import atomic
 from mbs.sweep.grid import key
 
 PARQUET, CSV = "results.parquet", "results.csv"
@@ -78,15 +78,9 @@ def write(table: pa.Table, out: Path) -> list[Path]:
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     paths = [out / PARQUET, out / CSV]
-    _atomic(paths[0], lambda p: pq.write_table(table, p))
-    _atomic(paths[1], lambda p: pacsv.write_csv(_flat(table), p))
+    atomic.write(paths[0], lambda p: pq.write_table(table, p))
+    atomic.write(paths[1], lambda p: pacsv.write_csv(_flat(table), p))
     return paths
-
-
-def _atomic(path: Path, writer) -> None:
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    writer(tmp)
-    os.replace(tmp, path)
 
 
 def _flat(table: pa.Table) -> pa.Table:

@@ -117,6 +117,12 @@ def with_aero(scene, switches: str):
     words = [n.strip() for n in switches.split(",") if n.strip()]
     if not words:
         raise ValueError("no switch named: give comma-separated switches, full or none")
+    if len(words) > 1 and ({"full", "none"} & set(words)):
+        raise ValueError(f"{next(w for w in words if w in ('full', 'none'))!r} stands alone: give full, none, or "
+                         "comma-separated switches")
+    twice = sorted({w for w in words if words.count(w) > 1})
+    if twice:
+        raise ValueError(f"switch {twice[0]!r} is named twice; name each switch once")
     names = ok if words == ["full"] else [] if words == ["none"] else words
     for n in names:
         if n not in AERO_SWITCHES:

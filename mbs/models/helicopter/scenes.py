@@ -52,12 +52,14 @@ SCENE_CONFIGS = {
     "forward-flight": (Config(speed=10.0, trim="forward-flight", **FULL),
                        "the paper's aeromechanic case: free flight at 10 m/s with blade-element rotors (Pitt-Peters "
                        "inflow, tip loss, compressibility), lag dampers, fuselage, hub and empennage loads in the rotor's "
-                       "wake, trimmed controls and attitude", False),
+                       "wake; heli simulate starts it from its periodic trim (stored per aircraft file, or trimmed and "
+                       "stored on first use)", False),
     "hover": (Config(speed=0.0, trim="hover", **FULL), "as forward-flight, at zero speed", False),
     "ground-run": (Config(fuselage="clamped", airframe_aero=False, speed=0.0, trim="hover",
                           **{k: v for k, v in FULL.items() if k not in ("tail_wake", "download", "hub_drag")}),
                    "fuselage clamped to the ground, both rotors with aerodynamics (Pitt-Peters inflow, tip loss, "
-                   "compressibility) and dampers, hover controls", False),
+                   "compressibility) and dampers, hover controls (a stored hover trim's, else the closed-form "
+                   "estimate's)", False),
     "single-blade": (Config(fuselage="none", blades=1, tail_rotor=False, rotor_aero=False, airframe_aero=False,
                             dampers=False, shaft_tilt=False, pitch_hinge=False),
                      "hub clamped and driven (vertical shaft), one blade on flap and lag hinges with springs, "
@@ -80,7 +82,7 @@ ELASTIC_ROTOR = Config(fuselage="none", tail_rotor=False, airframe_aero=False, s
                        trim="hover", blade_segments=8)
 ELASTIC_TEXT = ("hub clamped and driven (vertical shaft), the main rotor's blades elastic, 8 segments each on flap, "
                 "lag and torsion hinges with springs (the aircraft's first blade frequencies: 1.117, 0.68 and 3.7/rev "
-                "for the Bo105), blade-element aerodynamics with uniform dynamic inflow, hover controls; RK4 at 300 "
+                "for the Bo105), blade-element aerodynamics with uniform dynamic inflow, hover controls (as ground-run); RK4 at 300 "
                 "steps per revolution (at 200 the step check finds the tip segments' lag rates 3 % off)")
 
 ELASTIC_ROTOR_MODAL = replace(ELASTIC_ROTOR, blade_segments=0, blade_modes=(2, 2, 2))

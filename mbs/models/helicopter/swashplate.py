@@ -60,8 +60,10 @@ class Swashplate:
     def of(cls, d) -> "Swashplate":
         sp = d.get("swashplate") or {}
         if not sp:
-            raise ValueError(f"aircraft {d['aircraft']['name']!r} has no [swashplate] section: the swashplate "
-                             "mechanism needs its geometry (see mbs/aircraft/schema.py)")
+            raise ValueError(f"aircraft {d['aircraft']['name']!r} has no [swashplate] section, which the swashplate "
+                             "scenes need (the mechanism's geometry): uncomment the [swashplate] block that 'heli "
+                             "aircraft new' writes and put your aircraft's values in it, or use a scene without "
+                             "the swashplate (forward-flight)")
         return cls(sp["horn"], sp["horn_arm"], sp["horn_height"], sp["ball_offset"], sp["link_length"],
                    sp["link_lean"], sp["plate_radius"], sp["phase"], sp["plate_height"],
                    d["main_rotor"]["flap_hinge_offset"], sp["actuator_radius"], tuple(sp["actuator_azimuths"]),
