@@ -102,10 +102,13 @@ def run_record(scene: _scenes.Scene) -> dict:
     if scene.aircraft is None:
         return {"scene": scene.name}
     from mbs.models.helicopter import aero_switches
+    from mbs.models.helicopter.environment import environment_record
 
     craft = scene.aircraft
-    return {"scene": scene.name, "aircraft": {"name": craft.name, "file": str(craft.path.resolve()),
-                                              "sha256": craft.digest}, "aero": aero_switches(scene)}
+    out = {"scene": scene.name, "aircraft": {"name": craft.name, "file": str(craft.path.resolve()),
+                                             "sha256": craft.digest}, "aero": aero_switches(scene)}
+    air = environment_record(scene)
+    return {**out, "environment": air} if air else out
 
 
 def scene_of_run(meta: dict, where: str = "run.json") -> _scenes.Scene:
@@ -127,8 +130,11 @@ def scene_of_run(meta: dict, where: str = "run.json") -> _scenes.Scene:
             raise ValueError(f"{where}: the aircraft file {recorded['file']} has changed since the run; the model "
                              "would not be the one that ran (restore the file, or run again)")
     scene = _scenes.get(meta["scene"], aircraft=craft)
+    from mbs.models.helicopter.environment import environment_of_record
+
     aero = meta.get("aero")
-    return with_aero(scene, ",".join(aero) or "none") if aero is not None else scene
+    scene = with_aero(scene, ",".join(aero) or "none") if aero is not None else scene
+    return environment_of_record(scene, meta.get("environment", {}))
 
 
 ROW_SAMPLE = 200  # rows timed and measured for the cost estimate (at most a revolution)

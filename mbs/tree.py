@@ -136,6 +136,7 @@ class Model:
         self.outputs: dict[str, Output] = {}
         self.states: dict[str, ExtraState] = {}
         self.initial: dict[str, float] = {}
+        self.air = None  # mbs.environment.Air: what the aerodynamics reads of the air (None: still air)
 
     def add_state(self, name: str, initial: float = 0.0, unit: str = "", description: str = "") -> None:
         """Declare an extra first-order state ``z`` (appended after ``s`` and ``u``)."""

@@ -13,7 +13,8 @@
 * :mod:`mbs.aero.airframe`: Padfield's Bo105 fuselage polynomials, one-section tail surfaces in
   the free stream or the rotor's wake, the fuselage download and the hub drag.
 
-Units: SI, angles in rad. All forces act in still air (no wind, no gust).
+Units: SI, angles in rad. Every element reads the air (density, speed of sound, wind, gusts,
+turbulence) through the symbolic state: :mod:`mbs.environment.air`.
 """
 from mbs.aero.airframe import Download, FuselageAero, HubDrag, LiftingSurface
 from mbs.aero.compressibility import Compressibility

@@ -6,7 +6,7 @@ scene by :class:`RotorModel`: the inflow model, tip loss and compressibility. Un
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import casadi as ca
 import numpy as np
@@ -103,6 +103,20 @@ class DiscLoads:
                          self.moment_s + other.moment_s, self.moment_c + other.moment_c)
 
 
+@dataclass
+class _Air:
+    """What one evaluation of a rotor reads of the air: density (kg/m³), section coefficients
+    (None: the aerofoil's), the air's velocity at the hub (3,) (m/s, world; None: still)."""
+
+    rho: object
+    coefficients: object
+    wind: object = None
+
+    def relative(self, velocity):
+        """``velocity`` (3,) (world) through the air at the hub; the same expression in still air."""
+        return velocity if self.wind is None else velocity - self.wind
+
+
 class RotorAero(ForceElement):
     """Blade-element loads on every blade of ``rotor`` plus its dynamic inflow states.
 
@@ -111,7 +125,9 @@ class RotorAero(ForceElement):
     its thrust axis, :attr:`Rotor.sense`), z the lift direction at zero pitch. The hub
     frame's z axis is the rotor's thrust axis. The inflow states (m/s) are positive down
     through the disc (against the thrust axis); the blades see ``κ`` times the induced
-    velocity. Signals: ``<name>.thrust`` (N), ``<name>.torque`` (N m, shaft torque),
+    velocity. The air (density, speed of sound, its velocity: wind, gusts, turbulence) is read
+    through the state once per evaluation, its velocity at the hub for the whole disc
+    (:mod:`mbs.environment.air`). Signals: ``<name>.thrust`` (N), ``<name>.torque`` (N m, shaft torque),
     ``<name>.power`` (W, torque × rotor speed) and, when the model has a wake geometry,
     ``<name>.wake`` (:class:`mbs.aero.wake.Wake`).
     """
@@ -131,13 +147,24 @@ class RotorAero(ForceElement):
         axis = hub.rotation[:, 2]
         v = [state.z(n) for n in self.states]
         shaft = self._shaft(state)
-        disc = sum((self._blade(state, loads, b, hub, axis, v, shaft) for b in self.rotor.blades), DiscLoads())
-        for name, rate in zip(self.states, self._inflow_rates(hub.velocity, axis, v, disc)):
+        air = _Air(state.density(self.rho), self._coefficients(state), state.air_velocity(hub.position))
+        disc = sum((self._blade(state, loads, b, hub, axis, v, shaft, air) for b in self.rotor.blades), DiscLoads())
+        hub_velocity = air.relative(hub.velocity)
+        for name, rate in zip(self.states, self._inflow_rates(hub_velocity, axis, v, disc, air.rho)):
             loads.set_rate(name, rate)
         self._publish(state, hub, disc)
         if self.model.wake is not None:
-            state.signals[f"{self.rotor.name}.wake"] = Wake(hub.position, shaft, v, -hub.velocity, disc.torque,
-                                                            self.rotor.radius, self.rho, self.model.wake)
+            state.signals[f"{self.rotor.name}.wake"] = Wake(hub.position, shaft, v, -hub_velocity, disc.torque,
+                                                            self.rotor.radius, air.rho, self.model.wake)
+
+    def _coefficients(self, state: State):
+        """The section coefficients with compressibility at the state's speed of sound (None: the aerofoil's)."""
+        comp = self.model.compressibility
+        if comp is None:
+            return None
+        sound = state.speed_of_sound(comp.speed_of_sound)
+        return self.coefficients if sound is comp.speed_of_sound else replace(comp, speed_of_sound=sound).coefficients(
+            self.airfoil)
 
     def _shaft(self, state: State):
         """Non-rotating shaft frame (3, 3) in world axes."""
@@ -151,19 +178,20 @@ class RotorAero(ForceElement):
             return -self.kappa * v[0] * axis
         return -self.kappa * inf.induced_velocity(v, *disc_point) * axis
 
-    def _blade(self, state, loads, blade, hub, axis, v, shaft) -> DiscLoads:
+    def _blade(self, state, loads, blade, hub, axis, v, shaft, air) -> DiscLoads:
         """Loads of one blade's elements, body by body (:meth:`Rotor.bodies`)."""
-        return sum((self._body(state, loads, body, root, keep, hub, axis, v, shaft)
+        return sum((self._body(state, loads, body, root, keep, hub, axis, v, shaft, air)
                     for body, root, keep in self.rotor.bodies(blade) if keep.any()), DiscLoads())
 
-    def _body(self, state, loads, blade, root, keep, hub, axis, v, shaft) -> DiscLoads:
+    def _body(self, state, loads, blade, root, keep, hub, axis, v, shaft, air) -> DiscLoads:
         """Loads of the elements ``keep`` of one blade body jointed at radius ``root``, computed
-        in its axes: its own velocity, thrust axis and shaft axes are turned into them once,
-        and the element forces are summed into one force and torque on the body."""
+        in its axes: its own velocity (through the air at the hub), thrust axis and shaft axes
+        are turned into them once, and the element forces are summed into one force and torque
+        on the body."""
         radii, dr = self.rotor.stations()
         m = state.body(blade)
         turn_in = m.rotation.T
-        origin, axis_b = ca.mtimes(turn_in, m.velocity), ca.mtimes(turn_in, axis)
+        origin, axis_b = ca.mtimes(turn_in, air.relative(m.velocity)), ca.mtimes(turn_in, axis)
         shaft_b, hinge = ca.mtimes(turn_in, shaft[:, :2]), ca.mtimes(turn_in, m.position - hub.position)
         force, torque, out = ca.SX.zeros(3), ca.SX.zeros(3), DiscLoads()
         per_radius = 1.0 / self.rotor.radius
@@ -172,19 +200,19 @@ class RotorAero(ForceElement):
             lever = hinge + ca.DM([arm, 0, 0])
             disc_point = (ca.dot(lever, shaft_b[:, 0]) * per_radius, ca.dot(lever, shaft_b[:, 1]) * per_radius)
             velocity = origin + arm * ca.vertcat(0, m.omega[2], -m.omega[1])  # + ω × (arm, 0, 0)
-            f = self._element_force(self._air(disc_point, axis_b, v) - velocity, r, dr, lift)
+            f = self._element_force(self._air(disc_point, axis_b, v) - velocity, r, dr, lift, air)
             force, torque = force + f, torque + arm * ca.vertcat(0, -f[2], f[1])  # + (arm, 0, 0) × f
             out = out + self._element_loads(f, lever, axis_b, disc_point, self.rotor.sense)
         loads.add_force(blade, force, point=[0.0, 0.0, 0.0], frame="body", rotation=m.rotation)
         loads.add_torque(blade, torque)
         return out
 
-    def _element_force(self, w, r: float, dr: float, lift: float):
+    def _element_force(self, w, r: float, dr: float, lift: float, air):
         """Element force (3,) (N, blade axes) from the air velocity ``w`` (3,) (m/s, blade axes)."""
         twist = self.rotor.twist * r / self.rotor.radius
         sense = self.rotor.sense  # blade y along the leading edge (+1) or the trailing edge (-1)
-        f_c, f_n = section_force(*turn(sense * w[1], w[2], twist), self.airfoil, self.rho, self.rotor.chord * dr,
-                                 lift, self.coefficients)
+        f_c, f_n = section_force(*turn(sense * w[1], w[2], twist), self.airfoil, air.rho, self.rotor.chord * dr,
+                                 lift, air.coefficients)
         f_y, f_z = turn(f_c, f_n, -twist)
         return ca.vertcat(0, sense * f_y, f_z)
 
@@ -197,14 +225,14 @@ class RotorAero(ForceElement):
         return DiscLoads(d_thrust, -sense * ca.dot(axis, ca.cross(lever, force)), d_thrust * disc_point[1],
                          d_thrust * disc_point[0])
 
-    def _inflow_rates(self, hub_velocity, axis, v, disc: DiscLoads) -> list:
+    def _inflow_rates(self, hub_velocity, axis, v, disc: DiscLoads, rho) -> list:
         v_normal = ca.dot(hub_velocity, axis)
         v_inplane2 = ca.dot(hub_velocity, hub_velocity) - v_normal**2
         area_factor = self.model.tip_loss**2
         if len(v) == 1:
-            return [inf.uniform_rate(v[0], disc.thrust, v_inplane2, v_normal, self.rho, self.rotor.radius, area_factor)]
+            return [inf.uniform_rate(v[0], disc.thrust, v_inplane2, v_normal, rho, self.rotor.radius, area_factor)]
         loads = (disc.thrust, disc.moment_s, disc.moment_c)
-        return inf.pitt_peters_rates(v, loads, v_inplane2, v_normal, self.rho, self.rotor.radius, area_factor)
+        return inf.pitt_peters_rates(v, loads, v_inplane2, v_normal, rho, self.rotor.radius, area_factor)
 
     def _publish(self, state: State, hub, disc: DiscLoads) -> None:
         try:

@@ -83,7 +83,7 @@ def airfoil(sec: dict) -> Airfoil:
 def add_airframe_aero(m: Model, d, cfg) -> None:
     fa, ht, fin, rho = d["fuselage_aero"], d["horizontal_tail"], d["vertical_fin"], d["environment"]["rho"]
     wake = "main_rotor" if cfg.tail_wake else None
-    m.add_force(FuselageAero("fuselage", {k: fa[k] for k in "XYZMN"}, fa["v_ref"], fa["angle_limit"]))
+    m.add_force(FuselageAero("fuselage", {k: fa[k] for k in "XYZMN"}, fa["v_ref"], fa["angle_limit"], rho))
     m.add_force(LiftingSurface("horizontal tail", "fuselage", (ht["x"], 0, ht["z"]), (1, 0, 0), (0, 0, -1),
                                ht["incidence"], ht["area"], airfoil(ht), rho, wake))
     m.add_force(LiftingSurface("fin", "fuselage", (fin["x"], 0, fin["z"]), (1, 0, 0), (0, 1, 0),

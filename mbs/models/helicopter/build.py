@@ -11,6 +11,7 @@ from mbs.loads.rotorcraft import add_load_outputs
 from mbs.models.helicopter import frames as fr
 from mbs.models.helicopter.aero import add_airframe_aero, add_rotor_aero
 from mbs.models.helicopter.config import Config
+from mbs.models.helicopter.environment import add_air, data_in_air, isa_defaults
 from mbs.models.helicopter.estimate import TrimEstimate, estimate_trim
 from mbs.models.helicopter.outputs import add_outputs
 from mbs.models.helicopter.swashplate import add_actuator_inputs, add_elastic_links, add_swashplate_outputs
@@ -29,9 +30,9 @@ def build(cfg: Config = Config(), aircraft=None, name: str | None = None) -> Mod
 
     aircraft = ac.load() if aircraft is None else aircraft
     d = getattr(aircraft, "data", aircraft)
-    stored = stored_trim(aircraft, cfg.trim, cfg.speed)
-    trim = estimate_trim(d, cfg.speed)
+    stored = stored_trim(aircraft, cfg.trim, cfg.speed) if cfg.atmosphere == "file" else None
     m = Model(name or f"{getattr(aircraft, 'key', 'aircraft')}-model", gravity=(0.0, 0.0, d["environment"]["g"]))
+    trim = estimate_trim(data_in_air(d, isa_defaults(cfg)), cfg.speed)
     parent = add_fuselage(m, d, cfg)
     add_main_rotor(m, d, cfg, parent)
     if cfg.tail_rotor:
@@ -42,6 +43,7 @@ def build(cfg: Config = Config(), aircraft=None, name: str | None = None) -> Mod
         add_airframe_aero(m, d, cfg)
     if cfg.rotors == "driven":
         _add_parameters(m, d, cfg, trim, stored)
+    add_air(m, cfg)
     add_outputs(m, d, cfg)
     add_load_outputs(m, d, cfg)
     if cfg.swashplate:

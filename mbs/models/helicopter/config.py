@@ -29,6 +29,12 @@ class Config:
     pitch links' loops are solved, "closed-form" or "newton"; pitch_link: "rigid" (the pitch solved
     from each link's loop) or "elastic" (the pitch a state, each link a spring of the aircraft's
     link_stiffness) (:mod:`mbs.models.helicopter.swashplate`).
+
+    The air (:mod:`mbs.models.helicopter.environment`): atmosphere "file" (the aircraft file's
+    density and speed of sound) or "isa" (the ISA at the run-time parameters ``altitude``, m,
+    and ``temperature_offset``, K, whose defaults are ``altitude`` and ``temperature_offset``);
+    wind: None (still air) or the defaults (north, east, down; m/s) of the steady-wind
+    parameters ``wind_north``, ``wind_east``, ``wind_down``.
     """
 
     fuselage: str = "free"
@@ -54,9 +60,15 @@ class Config:
     swashplate: str | None = None
     loop_solver: str = "closed-form"
     pitch_link: str = "rigid"
+    atmosphere: str = "file"
+    altitude: float = 0.0
+    temperature_offset: float = 0.0
+    wind: tuple | None = None
 
     def __post_init__(self):
+        from mbs.models.helicopter import environment
         from mbs.models.helicopter.swashplate import check
+        environment.check(self)
         if self.blade_segments and self.blade_modes:
             raise ValueError(f"blade_segments = {self.blade_segments} and blade_modes = {self.blade_modes!r}: an "
                              "elastic blade is either a chain of segments or a modal blade; give one of them")

@@ -1,0 +1,122 @@
+"""The air a helicopter scene flies in: the aircraft file's or the ISA's density and speed of
+sound, and a steady wind (:class:`mbs.environment.Air`, read by every aerodynamic element).
+
+Scene options (:class:`mbs.models.helicopter.Config`): ``atmosphere`` "file" | "isa" with the
+defaults ``altitude`` (m) and ``temperature_offset`` (K) of its run-time parameters; ``wind``
+None or the defaults (north, east, down; m/s) of the parameters ``wind_north``, ``wind_east``,
+``wind_down``. :func:`with_environment` gives a scene with them (the commands' ``--altitude``,
+``--temperature-offset`` and ``--wind``).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+from mbs.environment import Air
+from mbs.environment import atmosphere as isa
+
+ATMOSPHERES = ("file", "isa")
+
+
+def check(cfg) -> None:
+    """ValueError naming the option when ``cfg`` asks for air it cannot model."""
+    if cfg.atmosphere not in ATMOSPHERES:
+        raise ValueError(f"atmosphere = {cfg.atmosphere!r}: choose 'file' (the aircraft file's density and speed of "
+                         "sound) or 'isa' (the ISA at the altitude and temperature offset parameters)")
+    if cfg.atmosphere == "file" and (cfg.altitude or cfg.temperature_offset):
+        raise ValueError(f"altitude = {cfg.altitude:g} m, temperature_offset = {cfg.temperature_offset:g} K: they set "
+                         "the ISA, which the scene does not use (atmosphere = 'isa')")
+    isa.check(cfg.altitude, cfg.temperature_offset)
+    if cfg.atmosphere == "isa" and not _aerodynamic(cfg):
+        raise ValueError("the ISA sets the air's density and speed of sound for the aerodynamics, which this scene "
+                         "does not model (no rotor or airframe aerodynamics)")
+    if cfg.wind is not None:
+        _check_wind(cfg)
+
+
+def _aerodynamic(cfg) -> bool:
+    return cfg.rotor_aero or (cfg.airframe_aero and cfg.fuselage == "free")
+
+
+def _check_wind(cfg) -> None:
+    wind = tuple(cfg.wind)
+    if len(wind) != 3 or not all(isinstance(w, (int, float)) and math.isfinite(w) for w in wind):
+        raise ValueError(f"wind = {cfg.wind!r}: give three finite numbers, north, east, down (m/s)")
+    if max(abs(w) for w in wind) > WIND_LIMIT:
+        raise ValueError(f"wind = {wind}: each component within ±{WIND_LIMIT:g} m/s")
+    if not _aerodynamic(cfg):
+        raise ValueError("wind acts on the aerodynamics, which this scene does not model (no rotor or airframe "
+                         "aerodynamics)")
+
+
+WIND_LIMIT = 60.0  # m/s, each component
+
+
+def air_of(cfg) -> Air | None:
+    """The model's :class:`Air` for ``cfg``, None for still air at the file's values."""
+    if cfg.atmosphere == "file" and cfg.wind is None:
+        return None
+    return Air(isa=cfg.atmosphere == "isa", wind=cfg.wind is not None)
+
+
+def add_air(m, cfg) -> None:
+    """Give the model ``m`` the air of ``cfg`` and its run-time parameters."""
+    m.air = air_of(cfg)
+    if m.air is None:
+        return
+    m.air.add_parameters(m, cfg.altitude, cfg.temperature_offset)
+    for name, value in zip(("wind_north", "wind_east", "wind_down"), cfg.wind or ()):
+        m.parameters[name].default = float(value)
+
+
+def with_environment(scene, altitude: float | None = None, temperature_offset: float | None = None,
+                     wind=None):
+    """``scene`` in the ISA at ``altitude`` (m) and ``temperature_offset`` (K) (either given:
+    the ISA, the other 0) and in a steady ``wind`` (north, east, down; m/s); ValueError naming
+    the value when the scene cannot have it."""
+    from mbs.models.helicopter.config import config_of
+
+    cfg, options = config_of(scene), dict(scene.options)
+    if altitude is not None or temperature_offset is not None:
+        options.update(atmosphere="isa", altitude=float(altitude or 0.0),
+                       temperature_offset=float(temperature_offset or 0.0))
+    if wind is not None:
+        options["wind"] = tuple(float(w) for w in wind)
+    replace(cfg, **{k: v for k, v in options.items() if hasattr(cfg, k)})  # checked before anything is built
+    return replace(scene, options=options)
+
+
+def isa_defaults(cfg) -> dict:
+    """``{"altitude": m, "temperature_offset": K}`` of an ISA scene's defaults; {} otherwise."""
+    return {"altitude": cfg.altitude, "temperature_offset": cfg.temperature_offset} if cfg.atmosphere == "isa" else {}
+
+
+def environment_record(scene) -> dict:
+    """The scene's air options as ``run.json`` records them (empty for the file's still air)."""
+    from mbs.models.helicopter.config import Config
+
+    keys = ("atmosphere", "altitude", "temperature_offset", "wind")
+    base = getattr(scene.builder, "config", Config())
+    cfg = {k: scene.options.get(k, getattr(base, k)) for k in keys}
+    return {} if cfg == {k: getattr(Config(), k) for k in keys} else cfg
+
+
+def environment_of_record(scene, record: dict):
+    """``scene`` with the air options of a ``run.json`` record (:func:`environment_record`)."""
+    if not record:
+        return scene
+    wind = record.get("wind")
+    return replace(scene, options={**scene.options, **record, "wind": None if wind is None else tuple(wind)})
+
+
+def data_in_air(d, parameters: dict):
+    """The aircraft data ``d`` with the ``[environment]`` density and speed of sound of the ISA
+    at ``parameters["altitude"]`` and ``["temperature_offset"]`` when given (closed-form
+    estimates at altitude); ``d`` itself otherwise."""
+    if "altitude" not in parameters:
+        return d
+    h, dt = parameters["altitude"], parameters.get("temperature_offset", 0.0)
+    out = type(d)(d)
+    out.meta = getattr(d, "meta", {})
+    out["environment"] = {**d["environment"], "rho": isa.density(h, dt), "speed_of_sound": isa.speed_of_sound(h, dt)}
+    return out
