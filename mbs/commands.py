@@ -37,10 +37,10 @@ def cmd_scenes(args) -> int:
 
 def scene_row(sc) -> dict:
     """What ``heli scenes`` says of the scene ``sc``."""
-    from mbs.dynamics import Layout
+    from mbs.dynamics import state_layout
 
     model = sc.model()
-    lay = Layout.of(model)
+    lay = state_layout(model)
     return {"scene": sc.name, "description": sc.description, "bodies": [b.name for b in lay.bodies],
             "dof": lay.nv, "position_coordinates": lay.nq, "coordinates": lay.q_names, "velocities": lay.v_names,
             "extra_states": lay.z_names, "conservative": sc.conservative, "forces": [f.name for f in model.forces],

@@ -180,6 +180,14 @@ ENTRIES: dict[str, dict[str, Entry]] = {
                                        "shaft power / efficiency + accessory power", 0.5, 1.0, open_low=True),
         "accessory_power": num("W", "hydraulic pumps, generators, cooling fans driven by the gearbox", 0.0),
     },
+    "drive_train": {
+        "transmission_inertia": positive("kg m^2", "polar inertia of the main gearbox, the shafts and the engines' "
+                                         "power turbines, referred to the main-rotor shaft (each part's inertia times "
+                                         "the square of its speed over the rotor's)"),
+        "shaft_stiffness": positive("N m/rad", "torsional stiffness of the main-rotor shaft between the gearbox and "
+                                    "the hub (scenes with a flexible drive train)"),
+        "shaft_damping": num("N m s/rad", "torsional damping of the main-rotor shaft (flexible drive train)", 0.0),
+    },
     "elastic_blade": {
         "torsion_frequency": positive("1/rev", "first rotating torsion frequency of the blade"),
         "structural_damping": ratio("structural damping ratio of each direction's first mode", 0.0, 0.5),
@@ -209,9 +217,10 @@ ENTRIES: dict[str, dict[str, Entry]] = {
     },
 }
 
-OPTIONAL_SECTIONS = ("environment", "geometry", "elastic_blade", "swashplate")
+OPTIONAL_SECTIONS = ("environment", "geometry", "elastic_blade", "swashplate", "drive_train")
 """Sections a file may leave out: ISA, display sizes scaled from the rotor, no elastic blades, no
-swashplate mechanism (the blade pitch then only driven)."""
+swashplate mechanism (the blade pitch then only driven), no drive-train data (the rotors then only
+at constant speed)."""
 
 
 @dataclass(frozen=True)

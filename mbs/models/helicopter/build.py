@@ -37,12 +37,17 @@ def build(cfg: Config = Config(), aircraft=None, name: str | None = None) -> Mod
     add_main_rotor(m, d, cfg, parent)
     if cfg.tail_rotor:
         add_tail_rotor(m, d, cfg, parent)
+    if cfg.drive_train:
+        _add_drive_train(m, d, cfg, parent)
     if cfg.rotor_aero:
         add_rotor_aero(m, d, cfg, trim, parent)
     if cfg.airframe_aero and cfg.fuselage == "free":
         add_airframe_aero(m, d, cfg)
     if cfg.rotors == "driven":
         _add_parameters(m, d, cfg, trim, stored)
+    if cfg.drive_train:
+        m.add_parameter("drive_torque", 0.0, "N m", "torque driving the transmission in the rotors' sense (an "
+                        "engine holding a constant torque; 0: free-wheeling)", low=-1e6, high=1e6)
     add_air(m, cfg)
     add_outputs(m, d, cfg)
     add_load_outputs(m, d, cfg)
@@ -52,6 +57,20 @@ def build(cfg: Config = Config(), aircraft=None, name: str | None = None) -> Mod
     if cfg.pitch_link == "elastic":
         add_elastic_links(m, d, cfg)
     return m
+
+
+def _add_drive_train(m: Model, d, cfg: Config, parent: str) -> None:
+    """The drive train, the blades' pitch as dependent coordinates of the hub's azimuth, and the
+    run-time drive torque (:mod:`mbs.drivetrain`)."""
+    from mbs.drivetrain import train
+
+    train.add_drive_train(m, d, cfg, parent)
+    sense = fr.main_sense(d)
+    if cfg.pitch_hinge:
+        for k, psi0 in enumerate(fr.blade_azimuths(d["main_rotor"]["n_blades"])[:cfg.blade_count(
+                d["main_rotor"]["n_blades"])]):
+            m.add_dependent(f"blade{k + 1}.pitch", train.pitch_law(psi0, sense))
+    m.add_force(train.DriveTorque(f"{train.TRANSMISSION}.angle", sense))
 
 
 def stored_trim(aircraft, key: str | None, speed: float) -> dict | None:
@@ -67,8 +86,9 @@ def _add_parameters(m: Model, d, cfg: Config, trim: TrimEstimate, stored: dict |
     if stored:
         trim = replace(trim, **{k: stored[k] for k in ("collective", "lateral_cyclic", "longitudinal_cyclic",
                                                       "tail_collective") if k in stored})
-    m.add_parameter("omega", mr["omega"], "rad/s", "main-rotor speed (tail rotor turns gear_ratio times faster)",
-                    low=mr["omega_min"], high=mr["omega_max"])
+    if not cfg.drive_train:  # with a drive train the rotor speed is a state
+        m.add_parameter("omega", mr["omega"], "rad/s", "main-rotor speed (tail rotor turns gear_ratio times faster)",
+                        low=mr["omega_min"], high=mr["omega_max"])
     if not cfg.pitch_hinge:
         return
     if cfg.swashplate == "actuators":
@@ -101,8 +121,10 @@ def _set_initial(m: Model, d, cfg: Config, trim: TrimEstimate, stored: dict | No
                          f"blade{k + 1}.flap_rate": trim.a1s * omega * np.sin(psi)})
         if cfg.rotors == "free" and cfg.pitch_hinge:
             m.set_initial(**{f"blade{k + 1}.pitch": trim.collective})
-    if cfg.rotors == "free":
+    if cfg.rotors == "free" or cfg.drive_train:
         sense = fr.main_sense(d)
         m.set_initial(**{"main_hub.azimuth_rate": sense * omega})
-        if cfg.tail_rotor:
+        if cfg.drive_train == "flexible":
+            m.set_initial(**{"transmission.angle_rate": sense * omega})
+        if cfg.tail_rotor and not cfg.drive_train:
             m.set_initial(**{"tail_hub.azimuth_rate": fr.tail_sense(d) * d["tail_rotor"]["gear_ratio"] * omega})

@@ -35,6 +35,11 @@ class Config:
     and ``temperature_offset``, K, whose defaults are ``altitude`` and ``temperature_offset``);
     wind: None (still air) or the defaults (north, east, down; m/s) of the steady-wind
     parameters ``wind_north``, ``wind_east``, ``wind_down``.
+
+    The rotors' speed (:mod:`mbs.drivetrain`): drive_train None (hubs at the constant speed
+    ``omega``), "rigid" (the rotor speed a state: main and tail rotors and the transmission on one
+    rigid drive train) or "flexible" (the main shaft a torsion spring between transmission and
+    hub); with a drive train, the run-time parameter ``drive_torque`` (N m) drives it.
     """
 
     fuselage: str = "free"
@@ -64,11 +69,14 @@ class Config:
     altitude: float = 0.0
     temperature_offset: float = 0.0
     wind: tuple | None = None
+    drive_train: str | None = None
 
     def __post_init__(self):
+        from mbs.drivetrain import train
         from mbs.models.helicopter import environment
         from mbs.models.helicopter.swashplate import check
         environment.check(self)
+        train.check(self)
         if self.blade_segments and self.blade_modes:
             raise ValueError(f"blade_segments = {self.blade_segments} and blade_modes = {self.blade_modes!r}: an "
                              "elastic blade is either a chain of segments or a modal blade; give one of them")

@@ -21,11 +21,14 @@ def add_outputs(m: Model, d, cfg) -> None:
         if cfg.tail_rotor:
             _add_rotor_outputs(m, d, cfg, "tail_rotor", gear)
     _add_airframe_outputs(m, cfg)
+    if cfg.drive_train:
+        from mbs.drivetrain.train import add_outputs as add_drive_train_outputs
+        add_drive_train_outputs(m, d, cfg)
 
 
 def _add_azimuth(m: Model, cfg, rotor: str, hub: str, ratio: float, sense: int, text: str) -> None:
     """The azimuth (rad) in the rotor's sense of rotation."""
-    if cfg.rotors == "driven":
+    if cfg.rotors == "driven" and not cfg.drive_train:
         m.add_output(f"{rotor}.azimuth", lambda s: ratio * s.p["omega"] * s.t, "rad", text)
     else:
         m.add_output(f"{rotor}.azimuth", lambda s: sense * s.q(f"{hub}.azimuth"), "rad", text)

@@ -35,14 +35,18 @@ def add_fuselage(m: Model, d, cfg) -> str:
     a = d["aircraft"]
     inertia = [[a["Ixx"], 0, -a["Ixz"]], [0, a["Iyy"], 0], [-a["Ixz"], 0, a["Izz"]]]
     joint = FreeJoint() if cfg.fuselage == "free" else Fixed()
-    mass, com = fuselage_mass_and_com(d)
+    mass, com = fuselage_mass_and_com(d, cfg)
     m.add_body("fuselage", "world", joint, mass=mass, com=com, inertia=inertia, shape=_fuselage_shape(d))
     return "fuselage"
 
 
-def fuselage_mass_and_com(d) -> tuple[float, np.ndarray]:
-    """Total mass minus the rotors' parts; centre of mass so that the aircraft CG is the origin."""
+def fuselage_mass_and_com(d, cfg=None) -> tuple[float, np.ndarray]:
+    """Total mass minus the rotors' parts (and a drive train's transmission body); centre of mass
+    so that the aircraft CG is the origin."""
+    from mbs.drivetrain.train import transmission_mass
+
     m_main, m_tail = rotor_masses(d)
+    m_main += transmission_mass(cfg) if cfg is not None else 0.0  # the transmission sits at the main hub
     mass = d["aircraft"]["mass"] - m_main - m_tail
     com = -(m_main * fr.main_hub_position(d) + m_tail * fr.tail_hub_position(d)) / mass
     return mass, com
@@ -77,13 +81,13 @@ def _blade_joint(d, cfg, psi0: float, sense: int):
              Hinge((0, 0, -sense), name="lag", stiffness=mr["lag_stiffness"],
                    damping=mr["lag_damping"] if cfg.dampers else 0.0)]
     if cfg.pitch_hinge:
-        parts.append(DrivenHinge((sense, 0, 0), _pitch_law(psi0), name="pitch") if cfg.rotors == "driven"
-                     else Hinge((sense, 0, 0), name="pitch"))
+        parts.append(DrivenHinge((sense, 0, 0), _pitch_law(psi0), name="pitch")
+                     if cfg.rotors == "driven" and not cfg.drive_train else Hinge((sense, 0, 0), name="pitch"))
     return Serial(*parts)
 
 
 def _azimuth_joint(cfg, speed_ratio: float, sense: int):
-    if cfg.rotors != "driven":
+    if cfg.rotors != "driven" or cfg.drive_train:
         return Hinge((0, 0, 1), name="azimuth")
     return DrivenHinge((0, 0, 1), lambda t, p: sense * speed_ratio * p["omega"] * t, name="azimuth")
 
