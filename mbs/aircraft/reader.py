@@ -196,7 +196,7 @@ def _missing(out: Reading, raw: dict) -> None:
             continue
         given = raw.get(section, {}) if isinstance(raw.get(section), dict) else {}
         for key, spec in entries.items():
-            applies = _applies(spec, out.values.get(section, {}))
+            applies = _applies(spec, out.values.get(section, {}), entries)
             if key not in given and spec.default is None and applies:
                 out.problems.append(f"{section}.{key}: missing ({spec.text}, in {spec.unit})")
             elif key in given and not applies:
@@ -205,8 +205,11 @@ def _missing(out: Reading, raw: dict) -> None:
                                     f"leave it out")
 
 
-def _applies(spec: Entry, values: dict) -> bool:
+def _applies(spec: Entry, values: dict, entries: dict | None = None) -> bool:
+    """Whether ``spec`` applies: its ``only_if`` entry has the wanted value (given, else its default)."""
     if not spec.only_if:
         return True
     other, wanted = spec.only_if
-    return values.get(other, wanted) == wanted
+    default = (entries or {}).get(other)
+    fallback = default.default if default is not None and default.default is not None else wanted
+    return values.get(other, fallback) == wanted

@@ -38,7 +38,9 @@ def template(name: str, source: str = "TEMPLATE") -> str:
         for key, spec in entries.items():
             value = name if key == "name" else base.get(section, {}).get(key, spec.default)
             line = f"{key} = {{ value = {_toml(value)}, unit = \"{spec.unit}\", source = \"{source}\" }}"
-            commented = section in COMMENTED or spec.default is not None
+            controlling = entries.get(spec.only_if[0]) if spec.only_if else None
+            commented = (section in COMMENTED or spec.default is not None
+                         or (controlling is not None and controlling.default is not None))  # it follows a default
             if spec.only_if:
                 line += f"  # only with {spec.only_if[0]} = \"{spec.only_if[1]}\""
             out += [f"# {spec.text} ({spec.unit}" + (f"; default {spec.default})" if spec.default is not None else ")"),

@@ -51,7 +51,7 @@ class DriveTrain:
         """From the aircraft data ``d`` (its ``[drive_train]`` section); ValueError without it."""
         from mbs.models.helicopter import frames as fr
 
-        if "drive_train" not in d:
+        if not d.get("drive_train"):
             raise ValueError("the aircraft data have no [drive_train] section (transmission_inertia, shaft_stiffness, "
                              "shaft_damping): a scene with the rotor speed as a state needs it")
         dt = d["drive_train"]
@@ -66,6 +66,9 @@ class DriveTrain:
 
 def check(cfg) -> None:
     """ValueError when ``cfg`` asks for a drive train where it cannot work."""
+    if cfg.engines and cfg.drive_train is None:
+        raise ValueError("engines drive the rotors through a drive train whose speed is a state: set drive_train "
+                         "('rigid' or 'flexible'); a constant-speed scene has no engine to fail")
     if cfg.drive_train is None:
         return
     if cfg.drive_train not in DRIVE_TRAINS:

@@ -46,8 +46,7 @@ def build(cfg: Config = Config(), aircraft=None, name: str | None = None) -> Mod
     if cfg.rotors == "driven":
         _add_parameters(m, d, cfg, trim, stored)
     if cfg.drive_train:
-        m.add_parameter("drive_torque", 0.0, "N m", "torque driving the transmission in the rotors' sense (an "
-                        "engine holding a constant torque; 0: free-wheeling)", low=-1e6, high=1e6)
+        _add_drive(m, d, cfg, trim)
     add_air(m, cfg)
     add_outputs(m, d, cfg)
     add_load_outputs(m, d, cfg)
@@ -70,7 +69,42 @@ def _add_drive_train(m: Model, d, cfg: Config, parent: str) -> None:
         for k, psi0 in enumerate(fr.blade_azimuths(d["main_rotor"]["n_blades"])[:cfg.blade_count(
                 d["main_rotor"]["n_blades"])]):
             m.add_dependent(f"blade{k + 1}.pitch", train.pitch_law(psi0, sense))
-    m.add_force(train.DriveTorque(f"{train.TRANSMISSION}.angle", sense))
+
+
+def _add_drive(m: Model, d, cfg: Config, trim: TrimEstimate) -> None:
+    """What drives the drive train: the aircraft's engines and governor, or the run-time drive torque."""
+    from mbs.drivetrain import engine, train
+
+    sense, coordinate = fr.main_sense(d), f"{train.TRANSMISSION}.angle"
+    if not cfg.engines:
+        m.add_parameter("drive_torque", 0.0, "N m", "torque driving the transmission in the rotors' sense (an "
+                        "engine holding a constant torque; 0: free-wheeling)", low=-1e6, high=1e6)
+        m.add_force(train.DriveTorque(coordinate, sense))
+        return
+    eng = engine.Turboshaft.of(d)
+    engine.add_parameters(m, eng, d["main_rotor"]["omega"])
+    element = engine.Engines(eng, coordinate, sense, d["main_rotor"]["collective_min"], air_ratios(cfg))
+    share = float(np.clip(eng.anticipation * (trim.collective - d["main_rotor"]["collective_min"]), 0, 1))
+    m.add_state("governor.lead", 0.0, "1", "governor: the lag state of its lead-lag compensation")
+    for k in range(1, eng.count + 1):
+        fuel, power = engine.names(k)
+        m.add_state(fuel, share, "1", f"engine {k}: metered fuel flow, fraction of its take-off power")
+        m.add_state(power, share, "1", f"engine {k}: gas generator power, fraction of its take-off power")
+    m.add_force(element)
+    engine.add_outputs(m, element)
+
+
+def air_ratios(cfg: Config):
+    """``state -> (δ, θ)``: the air's pressure and temperature over sea level's (1, 1 for the file's air)."""
+    from mbs.environment import atmosphere as isa
+
+    if cfg.atmosphere != "isa":
+        return lambda state: (1.0, 1.0)
+
+    def ratios(state):
+        h, dt = state.p["altitude"], state.p["temperature_offset"]
+        return isa.pressure(h) / isa.P0, isa.temperature(h, dt) / isa.T0
+    return ratios
 
 
 def stored_trim(aircraft, key: str | None, speed: float) -> dict | None:

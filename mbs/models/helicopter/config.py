@@ -39,7 +39,8 @@ class Config:
     The rotors' speed (:mod:`mbs.drivetrain`): drive_train None (hubs at the constant speed
     ``omega``), "rigid" (the rotor speed a state: main and tail rotors and the transmission on one
     rigid drive train) or "flexible" (the main shaft a torsion spring between transmission and
-    hub); with a drive train, the run-time parameter ``drive_torque`` (N m) drives it.
+    hub); with a drive train, the run-time parameter ``drive_torque`` (N m) drives it, or with
+    engines (True) the aircraft's turboshafts and their governor (:mod:`mbs.drivetrain.engine`).
     """
 
     fuselage: str = "free"
@@ -70,6 +71,7 @@ class Config:
     temperature_offset: float = 0.0
     wind: tuple | None = None
     drive_train: str | None = None
+    engines: bool = False
 
     def __post_init__(self):
         from mbs.drivetrain import train
