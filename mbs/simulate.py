@@ -92,6 +92,11 @@ class Simulation:
             out["step_error"] = self.step_error.summary()
         if self.scene.conservative:
             out["max_rel_energy_error"] = self.max_rel_energy_error
+        if "main_rotor.speed" in self.system.info.output_names:  # the rotor speed is a state: what a pilot reads
+            from mbs.drivetrain.report import pilot_figures
+
+            failures = [v for n, v in out["parameters"].items() if n.endswith("_failure_time") and v <= self.traj.t[-1]]
+            out["rotor_speed"] = pilot_figures(self.columns(), min(failures) if failures else None)
         out["units"] = self.column_units()
         return out
 

@@ -74,15 +74,18 @@ def names(k: int) -> tuple[str, str]:
     return f"engine{k}.fuel", f"engine{k}.power"
 
 
-def add_parameters(m, eng: Turboshaft, omega: float) -> None:
-    """The governor's reference speed (rad/s), each engine's throttle (a control) and failure time."""
+def add_parameters(m, eng: Turboshaft, omega: float, failure_time: float | None = None) -> None:
+    """The governor's reference speed (rad/s), each engine's throttle (a control) and failure time
+    (default ``failure_time`` s, else never)."""
+    if failure_time is not None and not 0 <= failure_time < NEVER:
+        raise ValueError(f"failure_time = {failure_time} s must lie in [0, {NEVER:g}) s")
     m.add_parameter("governor_speed", omega, "rad/s", "rotor speed the governor holds (at zero load; it droops "
                     "below it under load)", low=0.5 * omega, high=1.2 * omega)
     for k in range(1, eng.count + 1):
         m.add_parameter(f"engine{k}_throttle", 1.0, "1", f"engine {k}'s power lever: 1 flight (governed up to the "
                         "rating in force), 0 fuel off; between, a proportionally lower power limit", control=True,
                         low=0.0, high=1.0)
-        m.add_parameter(f"engine{k}_failure_time", NEVER, "s", f"time at which engine {k} fails (fuel cut, it spools "
+        m.add_parameter(f"engine{k}_failure_time", NEVER if failure_time is None else failure_time, "s", f"time at which engine {k} fails (fuel cut, it spools "
                         f"down); {NEVER:g} s: never", low=0.0, high=NEVER)
 
 

@@ -69,6 +69,8 @@ def check(cfg) -> None:
     if cfg.engines and cfg.drive_train is None:
         raise ValueError("engines drive the rotors through a drive train whose speed is a state: set drive_train "
                          "('rigid' or 'flexible'); a constant-speed scene has no engine to fail")
+    if cfg.failure_time is not None and not cfg.engines:
+        raise ValueError(f"failure_time = {cfg.failure_time!r}: the scene has no engines to fail (engines = True)")
     if cfg.drive_train is None:
         return
     if cfg.drive_train not in DRIVE_TRAINS:

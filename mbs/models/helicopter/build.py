@@ -82,7 +82,7 @@ def _add_drive(m: Model, d, cfg: Config, trim: TrimEstimate) -> None:
         m.add_force(train.DriveTorque(coordinate, sense))
         return
     eng = engine.Turboshaft.of(d)
-    engine.add_parameters(m, eng, d["main_rotor"]["omega"])
+    engine.add_parameters(m, eng, d["main_rotor"]["omega"], cfg.failure_time)
     element = engine.Engines(eng, coordinate, sense, d["main_rotor"]["collective_min"], air_ratios(cfg))
     share = float(np.clip(eng.anticipation * (trim.collective - d["main_rotor"]["collective_min"]), 0, 1))
     m.add_state("governor.lead", 0.0, "1", "governor: the lag state of its lead-lag compensation")

@@ -40,7 +40,8 @@ class Config:
     ``omega``), "rigid" (the rotor speed a state: main and tail rotors and the transmission on one
     rigid drive train) or "flexible" (the main shaft a torsion spring between transmission and
     hub); with a drive train, the run-time parameter ``drive_torque`` (N m) drives it, or with
-    engines (True) the aircraft's turboshafts and their governor (:mod:`mbs.drivetrain.engine`).
+    engines (True) the aircraft's turboshafts and their governor (:mod:`mbs.drivetrain.engine`);
+    failure_time: the default of every engine's run-time failure time (s; None: never).
     """
 
     fuselage: str = "free"
@@ -72,6 +73,7 @@ class Config:
     wind: tuple | None = None
     drive_train: str | None = None
     engines: bool = False
+    failure_time: float | None = None
 
     def __post_init__(self):
         from mbs.drivetrain import train
