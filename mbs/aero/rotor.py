@@ -69,12 +69,15 @@ class Rotor:
 class RotorModel:
     """Per-scene switches: ``inflow`` "uniform" | "pitt-peters"; ``tip_loss`` the effective
     radius factor B (1: off); ``compressibility`` (None: off); ``wake`` the geometry of the
-    wake the rotor publishes for the airframe (None: no wake on the airframe)."""
+    wake the rotor publishes for the airframe (None: no wake on the airframe); ``ground_effect``:
+    the induced velocity reduced near the ground (:mod:`mbs.aero.ground`; the ground plane at the
+    world's ``z`` = the run-time parameter ``height``, m)."""
 
     inflow: str = "uniform"
     tip_loss: float = 1.0
     compressibility: Compressibility | None = None
     wake: WakeGeometry | None = None
+    ground_effect: bool = False
 
     def __post_init__(self):
         if self.inflow not in inf.INFLOW_MODELS:
@@ -111,6 +114,7 @@ class _Air:
     rho: object
     coefficients: object
     wind: object = None
+    ground: object = None  # the share of the induced velocity the blades see near the ground (None: far)
 
     def relative(self, velocity):
         """``velocity`` (3,) (world) through the air at the hub; the same expression in still air."""
@@ -148,14 +152,27 @@ class RotorAero(ForceElement):
         v = [state.z(n) for n in self.states]
         shaft = self._shaft(state)
         air = _Air(state.density(self.rho), self._coefficients(state), state.air_velocity(hub.position))
-        disc = sum((self._blade(state, loads, b, hub, axis, v, shaft, air) for b in self.rotor.blades), DiscLoads())
         hub_velocity = air.relative(hub.velocity)
+        if self.model.ground_effect:
+            air.ground = self._ground(state, hub, axis, hub_velocity, v)
+        disc = sum((self._blade(state, loads, b, hub, axis, v, shaft, air) for b in self.rotor.blades), DiscLoads())
         for name, rate in zip(self.states, self._inflow_rates(hub_velocity, axis, v, disc, air.rho)):
             loads.set_rate(name, rate)
         self._publish(state, hub, disc)
         if self.model.wake is not None:
             state.signals[f"{self.rotor.name}.wake"] = Wake(hub.position, shaft, v, -hub_velocity, disc.torque,
                                                             self.rotor.radius, air.rho, self.model.wake)
+
+    def _ground(self, state: State, hub, axis, hub_velocity, v):
+        """The share of the induced velocity the blades see near the ground (:mod:`mbs.aero.ground`),
+        published as ``<rotor>.ground_factor``."""
+        from mbs.aero.ground import inflow_factor
+
+        normal = ca.dot(hub_velocity, axis)
+        height = state.p["height"] - hub.position[2]  # the ground plane at world z = height (z down)
+        factor = inflow_factor(height, self.rotor.radius, ca.dot(hub_velocity, hub_velocity) - normal**2, v[0])
+        state.signals[f"{self.rotor.name}.ground_factor"] = factor
+        return factor
 
     def _coefficients(self, state: State):
         """The section coefficients with compressibility at the state's speed of sound (None: the aerofoil's)."""
@@ -200,7 +217,10 @@ class RotorAero(ForceElement):
             lever = hinge + ca.DM([arm, 0, 0])
             disc_point = (ca.dot(lever, shaft_b[:, 0]) * per_radius, ca.dot(lever, shaft_b[:, 1]) * per_radius)
             velocity = origin + arm * ca.vertcat(0, m.omega[2], -m.omega[1])  # + ω × (arm, 0, 0)
-            f = self._element_force(self._air(disc_point, axis_b, v) - velocity, r, dr, lift, air)
+            induced = self._air(disc_point, axis_b, v)
+            if air.ground is not None:
+                induced = air.ground * induced
+            f = self._element_force(induced - velocity, r, dr, lift, air)
             force, torque = force + f, torque + arm * ca.vertcat(0, -f[2], f[1])  # + (arm, 0, 0) × f
             out = out + self._element_loads(f, lever, axis_b, disc_point, self.rotor.sense)
         loads.add_force(blade, force, point=[0.0, 0.0, 0.0], frame="body", rotation=m.rotation)

@@ -42,6 +42,10 @@ class Config:
     hub); with a drive train, the run-time parameter ``drive_torque`` (N m) drives it, or with
     engines (True) the aircraft's turboshafts and their governor (:mod:`mbs.drivetrain.engine`);
     failure_time: the default of every engine's run-time failure time (s; None: never).
+
+    ground_effect: the main rotor's induced inflow reduced near the ground (Cheeseman and Bennett,
+    :mod:`mbs.aero.ground`), the ground plane at the world's ``z`` = the run-time parameter
+    ``height`` (m below the world's origin, where the aircraft starts), whose default is ``height``.
     """
 
     fuselage: str = "free"
@@ -74,6 +78,8 @@ class Config:
     drive_train: str | None = None
     engines: bool = False
     failure_time: float | None = None
+    ground_effect: bool = False
+    height: float | None = None
 
     def __post_init__(self):
         from mbs.drivetrain import train

@@ -32,6 +32,29 @@ def check(cfg) -> None:
                          "does not model (no rotor or airframe aerodynamics)")
     if cfg.wind is not None:
         _check_wind(cfg)
+    _check_ground(cfg)
+
+
+def _check_ground(cfg) -> None:
+    if cfg.ground_effect and not cfg.rotor_aero:
+        raise ValueError("ground_effect acts on the main rotor's inflow, which this scene does not model")
+    if cfg.height is not None and not cfg.ground_effect and not getattr(cfg, "turbulence", None):
+        raise ValueError(f"height = {cfg.height:g} m sets the ground for the ground effect (or the turbulence): turn "
+                         "ground_effect on")
+    if cfg.height is not None and not (math.isfinite(cfg.height) and 0 <= cfg.height <= HEIGHT_LIMIT):
+        raise ValueError(f"height = {cfg.height!r} m: give a height above the ground from 0 to {HEIGHT_LIMIT:g} m")
+
+
+HEIGHT_LIMIT = 10000.0  # m
+DEFAULT_HEIGHT = 100.0  # m: the default ground below a scene's start
+
+
+def add_height(m, cfg) -> None:
+    """The run-time ``height`` (m, of the world's origin above the ground) when the scene needs the ground."""
+    if cfg.ground_effect or getattr(cfg, "turbulence", None):
+        m.add_parameter("height", DEFAULT_HEIGHT if cfg.height is None else float(cfg.height), "m",
+                        "height of the world's origin (the aircraft's start) above the ground: the ground plane is "
+                        "at world z = height (z down)", low=0.0, high=HEIGHT_LIMIT)
 
 
 def _aerodynamic(cfg) -> bool:

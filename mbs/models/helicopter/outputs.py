@@ -21,6 +21,9 @@ def add_outputs(m: Model, d, cfg) -> None:
         if cfg.tail_rotor:
             _add_rotor_outputs(m, d, cfg, "tail_rotor", gear)
     _add_airframe_outputs(m, cfg)
+    if cfg.ground_effect:
+        m.add_output("main_rotor.ground_factor", lambda s: s.signals["main_rotor.ground_factor"], "1",
+                     "share of the induced velocity the main rotor's blades see near the ground (1 far from it)")
     if cfg.drive_train:
         from mbs.drivetrain.train import add_outputs as add_drive_train_outputs
         add_drive_train_outputs(m, d, cfg)
