@@ -83,15 +83,17 @@ def _in_air(scene, args):
     """``scene`` in the ``--altitude``, ``--temperature-offset`` and ``--wind`` of ``args``."""
     from mbs.models.helicopter.environment import with_environment
 
-    given = {k: getattr(args, k, None) for k in ("altitude", "temperature_offset", "wind")}
-    if all(v is None for v in given.values()):
+    keys = ("altitude", "temperature_offset", "wind", "turbulence", "gust", "ground_effect")
+    given = {k: getattr(args, k, None) for k in keys}
+    if not any(given.values()) and all(given[k] is None for k in keys[:3]):
         return scene
     if scene.aircraft is None:
-        raise ValueError(f"--altitude, --temperature-offset and --wind apply to the helicopter scenes; scene "
-                         f"{scene.name!r} has no air")
+        raise ValueError(f"--altitude, --temperature-offset, --wind, --turbulence, --gust and --ground-effect apply "
+                         f"to the helicopter scenes; scene {scene.name!r} has no air")
     try:
         return with_environment(scene, given["altitude"], given["temperature_offset"],
-                                None if given["wind"] is None else wind_components(given["wind"]))
+                                None if given["wind"] is None else wind_components(given["wind"]), given["turbulence"],
+                                bool(given["gust"]), bool(given["ground_effect"]))
     except ValueError as exc:
         raise ValueError(f"scene {scene.name!r}: {exc}") from None
 
@@ -490,6 +492,13 @@ def _air(p) -> None:
     p.add_argument("--wind", type=A.checked_by(wind_components), default=None, metavar="N,E,D",
                    help="steady wind: the air's velocity north, east, down in m/s (the parameters wind_north, "
                         "wind_east, wind_down); a headwind of a north-flying aircraft is negative north")
+    p.add_argument("--turbulence", choices=("dryden", "von-karman"), default=None,
+                   help="continuous turbulence of MIL-F-8785C's form (free flight; its intensity, seed and the height "
+                        "above the ground are the parameters turbulence_intensity, turbulence_seed, height)")
+    p.add_argument("--gust", action="store_true", help="a discrete 1 - cosine gust (free flight; the parameters "
+                   "gust_north, gust_east, gust_down, gust_start, gust_length, gust_hold)")
+    p.add_argument("--ground-effect", action="store_true",
+                   help="the main rotor's inflow in ground effect (the ground at the parameter height below the start)")
 
 
 def _altitude(text: str) -> float:

@@ -47,7 +47,7 @@ def build(cfg: Config = Config(), aircraft=None, name: str | None = None) -> Mod
         _add_parameters(m, d, cfg, trim, stored)
     if cfg.drive_train:
         _add_drive(m, d, cfg, trim)
-    add_air(m, cfg)
+    add_air(m, cfg, d)
     add_height(m, cfg)
     add_outputs(m, d, cfg)
     add_load_outputs(m, d, cfg)

@@ -46,6 +46,8 @@ class Config:
     ground_effect: the main rotor's induced inflow reduced near the ground (Cheeseman and Bennett,
     :mod:`mbs.aero.ground`), the ground plane at the world's ``z`` = the run-time parameter
     ``height`` (m below the world's origin, where the aircraft starts), whose default is ``height``.
+    turbulence: None, "dryden" or "von-karman" (MIL-F-8785C, :mod:`mbs.environment.turbulence`);
+    gust: a discrete 1 − cosine gust (:mod:`mbs.environment.gust`); both need a free fuselage.
     """
 
     fuselage: str = "free"
@@ -80,6 +82,8 @@ class Config:
     failure_time: float | None = None
     ground_effect: bool = False
     height: float | None = None
+    turbulence: str | None = None
+    gust: bool = False
 
     def __post_init__(self):
         from mbs.drivetrain import train

@@ -33,6 +33,20 @@ def check(cfg) -> None:
     if cfg.wind is not None:
         _check_wind(cfg)
     _check_ground(cfg)
+    _check_motions(cfg)
+
+
+def _check_motions(cfg) -> None:
+    from mbs.environment.turbulence import FORMS
+
+    if cfg.turbulence is not None and cfg.turbulence not in FORMS:
+        raise ValueError(f"turbulence = {cfg.turbulence!r}: choose None or one of {', '.join(FORMS)}")
+    for name in ("turbulence", "gust"):
+        if getattr(cfg, name) and cfg.fuselage != "free":
+            raise ValueError(f"{name} is a field the aircraft flies through: it needs a free fuselage, which this "
+                             f"scene does not have (fuselage = {cfg.fuselage!r})")
+        if getattr(cfg, name) and not _aerodynamic(cfg):
+            raise ValueError(f"{name} acts on the aerodynamics, which this scene does not model")
 
 
 def _check_ground(cfg) -> None:
@@ -75,16 +89,26 @@ def _check_wind(cfg) -> None:
 WIND_LIMIT = 60.0  # m/s, each component
 
 
-def air_of(cfg) -> Air | None:
-    """The model's :class:`Air` for ``cfg``, None for still air at the file's values."""
-    if cfg.atmosphere == "file" and cfg.wind is None:
+def air_of(cfg, d=None) -> Air | None:
+    """The model's :class:`Air` for ``cfg`` (``d`` the aircraft data: the turbulence's stations at
+    the rotor hubs), None for still air at the file's values."""
+    if cfg.atmosphere == "file" and cfg.wind is None and not cfg.turbulence and not cfg.gust:
         return None
-    return Air(isa=cfg.atmosphere == "isa", wind=cfg.wind is not None)
+    from mbs.environment.gust import DiscreteGust
+    from mbs.environment.turbulence import TurbulenceField
+
+    motions = []
+    if cfg.turbulence:
+        stations = (d["main_rotor"]["hub_x"], d["tail_rotor"]["hub_x"])
+        motions.append(TurbulenceField(cfg.turbulence, stations, "fuselage", cfg.wind is not None))
+    if cfg.gust:
+        motions.append(DiscreteGust(cfg.wind is not None))
+    return Air(isa=cfg.atmosphere == "isa", wind=cfg.wind is not None, motions=motions)
 
 
-def add_air(m, cfg) -> None:
-    """Give the model ``m`` the air of ``cfg`` and its run-time parameters."""
-    m.air = air_of(cfg)
+def add_air(m, cfg, d=None) -> None:
+    """Give the model ``m`` the air of ``cfg`` (aircraft data ``d``) and its run-time parameters."""
+    m.air = air_of(cfg, d)
     if m.air is None:
         return
     m.air.add_parameters(m, cfg.altitude, cfg.temperature_offset)
@@ -93,9 +117,10 @@ def add_air(m, cfg) -> None:
 
 
 def with_environment(scene, altitude: float | None = None, temperature_offset: float | None = None,
-                     wind=None):
+                     wind=None, turbulence: str | None = None, gust: bool = False, ground_effect: bool = False):
     """``scene`` in the ISA at ``altitude`` (m) and ``temperature_offset`` (K) (either given:
-    the ISA, the other 0) and in a steady ``wind`` (north, east, down; m/s); ValueError naming
+    the ISA, the other 0), in a steady ``wind`` (north, east, down; m/s), in ``turbulence``
+    ("dryden" or "von-karman"), with a discrete ``gust``, in ``ground_effect``; ValueError naming
     the value when the scene cannot have it."""
     from mbs.models.helicopter.config import config_of
 
@@ -105,6 +130,8 @@ def with_environment(scene, altitude: float | None = None, temperature_offset: f
                        temperature_offset=float(temperature_offset or 0.0))
     if wind is not None:
         options["wind"] = tuple(float(w) for w in wind)
+    options.update({k: v for k, v in (("turbulence", turbulence), ("gust", gust), ("ground_effect", ground_effect))
+                    if v})
     replace(cfg, **{k: v for k, v in options.items() if hasattr(cfg, k)})  # checked before anything is built
     return replace(scene, options=options)
 
@@ -118,7 +145,7 @@ def environment_record(scene) -> dict:
     """The scene's air options as ``run.json`` records them (empty for the file's still air)."""
     from mbs.models.helicopter.config import Config
 
-    keys = ("atmosphere", "altitude", "temperature_offset", "wind")
+    keys = ("atmosphere", "altitude", "temperature_offset", "wind", "turbulence", "gust", "ground_effect", "height")
     base = getattr(scene.builder, "config", Config())
     cfg = {k: scene.options.get(k, getattr(base, k)) for k in keys}
     return {} if cfg == {k: getattr(Config(), k) for k in keys} else cfg

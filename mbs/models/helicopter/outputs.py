@@ -21,6 +21,13 @@ def add_outputs(m: Model, d, cfg) -> None:
         if cfg.tail_rotor:
             _add_rotor_outputs(m, d, cfg, "tail_rotor", gear)
     _add_airframe_outputs(m, cfg)
+    if cfg.turbulence:
+        field = next(f for f in m.air.motions if hasattr(f, "at_station"))
+        for i, axis in enumerate(("north", "east", "down")):
+            m.add_output(f"turbulence.{axis}", lambda s, i=i: field.at_station(s, 0)[i], "m/s",
+                         f"the turbulence's air velocity towards {axis} at the main rotor's hub")
+            m.add_output(f"turbulence.tail_{axis}", lambda s, i=i: field.at_station(s, 1)[i], "m/s",
+                         f"the turbulence's air velocity towards {axis} at the tail rotor's hub")
     if cfg.ground_effect:
         m.add_output("main_rotor.ground_factor", lambda s: s.signals["main_rotor.ground_factor"], "1",
                      "share of the induced velocity the main rotor's blades see near the ground (1 far from it)")
