@@ -79,11 +79,13 @@ class ModelInfo(StateSizes):
 def info_of(symbolic, methods: dict[str, int]) -> ModelInfo:
     """Describe ``symbolic`` (a :class:`mbs.dynamics.Symbolic`)."""
     model, lay = symbolic.model, symbolic.layout
+    states = set(lay.q_names) | set(lay.v_names)  # a dependent coordinate is no state (mbs.dynamics._dependent)
     bodies = [dict(name=b.name, parent=b.parent, joint=type(b.joint).__name__, mass=b.mass,
                    com=b.com.tolist(), inertia=b.inertia.tolist(), at=b.at.tolist(),
                    frame=b.frame.tolist(), shape=b.shape,
-                   q_names=[f"{b.name}.{n}" for n in b.joint.q_names],
-                   v_names=[f"{b.name}.{n}" for n in b.joint.v_names]) for b in lay.bodies]
+                   q_names=[f"{b.name}.{n}" for n in b.joint.q_names if f"{b.name}.{n}" in states],
+                   v_names=[f"{b.name}.{n}" for n in b.joint.v_names if f"{b.name}.{n}" in states])
+              for b in lay.bodies]
     params = [dict(name=p.name, default=p.default, unit=p.unit, description=p.description,
                    control=p.control, low=p.low, high=p.high) for p in model.parameters.values()]
     outputs = [dict(name=o.name, unit=o.unit, description=o.description) for o in model.outputs.values()]

@@ -47,7 +47,9 @@ class Config:
     :mod:`mbs.aero.ground`), the ground plane at the world's ``z`` = the run-time parameter
     ``height`` (m below the world's origin, where the aircraft starts), whose default is ``height``.
     turbulence: None, "dryden" or "von-karman" (MIL-F-8785C, :mod:`mbs.environment.turbulence`);
-    gust: a discrete 1 − cosine gust (:mod:`mbs.environment.gust`); both need a free fuselage.
+    gust: a discrete 1 − cosine gust (:mod:`mbs.environment.gust`); both need a free fuselage;
+    turbulence_intensity: the default of the run-time ``turbulence_intensity`` (W20, m/s; None:
+    moderate, 15.4 m/s).
     """
 
     fuselage: str = "free"
@@ -84,6 +86,7 @@ class Config:
     height: float | None = None
     turbulence: str | None = None
     gust: bool = False
+    turbulence_intensity: float | None = None
 
     def __post_init__(self):
         from mbs.drivetrain import train

@@ -39,6 +39,8 @@ def check(cfg) -> None:
 def _check_motions(cfg) -> None:
     from mbs.environment.turbulence import FORMS
 
+    if cfg.turbulence_intensity is not None and not cfg.turbulence:
+        raise ValueError(f"turbulence_intensity = {cfg.turbulence_intensity!r}: the scene has no turbulence")
     if cfg.turbulence is not None and cfg.turbulence not in FORMS:
         raise ValueError(f"turbulence = {cfg.turbulence!r}: choose None or one of {', '.join(FORMS)}")
     for name in ("turbulence", "gust"):
@@ -100,7 +102,8 @@ def air_of(cfg, d=None) -> Air | None:
     motions = []
     if cfg.turbulence:
         stations = (d["main_rotor"]["hub_x"], d["tail_rotor"]["hub_x"])
-        motions.append(TurbulenceField(cfg.turbulence, stations, "fuselage", cfg.wind is not None))
+        intensity = {} if cfg.turbulence_intensity is None else {"intensity": float(cfg.turbulence_intensity)}
+        motions.append(TurbulenceField(cfg.turbulence, stations, "fuselage", cfg.wind is not None, **intensity))
     if cfg.gust:
         motions.append(DiscreteGust(cfg.wind is not None))
     return Air(isa=cfg.atmosphere == "isa", wind=cfg.wind is not None, motions=motions)
@@ -170,3 +173,18 @@ def data_in_air(d, parameters: dict):
     out.meta = getattr(d, "meta", {})
     out["environment"] = {**d["environment"], "rho": isa.density(h, dt), "speed_of_sound": isa.speed_of_sound(h, dt)}
     return out
+
+
+HINTS = (("engine", "an engine input: the scenes whose rotor speed is a state on engines have it (engine-failure, "
+                    "engine-failure-cruise, hover-engines); a constant-speed scene has no engine to fail"),
+         ("governor", "the engines' governor: scenes with engines (engine-failure, hover-engines)"),
+         ("drive_torque", "the drive train's torque: scenes whose rotor speed is a state without engines (autorotation)"),
+         ("turbulence", "turbulence: --turbulence dryden|von-karman (free flight)"), ("gust", "a gust: --gust"),
+         ("wind", "a steady wind: --wind N,E,D"), ("altitude", "the ISA: --altitude M"),
+         ("temperature_offset", "the ISA: --temperature-offset K"),
+         ("height", "the ground: --ground-effect or --turbulence"))
+
+
+def hint(name: str) -> str:
+    """Where a run-time parameter ``name`` that a scene lacks comes from ("" when unknown)."""
+    return next((f" ({text})" for prefix, text in HINTS if name.startswith(prefix)), "")

@@ -82,6 +82,12 @@ DRIVE_TRAIN_CONFIGS = {
                        "from --inputs"),
     "engine-failure-cruise": (Config(speed=50.0, drive_train="rigid", engines=True, failure_time=1.0, **FULL),
                               "as engine-failure, at 50 m/s"),
+    "hover-engines": (Config(speed=0.0, trim="hover", drive_train="rigid", engines=True, atmosphere="isa",
+                             wind=(0.0, 0.0, 0.0), turbulence="dryden", turbulence_intensity=0.0, gust=True, **FULL),
+                      "as hover, the rotor speed a state on the drive train with the two turboshafts and their "
+                      "governor, in the ISA (altitude, temperature offset), a steady wind, Dryden turbulence (calm "
+                      "by default: turbulence_intensity 0) and a discrete gust (none by default): the FMU's scene "
+                      "for engine failures and turbulence"),
     "autorotation": (Config(speed=30.0, drive_train="rigid", **FULL),
                      "free flight at 30 m/s, the rotor speed a state, no engine (free-wheeling drive train: "
                      "drive_torque 0): the steady autorotation that 'heli autorotation' trims"),
