@@ -49,7 +49,9 @@ class Config:
     turbulence: None, "dryden" or "von-karman" (MIL-F-8785C, :mod:`mbs.environment.turbulence`);
     gust: a discrete 1 − cosine gust (:mod:`mbs.environment.gust`); both need a free fuselage;
     turbulence_intensity: the default of the run-time ``turbulence_intensity`` (W20, m/s; None:
-    moderate, 15.4 m/s).
+    moderate, 15.4 m/s). payload: None, or the default of the run-time ``payload`` (kg): weight
+    added at the centre of gravity (a free fuselage; its inertia stays the file's: for trims
+    and performance at another mass).
     """
 
     fuselage: str = "free"
@@ -87,6 +89,7 @@ class Config:
     turbulence: str | None = None
     gust: bool = False
     turbulence_intensity: float | None = None
+    payload: float | None = None
 
     def __post_init__(self):
         from mbs.drivetrain import train

@@ -34,6 +34,9 @@ def check(cfg) -> None:
         _check_wind(cfg)
     _check_ground(cfg)
     _check_motions(cfg)
+    if cfg.payload is not None and not (cfg.fuselage == "free" and math.isfinite(cfg.payload)
+                                        and abs(cfg.payload) <= PAYLOAD_LIMIT):
+        raise ValueError(f"payload = {cfg.payload!r} kg: a weight on a free fuselage, within ±{PAYLOAD_LIMIT:g} kg")
 
 
 def _check_motions(cfg) -> None:
@@ -62,6 +65,19 @@ def _check_ground(cfg) -> None:
 
 
 HEIGHT_LIMIT = 10000.0  # m
+PAYLOAD_LIMIT = 5000.0  # kg
+
+
+def add_payload(m, d, cfg) -> None:
+    """The run-time ``payload`` (kg): weight at the centre of gravity (the fuselage's origin)."""
+    if cfg.payload is None:
+        return
+    from mbs.forces import PointForce
+
+    g = d["environment"]["g"]
+    m.add_parameter("payload", float(cfg.payload), "kg", "weight added at the centre of gravity (its inertia left "
+                    "out: the aircraft's mass for trims and performance)", low=-PAYLOAD_LIMIT, high=PAYLOAD_LIMIT)
+    m.add_force(PointForce("payload weight", "fuselage", [0.0, 0.0, lambda s: g * s.p["payload"]], frame="world"))
 DEFAULT_HEIGHT = 100.0  # m: the default ground below a scene's start
 
 
@@ -148,7 +164,8 @@ def environment_record(scene) -> dict:
     """The scene's air options as ``run.json`` records them (empty for the file's still air)."""
     from mbs.models.helicopter.config import Config
 
-    keys = ("atmosphere", "altitude", "temperature_offset", "wind", "turbulence", "gust", "ground_effect", "height")
+    keys = ("atmosphere", "altitude", "temperature_offset", "wind", "turbulence", "gust", "ground_effect", "height",
+            "payload")
     base = getattr(scene.builder, "config", Config())
     cfg = {k: scene.options.get(k, getattr(base, k)) for k in keys}
     return {} if cfg == {k: getattr(Config(), k) for k in keys} else cfg
