@@ -111,15 +111,15 @@ def register(sub, bench) -> None:
                        ("speed", "the largest level speed")):
         q = kinds.add_parser(kind, help=text)
         q.add_argument("--altitudes", default="0:4000:5" if kind == "ceiling" else "0,2000",
-                       type=A.checked_by(ALTITUDES), help="pressure altitudes in m: A,B,... or LO:HI:N")
+                       type=A.checked_by(ALTITUDES), help="pressure altitudes in m: A,B,... or LO:HI:N (default %(default)s)")
         q.add_argument("--masses", default="2200", type=A.checked_by(MASSES), help="masses in kg (default 2200)")
         q.add_argument("--temperatures", default="0,20" if kind == "ceiling" else "0", type=A.checked_by(TEMPERATURES),
-                       help="ISA temperature offsets in K")
+                       help="ISA temperature offsets in K (default %(default)s)")
         if kind == "ceiling":
-            q.add_argument("--grounds", default="oge,ige", choices=("oge", "ige", "oge,ige"),
+            q.add_argument("--grounds", default="oge,ige", choices=("oge", "ige", "oge,ige"), metavar="oge|ige|oge,ige",
                            help="out of and/or in ground effect (default both)")
         else:
-            q.add_argument("--speeds", default="50:80:4", type=A.checked_by(SPEEDS), help="speeds in m/s")
+            q.add_argument("--speeds", default="50:80:4", type=A.checked_by(SPEEDS), help="speeds in m/s (default %(default)s)")
         q.add_argument("--workers", type=A.non_negative_int, default=None,
                        help="Dask workers (default: the machine's cores; 0: a plain loop)")
         q.add_argument("--out", type=A.output_folder, default=None, help="write the table (JSON) and a chart here")
