@@ -131,6 +131,10 @@ def cmd_simulate(args) -> int:
              f"step check ({1e3 * step.wall_s:.0f} ms): {step.message()}"]
     if "max_rel_energy_error" in res:
         lines.append(f"max relative energy error: {res['max_rel_energy_error']:.3e}")
+    if "rotor_speed" in res:
+        from mbs.drivetrain.report import pilot_line
+
+        lines.append(pilot_line(res["rotor_speed"]))
     lines += [f"wrote {p}" for p in paths.values()]
     emit(res, args.json, lines)
     return 0 if sim.traj.ok else 1

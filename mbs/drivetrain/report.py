@@ -21,3 +21,12 @@ def pilot_figures(columns: dict, failure_time: float | None = None) -> dict:
         sink = np.gradient(z, t)
         out.update(sink_rate_end=float(sink[-1]), sink_rate_max=float(sink.max()), height_lost=float(z[-1] - z[0]))
     return out
+
+
+def pilot_line(figures: dict) -> str:
+    """One line of :func:`pilot_figures`' figures."""
+    line = (f"rotor speed: lowest {figures['rotor_speed_min_percent']:.1f} % of {figures['rotor_speed_start']:.1f} rad/s, "
+            f"{figures['time_to_min_rotor_speed']:.2f} s after the failure or start")
+    if "sink_rate_end" in figures:
+        line += f"; sink rate {figures['sink_rate_end']:.2f} m/s at the end, height lost {figures['height_lost']:.2f} m"
+    return line
