@@ -6,10 +6,9 @@ from dataclasses import replace
 from types import SimpleNamespace
 
 import casadi as ca
-import numpy as np
 import pytest
 
-from mbs import aircraft, scenes
+from mbs import aircraft
 from mbs.aero.ground import cheeseman_bennett, inflow_factor
 from mbs.analysis.trim import periodic_solution
 from mbs.models.helicopter import Config, build

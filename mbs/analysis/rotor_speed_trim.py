@@ -22,9 +22,10 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
-from mbs.analysis.newton import Failure, newton
+from mbs.analysis.newton import newton
 from mbs.analysis.period import scene_period
 from mbs.analysis.shooting import TrimLayout, euler_angles, quaternion, residual_scales
+from mbs.analysis.trim import ShootingProblem
 
 AZIMUTH = "main_hub.azimuth"
 CLIMB = "climb_rate"
@@ -134,52 +135,28 @@ class SpeedTrim:
         return self.unknowns.get(CLIMB, 0.0)
 
 
-class SpeedProblem:
-    """Residual and Jacobian of a rotor-speed trim of ``system`` (its tangent ``stepper``)."""
+class SpeedProblem(ShootingProblem):
+    """Residual and Jacobian of a rotor-speed trim of ``system`` (its tangent ``stepper``): the
+    shooting problem of :mod:`mbs.analysis.trim` with the azimuth's advance and the extra unknown."""
 
     def __init__(self, system, stepper, sc, speed: float, omega: float, extra: str, climb_rate: float,
                  steps_per_rev: int):
         info = system.info
         self.system, self.stepper, self.speed, self.omega = system, stepper, speed, omega
+        self.radius = sc.aircraft.data["main_rotor"]["radius"]
         self.lay = SpeedLayout.of(info, extra)
         period = scene_period(sc, system)
         self.period = period
         self.h = 2 * np.pi / omega / steps_per_rev
         self.n = period.revs * steps_per_rev
-        duration = self.h * self.n
         sense = 1.0 if sc.aircraft.data["main_rotor"]["rotation"] == "counter-clockwise" else -1.0
-        self.p_base = system.params()
+        self.p_base, self.path = system.params(), None
         self._start = start_function(self.lay, info.nx, len(self.p_base))
-        self._residual = residual_function(self.lay, info.nx, period.symmetry(info.nx), sense * 2 * np.pi * period.revs,
-                                           duration, speed, climb_rate)
-        radius = sc.aircraft.data["main_rotor"]["radius"]
-        self.scale = residual_scales(self.lay.residual_names, omega, radius)
+        residual = residual_function(self.lay, info.nx, period.symmetry(info.nx), sense * 2 * np.pi * period.revs,
+                                     self.h * self.n, speed, climb_rate)
+        self._residual = lambda x, z, _path: residual(x, z)  # the flight path is in the residual itself
+        self.scale = residual_scales(self.lay.residual_names, omega, self.radius)
         self.nfwd = 0
-
-    def start(self, z):
-        x0, p, dx0, dp = (np.asarray(a, dtype=float) for a in self._start(z, self.p_base))
-        return x0.ravel(), p.ravel(), dx0, dp
-
-    def run(self, z, every: int | None = None):
-        x0, p = self.start(z)[:2]
-        try:
-            traj = self.system.run(x0, 0.0, self.h, self.n, every=every or self.n, p=p, method=self.stepper.method)
-        except ValueError as exc:
-            raise Failure(str(exc)) from None
-        if not traj.ok:
-            raise Failure(traj.message)
-        return traj
-
-    def residual(self, z) -> np.ndarray:
-        r = np.asarray(self._residual(self.run(z).x[-1], z)[0], dtype=float).ravel()
-        return r / self.scale
-
-    def jacobian(self, z) -> np.ndarray:
-        x0, p, dx0, dp = self.start(z)
-        sens = self.stepper.propagate(x0, p, dx0, dp, 0.0, self.h, self.n)
-        self.nfwd += sens.nfwd
-        _, dr_dx, dr_dz = self._residual(sens.x, z)
-        return (np.asarray(dr_dx) @ sens.dx + np.asarray(dr_dz)) / self.scale[:, None]
 
 
 def estimate(system, lay: SpeedLayout, sc, speed: float, extra_value: float) -> np.ndarray:

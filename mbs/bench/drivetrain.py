@@ -8,8 +8,6 @@ run, the ratio to the constant-speed step, and the real-time factor at 100 steps
 """
 from __future__ import annotations
 
-import argparse
-import json
 import time
 from dataclasses import replace
 
@@ -97,15 +95,3 @@ def register(sub, bench) -> None:
     add_json(p)
     p.set_defaults(fn=cmd_bench_drivetrain)
 
-
-def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m mbs.bench.drivetrain", description=__doc__.splitlines()[0])
-    parser.add_argument("--json", action="store_true", help="print one JSON object")
-    args = parser.parse_args(argv)
-    res = run()
-    print(json.dumps(res) if args.json else "\n".join(_lines(res)))
-    return 0
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())
