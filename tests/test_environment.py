@@ -115,6 +115,37 @@ def test_compressibility_reads_the_isa_speed_of_sound():
     assert thrust["pitt-peters,tip-loss"][0] == pytest.approx(thrust["pitt-peters,tip-loss"][1], rel=1e-13)
 
 
+def _equal_density_thrusts(sc) -> list[float]:
+    """The main rotor's thrust of ``sc`` in the ISA at 1000 m and at 2000 m warmer to the same density."""
+    rho = isa.density(1000.0, 0.0)
+    dt2 = isa.pressure(2000.0) / (isa.R * rho) - isa.standard_temperature(2000.0)
+    sym = symbolic(with_environment(sc, altitude=0.0).model())
+    x, out = _x0(sym), []
+    for h, dt in ((1000.0, 0.0), (2000.0, dt2)):
+        p = np.array([{"altitude": h, "temperature_offset": dt}.get(n, q.default)
+                      for n, q in sym.model.parameters.items()])
+        out.append(float(np.asarray(sym["outputs"](x, 0.0, p)).ravel()[list(sym.model.outputs).index(
+            "main_rotor.thrust")]))
+    return out
+
+
+def test_airfoil_tables_read_the_isa_speed_of_sound(tmp_path):
+    """The rotors' sections as C81 tables (sampled from the analytic sections): at equal density and
+    different temperature the thrust differs by the Mach number with the tables' Mach dependence, by
+    as much as the analytic section's compressibility makes it differ, and not at all without it."""
+    from mbs import aircraft
+    from mbs.aero.tables.sample import with_sampled_tables
+
+    craft = with_sampled_tables(aircraft.load(), tmp_path)
+    hover = scenes.get("hover")
+    tables = _equal_density_thrusts(hover.with_aircraft(craft))
+    analytic = _equal_density_thrusts(hover)
+    flat = _equal_density_thrusts(with_aero(hover.with_aircraft(craft), "pitt-peters,tip-loss"))
+    assert abs(tables[0] / tables[1] - 1) > 1e-4
+    assert tables[0] / tables[1] == pytest.approx(analytic[0] / analytic[1], rel=1e-3)
+    assert flat[0] == pytest.approx(flat[1], rel=1e-13)
+
+
 def test_a_steady_wind_is_galilean_every_element_sees_the_air_velocity():
     """Forward flight (every aerodynamics switch on) in a steady wind W, the aircraft moving at its
     still-air velocity plus W: every acceleration and inflow rate equals the still-air one."""
