@@ -55,6 +55,7 @@ ELSEWHERE = {  # command -> the test that parses its whole stdout as one JSON ob
                         "test_a_command_that_prints_stays_pipe_clean",
     "heli bench loops": "five forward-flight models compiled (slow); pipe-clean by "
                         "test_a_command_that_prints_stays_pipe_clean",
+    "heli validate": "tests/test_validate_published.py::test_command_json_is_one_object",
     "heli bench drivetrain": "five forward-flight models compiled (slow); pipe-clean by "
                              "test_a_command_that_prints_stays_pipe_clean",
 }

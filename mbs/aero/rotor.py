@@ -223,6 +223,10 @@ class RotorAero(ForceElement):
         return self.coefficients if sound is comp.speed_of_sound else replace(comp, speed_of_sound=sound).coefficients(
             self.airfoil)
 
+    def _still_air(self) -> _Air:
+        """Still air at the element's own density and speed of sound."""
+        return _Air(self.rho, self.coefficients, None, None if self.tables is None else self.tables.mach)
+
     def _mach(self, state: State):
         """The airfoil tables' Mach number of an air speed at the state's speed of sound (None: no tables)."""
         if self.tables is None:
@@ -297,11 +301,13 @@ class RotorAero(ForceElement):
         return ca.vertcat(0, sense * f_y, f_z)
 
     def _swept_element(self, m, origin, hinge, axis_b, shaft_b, v, arm: float, r: float, dr: float, lift: float,
-                       air):
+                       air: _Air | None = None):
         """An element of the swept tip (simple sweep theory): its quarter chord lies aft of the
         blade's x axis (:meth:`Rotor.sweep_offset`), its chord turned by the sweep angle; the air
         velocity is resolved normal to the swept quarter-chord line (the component along it
-        carries no load). Returns its force and torque (blade axes) and its disc loads."""
+        carries no load). Returns its force and torque (blade axes) and its disc loads; ``air``: the
+        evaluation's (None: still air at the element's own density and speed of sound)."""
+        air = air or self._still_air()
         sense, (c_x, c_y) = self.rotor.sense, self.rotor.sweep_chord()
         offset = -sense * self.rotor.sweep_offset(r)  # blade y of the quarter chord: aft of the axis
         point = ca.DM([arm, offset, 0])
