@@ -265,8 +265,11 @@ def _periodic_spec(start: dict, scene: dict, info, free) -> dict:
 
 def _hinge_states(info) -> list[int]:
     """Indices in x of the hinge coordinates (flap, lag, teeter; rad): the ``q_names`` of
-    every body that is neither free nor clamped (driven hinges have none)."""
-    return [info.state_names.index(q) for b in info.bodies if b["joint"] != "FreeJoint" for q in b["q_names"]]
+    every body that is neither free nor clamped (driven hinges have none), but a free rotor's
+    azimuth and its transmission's angle, which turn on without bound."""
+    turning = ("main_hub.azimuth", "tail_hub.azimuth", "transmission.angle")
+    return [info.state_names.index(q) for b in info.bodies if b["joint"] != "FreeJoint" for q in b["q_names"]
+            if q not in turning]
 
 
 def _forward_speed(info, body: dict, x0: np.ndarray) -> dict:

@@ -37,9 +37,13 @@ revolution; the trims converge to 1e-10 or below)."""
 def compute(scene) -> dict:
     """The periodic trim of ``scene`` (a name or a :class:`mbs.scenes.Scene`) at its own speed as
     a stored entry: controls (rad), every state by name (SI units, rad), the trim's figures and
-    its provenance."""
+    its provenance. A scene whose rotor speed is a state is trimmed at the rotor's nominal speed
+    with the governor's reference (engines) or the drive torque as the extra control
+    (:mod:`mbs.analysis.rotor_speed_trim`)."""
     from mbs.analysis.trim import trim
 
+    if free_rotor(scene):
+        return _compute_rotor_speed(scene)
     res = trim(scene, method="rk4")
     if not res.converged:
         raise RuntimeError(f"the periodic trim of {getattr(scene, 'name', scene)!r} did not converge: {res.reason}")
@@ -48,6 +52,42 @@ def compute(scene) -> dict:
             "roll": res.roll, "pitch": res.pitch, "state": res.state,
             "max_abs_residual": float(np.abs(res.residual).max()), "iterations": res.iterations,
             "provenance": provenance()}
+
+
+def free_rotor(scene) -> bool:
+    """Whether ``scene`` (a name or a :class:`mbs.scenes.Scene`) turns its rotors on a drive train."""
+    from mbs import scenes
+
+    sc = scenes.get(scene) if isinstance(scene, str) else scene
+    return bool(sc.options.get("drive_train", getattr(getattr(sc.builder, "config", None), "drive_train", None)))
+
+
+def _compute_rotor_speed(scene) -> dict:
+    from mbs import scenes
+    from mbs.analysis.rotor_speed_trim import rotor_speed_trim
+    from mbs.analysis.trim import evaluators
+
+    sc = scenes.get(scene) if isinstance(scene, str) else scene
+    system, stepper = evaluators(sc)
+    extra = "governor_speed" if "governor_speed" in system.info.param_names else "drive_torque"
+    i = system.info.state_names.index
+    speed = round(float(np.linalg.norm(system.x0()[[i("fuselage.u"), i("fuselage.v"), i("fuselage.w")]])), 6)
+    res = rotor_speed_trim(sc, speed, extra=extra, system=system, stepper=stepper)
+    if not res.converged:
+        raise RuntimeError(f"the periodic trim of {sc.name!r} did not converge: {res.reason}")
+    controls = [q["name"] for q in system.info.parameters if q.get("control") and not q["name"].endswith("_throttle")]
+    return {"speed": speed, "climb_rate": 0.0, "method": "rk4", "steps_per_rev": sc.steps_per_rev,
+            "shooting_revs": scene_revs(sc, system), "controls": {**{c: res.unknowns[c] for c in controls},
+                                                                   extra: res.unknowns[extra]},
+            "roll": res.unknowns["roll"], "pitch": res.unknowns["pitch"],
+            "state": dict(zip(system.info.state_names, map(float, res.x0))), "max_abs_residual": res.residual,
+            "iterations": res.iterations, "provenance": provenance()}
+
+
+def scene_revs(sc, system) -> int:
+    from mbs.analysis.period import scene_period
+
+    return scene_period(sc, system).revs
 
 
 def provenance() -> dict:
@@ -88,7 +128,7 @@ def start(scene, system, log=None) -> dict | None:
     be trimmed."""
     from mbs.analysis.trim import trimmable
 
-    if not trimmable(scene):
+    if not trimmable(scene) and not (free_rotor(scene) and _flies(scene)):
         return None
     bo105 = scene.aircraft is None or (scene.aircraft.packaged and scene.aircraft.key == "bo105")
     entry = stored().get(scene.name) if bo105 else None
@@ -103,6 +143,11 @@ def start(scene, system, log=None) -> dict | None:
             "the Bo105's)")
     entry = compute(scene)
     return {**entry, "check_residual": residual(entry, system, scene)}
+
+
+def _flies(scene) -> bool:
+    cfg = getattr(scene.builder, "config", None)
+    return scene.options.get("fuselage", getattr(cfg, "fuselage", None)) == "free"
 
 
 def write(scene_names) -> Path:

@@ -36,10 +36,10 @@ def cmd_scenes(args) -> int:
 
 def scene_row(sc) -> dict:
     """What ``heli scenes`` says of the scene ``sc``."""
-    from mbs.dynamics import Layout
+    from mbs.dynamics import state_layout
 
     model = sc.model()
-    lay = Layout.of(model)
+    lay = state_layout(model)
     return {"scene": sc.name, "description": sc.description, "bodies": [b.name for b in lay.bodies],
             "dof": lay.nv, "position_coordinates": lay.nq, "coordinates": lay.q_names, "velocities": lay.v_names,
             "extra_states": lay.z_names, "conservative": sc.conservative, "forces": [f.name for f in model.forces],
@@ -70,12 +70,31 @@ def _scene(args):
         scene = scenes.get(args.scene, aircraft=getattr(args, "aircraft", None))
     except ValueError as exc:
         raise ValueError(f"--aircraft {args.aircraft.path}: {exc}") from None
-    if getattr(args, "aero", None) is None:
+    if getattr(args, "aero", None) is not None:
+        try:
+            scene = with_aero(scene, args.aero)
+        except ValueError as exc:
+            raise ValueError(f"--aero {args.aero!r}: {exc}") from None
+    return _in_air(scene, args)
+
+
+def _in_air(scene, args):
+    """``scene`` in the ``--altitude``, ``--temperature-offset`` and ``--wind`` of ``args``."""
+    from mbs.models.helicopter.environment import with_environment
+
+    keys = ("altitude", "temperature_offset", "wind", "turbulence", "gust", "ground_effect")
+    given = {k: getattr(args, k, None) for k in keys}
+    if not any(given.values()) and all(given[k] is None for k in keys[:3]):
         return scene
+    if scene.aircraft is None:
+        raise ValueError(f"--altitude, --temperature-offset, --wind, --turbulence, --gust and --ground-effect apply "
+                         f"to the helicopter scenes; scene {scene.name!r} has no air")
     try:
-        return with_aero(scene, args.aero)
+        return with_environment(scene, given["altitude"], given["temperature_offset"],
+                                None if given["wind"] is None else wind_components(given["wind"]), given["turbulence"],
+                                bool(given["gust"]), bool(given["ground_effect"]))
     except ValueError as exc:
-        raise ValueError(f"--aero {args.aero!r}: {exc}") from None
+        raise ValueError(f"scene {scene.name!r}: {exc}") from None
 
 
 def cmd_simulate(args) -> int:
@@ -128,6 +147,10 @@ def cmd_simulate(args) -> int:
              f"step check ({1e3 * step.wall_s:.0f} ms): {step.message()}"]
     if "max_rel_energy_error" in res:
         lines.append(f"max relative energy error: {res['max_rel_energy_error']:.3e}")
+    if "rotor_speed" in res:
+        from mbs.drivetrain.report import pilot_line
+
+        lines.append(pilot_line(res["rotor_speed"]))
     lines += [f"wrote {p}" for p in paths.values()]
     emit(res, args.json, lines)
     return 0 if sim.traj.ok else 1
@@ -565,6 +588,61 @@ def _aero(p) -> None:
                         "none (the paper's model: uniform inflow, free-stream airframe)")
 
 
+def _air(p) -> None:
+    from mbs.environment import atmosphere as isa
+
+    low, high = isa.ALTITUDE_RANGE
+    p.add_argument("--altitude", type=A.checked_by(_altitude), default=None, metavar="M",
+                   help=f"fly in the ISA at this pressure altitude in m ({low:g} to {high:g}; the run-time parameter "
+                        "'altitude'); default: the aircraft file's density and speed of sound")
+    p.add_argument("--temperature-offset", type=A.checked_by(_offset), default=None, metavar="K",
+                   help="ISA temperature offset in K (ISA+20: 20; the parameter 'temperature_offset'); implies the ISA")
+    p.add_argument("--wind", type=A.checked_by(wind_components), default=None, metavar="N,E,D",
+                   help="steady wind: the air's velocity north, east, down in m/s (the parameters wind_north, "
+                        "wind_east, wind_down); a headwind of a north-flying aircraft is negative north")
+    p.add_argument("--turbulence", choices=("dryden", "von-karman"), default=None,
+                   help="continuous turbulence of MIL-F-8785C's form (free flight; its intensity, seed and the height "
+                        "above the ground are the parameters turbulence_intensity, turbulence_seed, height)")
+    p.add_argument("--gust", action="store_true", help="a discrete 1 - cosine gust (free flight; the parameters "
+                   "gust_north, gust_east, gust_down, gust_start, gust_length, gust_hold)")
+    p.add_argument("--ground-effect", action="store_true",
+                   help="the main rotor's inflow in ground effect (the ground at the parameter height below the start)")
+
+
+def _altitude(text: str) -> float:
+    from mbs.environment import atmosphere as isa
+
+    value = float(text)
+    isa.check(value)
+    return value
+
+
+def _offset(text: str) -> float:
+    from mbs.environment import atmosphere as isa
+
+    value = float(text)
+    isa.check(0.0, value)
+    return value
+
+
+def wind_components(text: str) -> tuple[float, float, float]:
+    """``N,E,D`` (m/s) as three finite numbers within the wind's range."""
+    import math
+
+    from mbs.models.helicopter.environment import WIND_LIMIT
+
+    parts = [t.strip() for t in str(text).split(",")]
+    try:
+        values = tuple(float(t) for t in parts)
+    except ValueError:
+        raise ValueError(f"{text!r} is not three numbers N,E,D (m/s)") from None
+    if len(values) != 3 or not all(math.isfinite(v) for v in values):
+        raise ValueError(f"{text!r} is not three finite numbers N,E,D (m/s)")
+    if max(abs(v) for v in values) > WIND_LIMIT:
+        raise ValueError(f"{text!r}: each component within ±{WIND_LIMIT:g} m/s")
+    return values
+
+
 def _quiet(p) -> None:
     p.add_argument("--quiet", action="store_true", help="no progress bar")
 
@@ -598,6 +676,7 @@ def register(sub, bench) -> None:
                    f"per revolution; without PATH in {user_trims()}. 'heli simulate' starts from a stored trim of the "
                    "same model found there or in <aircraft stem>_trim.toml beside the aircraft file")
     _aero(p)
+    _air(p)
     _quiet(p)
     add_json(p)
     p.set_defaults(fn=cmd_trim)
@@ -617,6 +696,7 @@ def register(sub, bench) -> None:
     _quiet(p)
     add_json(p)
     _aero(p)
+    _air(p)
     p.set_defaults(fn=cmd_floquet)
 
     p = sub.add_parser("derivatives", help="stability and control derivatives at trim (quasi-static rotor in its "
@@ -626,6 +706,7 @@ def register(sub, bench) -> None:
                    help="write A, B and the mode names to FILE (.mat for MATLAB, or .npz)")
     add_json(p)
     _aero(p)
+    _air(p)
     p.set_defaults(fn=cmd_derivatives)
 
     p = sub.add_parser("scenes", help="list the scenes: bodies, degrees of freedom, force elements")
@@ -668,6 +749,7 @@ def register(sub, bench) -> None:
                         "run's time are printed first for long runs); --every N records fewer rows")
     p.add_argument("--out", type=A.output_folder, default="out/simulate", help="output folder (default out/simulate)")
     _aero(p)
+    _air(p)
     _quiet(p)
     add_json(p)
     p.set_defaults(fn=cmd_simulate)

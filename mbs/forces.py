@@ -24,15 +24,17 @@ class State:
     and velocity in world components, rotation body->world, angular velocity in body
     components); ``q(name)``/``v(name)`` joint coordinates and rates by full name;
     ``energy`` (5,): translational and rotational kinetic, gravity, spring, total (J);
-    ``reactions``: the joint reaction loads (:class:`mbs.dynamics.Reactions`), for outputs.
+    ``reactions``: the joint reaction loads (:class:`mbs.dynamics.Reactions`), for outputs;
+    ``air``: the model's :class:`mbs.environment.Air` (None: still air at the aircraft file's
+    density), read through :meth:`air_velocity`, :meth:`density` and :meth:`speed_of_sound`.
     """
 
     energy = None
     reactions = None  # set after the forces are applied: outputs only
 
     def __init__(self, t, p: Params, motions: dict[str, Relative], coords: dict, rates: dict,
-                 v_index: dict[str, int], extra: dict | None = None):
-        self.t, self.p = t, p
+                 v_index: dict[str, int], extra: dict | None = None, air=None):
+        self.t, self.p, self.air = t, p, air
         self._motions, self._coords, self._rates, self.v_index = motions, coords, rates, v_index
         self._extra = extra or {}
         self.signals: dict = {}  # named intermediate results of force elements (e.g. thrust)
@@ -51,6 +53,20 @@ class State:
         if name not in self._extra:
             raise KeyError(f"unknown extra state {name!r}; known: {sorted(self._extra)}")
         return self._extra[name]
+
+    def air_velocity(self, position):
+        """The air's velocity (3,) (m/s, world) at the world point ``position`` (3,) (m): wind,
+        gusts and turbulence as the model's air has them; None in still air. Every aerodynamic
+        element takes its velocity through the air from here (:func:`mbs.environment.through_air`)."""
+        return None if self.air is None else self.air.velocity(self, position)
+
+    def density(self, default: float):
+        """Air density (kg/m³): ``default`` (the aircraft file's) unless the model's air is the ISA's."""
+        return default if self.air is None else self.air.density(self, default)
+
+    def speed_of_sound(self, default: float):
+        """Speed of sound (m/s): ``default`` (the aircraft file's) unless the model's air is the ISA's."""
+        return default if self.air is None else self.air.speed_of_sound(self, default)
 
     def point_position(self, body: str, r) -> ca.SX:
         """World position (m) of the point ``r`` (body frame, m)."""

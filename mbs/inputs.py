@@ -187,7 +187,9 @@ def check_table(table: InputTable, parameters: dict, scene: str, settings: dict[
 
 def _check_value(where: str, name: str, value: float, parameters: dict, scene: str, known: list[str]) -> None:
     if name not in parameters:
-        raise ValueError(f"{where}: {name!r} is not a parameter of scene {scene!r} (settable: "
+        from mbs.models.helicopter.environment import hint
+
+        raise ValueError(f"{where}: {name!r} is not a parameter of scene {scene!r}{hint(name)} (settable: "
                          f"{', '.join(known) or 'none'})")
     q = parameters[name]
     low, high, unit = q.get("low", -math.inf), q.get("high", math.inf), q.get("unit", "")

@@ -104,6 +104,11 @@ class Simulation:
             out["step_error"] = self.step_error.summary()
         if self.scene.conservative:
             out["max_rel_energy_error"] = self.max_rel_energy_error
+        if "main_rotor.speed" in self.system.info.output_names:  # the rotor speed is a state: what a pilot reads
+            from mbs.drivetrain.report import pilot_figures
+
+            failures = [v for n, v in out["parameters"].items() if n.endswith("_failure_time") and v <= self.traj.t[-1]]
+            out["rotor_speed"] = pilot_figures(self.columns(), min(failures) if failures else None)
         out["units"] = self.column_units()
         return out
 
@@ -114,10 +119,13 @@ def run_record(scene: _scenes.Scene) -> dict:
     if scene.aircraft is None:
         return {"scene": scene.name}
     from mbs.models.helicopter import aero_switches
+    from mbs.models.helicopter.environment import environment_record
 
     craft = scene.aircraft
-    return {"scene": scene.name, "aircraft": {"name": craft.name, "file": str(craft.path.resolve()),
-                                              "sha256": craft.digest}, "aero": aero_switches(scene)}
+    out = {"scene": scene.name, "aircraft": {"name": craft.name, "file": str(craft.path.resolve()),
+                                             "sha256": craft.digest}, "aero": aero_switches(scene)}
+    air = environment_record(scene)
+    return {**out, "environment": air} if air else out
 
 
 def scene_of_run(meta: dict, where: str = "run.json", aircraft=None) -> _scenes.Scene:
@@ -150,10 +158,12 @@ def scene_of_run(meta: dict, where: str = "run.json", aircraft=None) -> _scenes.
             raise ValueError(f"{where}: the aircraft file {recorded['file']} has changed since the run; the model "
                              "would not be the one that ran (restore the file, or run again)")
     scene = _scenes.get(meta["scene"], aircraft=craft)
+    from mbs.models.helicopter.environment import environment_of_record
+
     aero = meta.get("aero")
-    if aero is None or (scene.aircraft is not None and sorted(aero) == sorted(aero_switches(scene))):
-        return scene  # the scene's own switches (a scene without aerodynamics has none to set)
-    return with_aero(scene, ",".join(aero) or "none")
+    if aero is not None and not (scene.aircraft is not None and sorted(aero) == sorted(aero_switches(scene))):
+        scene = with_aero(scene, ",".join(aero) or "none")  # else the scene's own switches (or none to set)
+    return environment_of_record(scene, meta.get("environment", {}))
 
 
 ROW_SAMPLE = 200  # rows timed and measured for the cost estimate (at most a revolution)

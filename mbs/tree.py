@@ -137,6 +137,8 @@ class Model:
         self.outputs: dict[str, Output] = {}
         self.states: dict[str, ExtraState] = {}
         self.initial: dict[str, float] = {}
+        self.air = None  # mbs.environment.Air: what the aerodynamics reads of the air (None: still air)
+        self.dependent: dict[str, Callable] = {}
 
     def add_state(self, name: str, initial: float = 0.0, unit: str = "", description: str = "") -> None:
         """Declare an extra first-order state ``z`` (appended after ``s`` and ``u``)."""
@@ -145,6 +147,17 @@ class Model:
         if not np.isfinite(initial):
             raise ValueError(f"state {name!r}: initial value {initial} is not finite")
         self.states[name] = ExtraState(name, float(initial), unit, description)
+
+    def add_dependent(self, coordinate: str, fn: Callable) -> None:
+        """Make the one-axis coordinate ``coordinate`` (e.g. ``"tail_hub.azimuth"``) a function of
+        the others: ``fn(q, t, p) -> SX``, ``q[name]`` the model's other coordinates (those
+        declared dependent before it included), ``t`` (s), ``p[name]`` the parameters. It and
+        its rate leave the state; the equations of motion hold in the remaining coordinates
+        (:mod:`mbs.dynamics._dependent`): a gear between two rotors, a rotor's cyclic pitch
+        following its azimuth."""
+        if coordinate in self.dependent:
+            raise ValueError(f"coordinate {coordinate!r} is made dependent twice")
+        self.dependent[coordinate] = fn
 
     def add_parameter(self, name: str, default: float, unit: str = "", description: str = "",
                       control: bool = False, low: float = -np.inf, high: float = np.inf) -> None:

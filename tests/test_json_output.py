@@ -27,6 +27,11 @@ HERE = {  # command -> arguments of a cheap run (OUT: a fresh folder, RUN: a sim
     "heli sweep simulate": ["sweep", "simulate", "hover", "--revs", "0.1", "--param", "collective=0.2:0.25:2",
                             "--workers", "0", "--out", "OUT"],
     "heli bench stability": ["bench", "stability", "--scene", "demo-rotor", "--revs", "5", "--case", "none"],
+    "heli autorotation": ["autorotation", "--speeds", "30"],
+    "heli performance speed": ["performance", "speed", "--speeds", "60", "--altitudes", "0", "--workers", "0",
+                               "--quiet", "--out", "OUT"],
+    "heli performance ceiling": ["performance", "ceiling", "--altitudes", "0", "--temperatures", "0", "--grounds",
+                                 "oge", "--workers", "0", "--quiet"],
 }
 ELSEWHERE = {  # command -> the test that parses its whole stdout as one JSON object
     "heli validate": "tests/test_validate_published.py::test_command_json_is_one_object",
@@ -51,6 +56,9 @@ ELSEWHERE = {  # command -> the test that parses its whole stdout as one JSON ob
                         "test_a_command_that_prints_stays_pipe_clean",
     "heli bench loops": "five forward-flight models compiled (slow); pipe-clean by "
                         "test_a_command_that_prints_stays_pipe_clean",
+    "heli validate": "tests/test_validate_published.py::test_command_json_is_one_object",
+    "heli bench drivetrain": "five forward-flight models compiled (slow); pipe-clean by "
+                             "test_a_command_that_prints_stays_pipe_clean",
 }
 
 

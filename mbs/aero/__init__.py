@@ -14,7 +14,8 @@
   (:mod:`mbs.aero.airframe_tables`, splines of :mod:`mbs.aero.interpolation`), one-section tail
   surfaces in the free stream or the rotor's wake, the fuselage download and the hub drag.
 
-Units: SI, angles in rad. All forces act in still air (no wind, no gust).
+Units: SI, angles in rad. Every element reads the air (density, speed of sound, wind, gusts,
+turbulence) through the symbolic state: :mod:`mbs.environment.air`.
 """
 from mbs.aero.airframe import Download, FuselageAero, FuselageTables, HubDrag, LiftingSurface
 from mbs.aero.compressibility import Compressibility

@@ -14,6 +14,7 @@ import numpy as np
 
 from mbs.aero.airframe_tables import flow_angles
 from mbs.aero.sections import EPS, Airfoil, section_force, soft_clip, turn
+from mbs.environment.air import through_air
 from mbs.forces import ForceElement
 
 
@@ -21,23 +22,29 @@ class FuselageAero(ForceElement):
     """Fuselage loads from polynomials in α and β (rad) at ``v_ref`` (m/s), scaled by (V/v_ref)².
 
     ``coefficients``: dict with X, Y, Z (N) and M, N (N m) polynomial coefficients, lowest
-    power first; X, Z, M in α, Y, N in β; body axes, acting at the body-frame origin.
+    power first; X, Z, M in α, Y, N in β; body axes, acting at the body-frame origin. ``rho``:
+    the density (kg/m³) they were measured at; the loads scale with the air's density over it.
     """
 
-    def __init__(self, body: str, coefficients: dict, v_ref: float, angle_limit: float):
+    def __init__(self, body: str, coefficients: dict, v_ref: float, angle_limit: float, rho: float | None = None):
         self.name, self.body = "fuselage aerodynamics", body
-        self.coef, self.v_ref, self.limit = coefficients, v_ref, angle_limit
+        self.coef, self.v_ref, self.limit, self.rho = coefficients, v_ref, angle_limit, rho
 
     def _poly(self, name, x):
         return sum(c * x**k for k, c in enumerate(self.coef[name]))
 
     def apply(self, state, loads):
         m = state.body(self.body)
-        u, v, w = (ca.mtimes(m.rotation.T, m.velocity)[i] for i in range(3))
+        u, v, w = (ca.mtimes(m.rotation.T, through_air(state, m.velocity, m.position))[i] for i in range(3))
         speed2 = u**2 + v**2 + w**2
         alpha = soft_clip(ca.atan2(w, u + EPS), self.limit)
         beta = soft_clip(ca.asin(v / ca.sqrt(speed2 + EPS**2)), self.limit)
         scale = speed2 / self.v_ref**2
+        rho = state.density(self.rho)
+        if rho is not self.rho:  # the air's density differs from the polynomials' (the ISA at altitude)
+            if self.rho is None:
+                raise ValueError(f"{self.name}: give the density its polynomials hold at (rho) to fly in the ISA")
+            scale = scale * (rho / self.rho)
         force = scale * ca.vertcat(self._poly("X", alpha), self._poly("Y", beta), self._poly("Z", alpha))
         torque = scale * ca.vertcat(0, self._poly("M", alpha), self._poly("N", beta))
         loads.add_force(self.body, force, point=[0, 0, 0], frame="body", rotation=m.rotation)
@@ -57,16 +64,17 @@ class FuselageTables(ForceElement):
         u, v, w = (-air_velocity(state, self.body, (0, 0, 0), rot)[i] for i in range(3))
         alpha, beta, speed2 = flow_angles(u, v, w)
         force, moment = self.table.body_per_q(alpha, beta)
-        q = 0.5 * self.rho * speed2
+        q = 0.5 * state.density(self.rho) * speed2
         state.signals["fuselage.alpha"], state.signals["fuselage.beta"] = alpha, beta
         loads.add_force(self.body, q * force, point=[0, 0, 0], frame="body", rotation=rot)
         loads.add_torque(self.body, q * moment)
 
 
 def air_velocity(state, body: str, point, rotation, wake=0):
-    """Velocity (3,) (m/s, body axes) of the air relative to ``point`` (m) of ``body``: still air,
-    plus ``wake`` (3,) (m/s, world) where a rotor's wake reaches the point."""
-    return ca.mtimes(rotation.T, wake - state.point_velocity(body, point))
+    """Velocity (3,) (m/s, body axes) of the air relative to ``point`` (m) of ``body``: the
+    model's air (still, wind, gusts, turbulence), plus ``wake`` (3,) (m/s, world) where a rotor's
+    wake reaches the point."""
+    return ca.mtimes(rotation.T, wake - _point_through_air(state, body, point))
 
 
 def wake_velocity(state, rotor: str | None, body: str, point):
@@ -101,7 +109,8 @@ class LiftingSurface(ForceElement):
             state.signals[f"{self.name}.wake"] = ca.mtimes(rot.T, wake)
         w = air_velocity(state, self.body, self.point, rot, wake)
         w_c, w_n = ca.dot(w, ca.DM(self.c)), ca.dot(w, ca.DM(self.n))
-        f_c, f_n = turn(*section_force(*turn(w_c, w_n, self.incidence), self.airfoil, self.rho, self.area),
+        f_c, f_n = turn(*section_force(*turn(w_c, w_n, self.incidence), self.airfoil, state.density(self.rho),
+                                       self.area),
                            -self.incidence)
         force = f_c * ca.DM(self.c) + f_n * ca.DM(self.n)
         loads.add_force(self.body, force, point=self.point, frame="body", rotation=rot)
@@ -123,20 +132,20 @@ class Download(ForceElement):
         self.panels = [(np.asarray(row[:3], dtype=float), float(row[3]), float(row[4])) for row in panels]
 
     def apply(self, state, loads):
-        rot = state.body(self.body).rotation
+        rot, rho = state.body(self.body).rotation, state.density(self.rho)
         state.signals["fuselage.download"] = 0
         for point, area, cd in self.panels:
-            own = -state.point_velocity(self.body, point)
+            own = -_point_through_air(state, self.body, point)
             w0 = ca.dot(rot[:, 2], own)
             w = w0 + ca.dot(rot[:, 2], wake_velocity(state, self.rotor, self.body, point))
-            drag = 0.5 * self.rho * area * cd * (w * ca.sqrt(w**2 + EPS**2) - w0 * ca.sqrt(w0**2 + EPS**2))
+            drag = 0.5 * rho * area * cd * (w * ca.sqrt(w**2 + EPS**2) - w0 * ca.sqrt(w0**2 + EPS**2))
             loads.add_force(self.body, ca.vertcat(0, 0, drag), point=point, frame="body", rotation=rot)
             state.signals["fuselage.download"] += drag
 
 
 class HubDrag(ForceElement):
     """Drag of the main-rotor hub and mast, ``−½ ρ f |V| V`` (N) at ``point`` (m) of ``body``
-    (the non-rotating airframe), ``V`` the point's velocity through still air, ``f`` the hub's
+    (the non-rotating airframe), ``V`` the point's velocity through the air, ``f`` the hub's
     equivalent flat-plate area (m²)."""
 
     def __init__(self, body: str, point, flat_plate_area: float, rho: float):
@@ -144,6 +153,12 @@ class HubDrag(ForceElement):
         self.f, self.rho = flat_plate_area, rho
 
     def apply(self, state, loads):
-        v = state.point_velocity(self.body, self.point)
-        drag = -0.5 * self.rho * self.f * ca.sqrt(ca.dot(v, v) + EPS**2) * v
+        v = _point_through_air(state, self.body, self.point)
+        drag = -0.5 * state.density(self.rho) * self.f * ca.sqrt(ca.dot(v, v) + EPS**2) * v
         loads.add_force(self.body, drag, point=self.point, frame="world", rotation=state.body(self.body).rotation)
+
+
+def _point_through_air(state, body: str, point):
+    """World velocity (3,) (m/s) of ``point`` (m, ``body`` frame) through the air there."""
+    velocity = state.point_velocity(body, point)
+    return velocity if state.air is None else through_air(state, velocity, state.point_position(body, point))

@@ -6,7 +6,7 @@ scene by :class:`RotorModel`: the inflow model, tip loss and compressibility. Un
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import casadi as ca
 import numpy as np
@@ -105,12 +105,15 @@ def _interp(rows, x: float) -> float:
 class RotorModel:
     """Per-scene switches: ``inflow`` "uniform" | "pitt-peters"; ``tip_loss`` the effective
     radius factor B (1: off); ``compressibility`` (None: off); ``wake`` the geometry of the
-    wake the rotor publishes for the airframe (None: no wake on the airframe)."""
+    wake the rotor publishes for the airframe (None: no wake on the airframe); ``ground_effect``:
+    the induced velocity reduced near the ground (:mod:`mbs.aero.ground`; the ground plane at the
+    world's ``z`` = the run-time parameter ``height``, m)."""
 
     inflow: str = "uniform"
     tip_loss: float = 1.0
     compressibility: Compressibility | None = None
     wake: WakeGeometry | None = None
+    ground_effect: bool = False
 
     def __post_init__(self):
         if self.inflow not in inf.INFLOW_MODELS:
@@ -139,6 +142,22 @@ class DiscLoads:
                          self.moment_s + other.moment_s, self.moment_c + other.moment_c)
 
 
+@dataclass
+class _Air:
+    """What one evaluation of a rotor reads of the air: density (kg/m³), section coefficients
+    (None: the aerofoil's), the air's velocity at the hub (3,) (m/s, world; None: still)."""
+
+    rho: object
+    coefficients: object
+    wind: object = None
+    mach: object = None  # the airfoil tables' section Mach number of an air speed (None: no tables)
+    ground: object = None  # the share of the induced velocity the blades see near the ground (None: far)
+
+    def relative(self, velocity):
+        """``velocity`` (3,) (world) through the air at the hub; the same expression in still air."""
+        return velocity if self.wind is None else velocity - self.wind
+
+
 class RotorAero(ForceElement):
     """Blade-element loads on every blade of ``rotor`` plus its dynamic inflow states.
 
@@ -147,7 +166,9 @@ class RotorAero(ForceElement):
     its thrust axis, :attr:`Rotor.sense`), z the lift direction at zero pitch. The hub
     frame's z axis is the rotor's thrust axis. The inflow states (m/s) are positive down
     through the disc (against the thrust axis); the blades see ``κ`` times the induced
-    velocity. Signals: ``<name>.thrust`` (N), ``<name>.torque`` (N m, shaft torque),
+    velocity. The air (density, speed of sound, its velocity: wind, gusts, turbulence) is read
+    through the state once per evaluation, its velocity at the hub for the whole disc
+    (:mod:`mbs.environment.air`). Signals: ``<name>.thrust`` (N), ``<name>.torque`` (N m, shaft torque),
     ``<name>.power`` (W, torque × rotor speed) and, when the model has a wake geometry,
     ``<name>.wake`` (:class:`mbs.aero.wake.Wake`).
     """
@@ -169,13 +190,50 @@ class RotorAero(ForceElement):
         axis = hub.rotation[:, 2]
         v = [state.z(n) for n in self.states]
         shaft = self._shaft(state)
-        disc = sum((self._blade(state, loads, b, hub, axis, v, shaft) for b in self.rotor.blades), DiscLoads())
-        for name, rate in zip(self.states, self._inflow_rates(hub.velocity, axis, v, disc)):
+        air = _Air(state.density(self.rho), self._coefficients(state), state.air_velocity(hub.position),
+                   self._mach(state))
+        hub_velocity = air.relative(hub.velocity)
+        if self.model.ground_effect:
+            air.ground = self._ground(state, hub, axis, hub_velocity, v)
+        disc = sum((self._blade(state, loads, b, hub, axis, v, shaft, air) for b in self.rotor.blades), DiscLoads())
+        for name, rate in zip(self.states, self._inflow_rates(hub_velocity, axis, v, disc, air.rho)):
             loads.set_rate(name, rate)
         self._publish(state, hub, disc)
         if self.model.wake is not None:
-            state.signals[f"{self.rotor.name}.wake"] = Wake(hub.position, shaft, v, -hub.velocity, disc.torque,
-                                                            self.rotor.radius, self.rho, self.model.wake)
+            state.signals[f"{self.rotor.name}.wake"] = Wake(hub.position, shaft, v, -hub_velocity, disc.torque,
+                                                            self.rotor.radius, air.rho, self.model.wake)
+
+    def _ground(self, state: State, hub, axis, hub_velocity, v):
+        """The share of the induced velocity the blades see near the ground (:mod:`mbs.aero.ground`),
+        published as ``<rotor>.ground_factor``."""
+        from mbs.aero.ground import inflow_factor
+
+        normal = ca.dot(hub_velocity, axis)
+        height = state.p["height"] - hub.position[2]  # the ground plane at world z = height (z down)
+        factor = inflow_factor(height, self.rotor.radius, ca.dot(hub_velocity, hub_velocity) - normal**2, v[0])
+        state.signals[f"{self.rotor.name}.ground_factor"] = factor
+        return factor
+
+    def _coefficients(self, state: State):
+        """The section coefficients with compressibility at the state's speed of sound (None: the aerofoil's)."""
+        comp = self.model.compressibility
+        if comp is None:
+            return None
+        sound = state.speed_of_sound(comp.speed_of_sound)
+        return self.coefficients if sound is comp.speed_of_sound else replace(comp, speed_of_sound=sound).coefficients(
+            self.airfoil)
+
+    def _still_air(self) -> _Air:
+        """Still air at the element's own density and speed of sound."""
+        return _Air(self.rho, self.coefficients, None, None if self.tables is None else self.tables.mach)
+
+    def _mach(self, state: State):
+        """The airfoil tables' Mach number of an air speed at the state's speed of sound (None: no tables)."""
+        if self.tables is None:
+            return None
+        sound = state.speed_of_sound(self.tables.speed_of_sound)
+        return self.tables.mach if sound is self.tables.speed_of_sound else replace(self.tables,
+                                                                                     speed_of_sound=sound).mach
 
     def _shaft(self, state: State):
         """Non-rotating shaft frame (3, 3) in world axes."""
@@ -189,37 +247,43 @@ class RotorAero(ForceElement):
             return -self.kappa * v[0] * axis
         return -self.kappa * inf.induced_velocity(v, *disc_point) * axis
 
-    def _blade(self, state, loads, blade, hub, axis, v, shaft) -> DiscLoads:
+    def _induced(self, disc_point, axis, v, air):
+        """:meth:`_air`, times the share the blades see near the ground (when the model has ground effect)."""
+        induced = self._air(disc_point, axis, v)
+        return induced if air.ground is None else air.ground * induced
+
+    def _blade(self, state, loads, blade, hub, axis, v, shaft, air) -> DiscLoads:
         """Loads of one blade's elements, body by body (:meth:`Rotor.bodies`)."""
-        return sum((self._body(state, loads, body, root, keep, hub, axis, v, shaft)
+        return sum((self._body(state, loads, body, root, keep, hub, axis, v, shaft, air)
                     for body, root, keep in self.rotor.bodies(blade) if keep.any()), DiscLoads())
 
-    def _body(self, state, loads, blade, root, keep, hub, axis, v, shaft) -> DiscLoads:
+    def _body(self, state, loads, blade, root, keep, hub, axis, v, shaft, air) -> DiscLoads:
         """Loads of the elements ``keep`` of one blade body jointed at radius ``root``, computed
-        in its axes: its own velocity, thrust axis and shaft axes are turned into them once,
-        and the element forces are summed into one force and torque on the body."""
+        in its axes: its own velocity (through the air at the hub), thrust axis and shaft axes
+        are turned into them once, and the element forces are summed into one force and torque
+        on the body."""
         radii, dr = self.rotor.stations()
         m = state.body(blade)
         turn_in = m.rotation.T
-        origin, axis_b = ca.mtimes(turn_in, m.velocity), ca.mtimes(turn_in, axis)
+        origin, axis_b = ca.mtimes(turn_in, air.relative(m.velocity)), ca.mtimes(turn_in, axis)
         shaft_b, hinge = ca.mtimes(turn_in, shaft[:, :2]), ca.mtimes(turn_in, m.position - hub.position)
         force, torque, out = ca.SX.zeros(3), ca.SX.zeros(3), DiscLoads()
         per_radius = 1.0 / self.rotor.radius
         for r, lift in zip(radii[keep], np.array(self.lift)[keep]):
             arm = r - root
             if self.rotor.swept(r):
-                f, moment, disc = self._swept_element(m, origin, hinge, axis_b, shaft_b, v, arm, r, dr, lift)
+                f, moment, disc = self._swept_element(m, origin, hinge, axis_b, shaft_b, v, arm, r, dr, lift, air)
                 force, torque, out = force + f, torque + moment, out + disc
                 continue
             lever = hinge + ca.DM([arm, 0, 0])
             disc_point = (ca.dot(lever, shaft_b[:, 0]) * per_radius, ca.dot(lever, shaft_b[:, 1]) * per_radius)
             velocity = origin + arm * ca.vertcat(0, m.omega[2], -m.omega[1])  # + ω × (arm, 0, 0)
-            w = self._air(disc_point, axis_b, v) - velocity
+            w = self._induced(disc_point, axis_b, v, air) - velocity
             if self.tables is None:
-                f = self._element_force(w, r, dr, lift)
+                f = self._element_force(w, r, dr, lift, air)
                 torque = torque + arm * ca.vertcat(0, -f[2], f[1])  # + (arm, 0, 0) × f
             else:
-                f, pitching = self._table_element(w, r, dr, lift)
+                f, pitching = self._table_element(w, r, dr, lift, air)
                 torque = torque + ca.vertcat(pitching, -arm * f[2], arm * f[1])
             force = force + f
             out = out + self._element_loads(f, lever, axis_b, disc_point, self.rotor.sense)
@@ -227,20 +291,23 @@ class RotorAero(ForceElement):
         loads.add_torque(blade, torque)
         return out
 
-    def _element_force(self, w, r: float, dr: float, lift: float):
+    def _element_force(self, w, r: float, dr: float, lift: float, air):
         """Element force (3,) (N, blade axes) from the air velocity ``w`` (3,) (m/s, blade axes)."""
         twist = self.rotor.twist_at(r)
         sense = self.rotor.sense  # blade y along the leading edge (+1) or the trailing edge (-1)
-        f_c, f_n = section_force(*turn(sense * w[1], w[2], twist), self.airfoil, self.rho, self.rotor.chord_at(r) * dr,
-                                 lift, self.coefficients)
+        f_c, f_n = section_force(*turn(sense * w[1], w[2], twist), self.airfoil, air.rho, self.rotor.chord_at(r) * dr,
+                                 lift, air.coefficients)
         f_y, f_z = turn(f_c, f_n, -twist)
         return ca.vertcat(0, sense * f_y, f_z)
 
-    def _swept_element(self, m, origin, hinge, axis_b, shaft_b, v, arm: float, r: float, dr: float, lift: float):
+    def _swept_element(self, m, origin, hinge, axis_b, shaft_b, v, arm: float, r: float, dr: float, lift: float,
+                       air: _Air | None = None):
         """An element of the swept tip (simple sweep theory): its quarter chord lies aft of the
         blade's x axis (:meth:`Rotor.sweep_offset`), its chord turned by the sweep angle; the air
         velocity is resolved normal to the swept quarter-chord line (the component along it
-        carries no load). Returns its force and torque (blade axes) and its disc loads."""
+        carries no load). Returns its force and torque (blade axes) and its disc loads; ``air``: the
+        evaluation's (None: still air at the element's own density and speed of sound)."""
+        air = air or self._still_air()
         sense, (c_x, c_y) = self.rotor.sense, self.rotor.sweep_chord()
         offset = -sense * self.rotor.sweep_offset(r)  # blade y of the quarter chord: aft of the axis
         point = ca.DM([arm, offset, 0])
@@ -248,27 +315,27 @@ class RotorAero(ForceElement):
         per_radius = 1.0 / self.rotor.radius
         disc_point = (ca.dot(lever, shaft_b[:, 0]) * per_radius, ca.dot(lever, shaft_b[:, 1]) * per_radius)
         velocity = origin + ca.cross(m.omega, point)
-        w = self._air(disc_point, axis_b, v) - velocity
+        w = self._induced(disc_point, axis_b, v, air) - velocity
         twist, chord = self.rotor.twist_at(r), self.rotor.chord_at(r)
         w_c = c_x * w[0] + c_y * sense * w[1]  # along the swept chord, towards the leading edge
         if self.tables is None:
-            f_c, f_n = section_force(*turn(w_c, w[2], twist), self.airfoil, self.rho, chord * dr, lift,
-                                     self.coefficients)
+            f_c, f_n = section_force(*turn(w_c, w[2], twist), self.airfoil, air.rho, chord * dr, lift,
+                                     air.coefficients)
             moment = 0.0
         else:
             f_c, f_n, moment = table_section_loads(*turn(w_c, w[2], twist), self.tables.at(r / self.rotor.radius),
-                                                   self.tables.mach, self.rho, chord * dr, chord * c_y, lift)
+                                                   air.mach, air.rho, chord * dr, chord * c_y, lift)
         f_y, f_z = turn(f_c, f_n, -twist)
         f = ca.vertcat(c_x * f_y, c_y * sense * f_y, f_z)
         span = ca.DM([c_y, -sense * c_x, 0])  # outward along the swept quarter chord
         return f, ca.cross(point, f) + sense * moment * span, self._element_loads(f, lever, axis_b, disc_point, sense)
 
-    def _table_element(self, w, r: float, dr: float, lift: float):
+    def _table_element(self, w, r: float, dr: float, lift: float, air):
         """Element force (3,) (N, blade axes) and pitching moment about the blade's x axis (N m)
         from the air velocity ``w`` (3,) (m/s, blade axes), with the segment's airfoil tables."""
         twist, sense, chord = self.rotor.twist_at(r), self.rotor.sense, self.rotor.chord_at(r)
         airfoil = self.tables.at(r / self.rotor.radius)
-        f_c, f_n, moment = table_section_loads(*turn(sense * w[1], w[2], twist), airfoil, self.tables.mach, self.rho,
+        f_c, f_n, moment = table_section_loads(*turn(sense * w[1], w[2], twist), airfoil, air.mach, air.rho,
                                                chord * dr, chord, lift)
         f_y, f_z = turn(f_c, f_n, -twist)
         return ca.vertcat(0, sense * f_y, f_z), sense * moment
@@ -282,14 +349,14 @@ class RotorAero(ForceElement):
         return DiscLoads(d_thrust, -sense * ca.dot(axis, ca.cross(lever, force)), d_thrust * disc_point[1],
                          d_thrust * disc_point[0])
 
-    def _inflow_rates(self, hub_velocity, axis, v, disc: DiscLoads) -> list:
+    def _inflow_rates(self, hub_velocity, axis, v, disc: DiscLoads, rho) -> list:
         v_normal = ca.dot(hub_velocity, axis)
         v_inplane2 = ca.dot(hub_velocity, hub_velocity) - v_normal**2
         area_factor = self.model.tip_loss**2
         if len(v) == 1:
-            return [inf.uniform_rate(v[0], disc.thrust, v_inplane2, v_normal, self.rho, self.rotor.radius, area_factor)]
+            return [inf.uniform_rate(v[0], disc.thrust, v_inplane2, v_normal, rho, self.rotor.radius, area_factor)]
         loads = (disc.thrust, disc.moment_s, disc.moment_c)
-        return inf.pitt_peters_rates(v, loads, v_inplane2, v_normal, self.rho, self.rotor.radius, area_factor)
+        return inf.pitt_peters_rates(v, loads, v_inplane2, v_normal, rho, self.rotor.radius, area_factor)
 
     def _publish(self, state: State, hub, disc: DiscLoads) -> None:
         try:

@@ -25,9 +25,11 @@ the streamline left the disc) fade, so the wake never exceeds ``2 v0``; far behi
 rotor it is the ``2 v0`` behind a uniformly loaded wing that Heyson and Katzoff measured (NACA
 Rep. 1319, 1957). The downwash is along the shaft axis (the rings of a vortex cylinder induce
 no in-plane velocity inside it). The swirl is the angular momentum the rotor torque ``Q`` puts
-into the wake, ``v_θ = Q e / (ρ A λ (e² + r_c²))`` about the wake's centre in the rotor's sense
-of rotation, with a core ``r_c`` at the root cut-out (no torque is produced inboard of it); it
-gives the sidewash at the fin.
+into the wake, ``v_θ = Q e / (ρ A V (e² + r_c²))`` about the wake's centre in the rotor's sense
+of rotation, with a core ``r_c`` at the root cut-out (no torque is produced inboard of it); the
+angular momentum is carried by Glauert's mass flow through the disc, ``ρ A V`` with ``V =
+sqrt(a² + λ²)`` (``λ`` alone in hover; in a descent through ``λ = 0`` the through-flow alone
+would make the swirl unbounded). It gives the sidewash at the fin.
 
 Sources: H. Glauert, *Aerodynamic Theory* IV (1935), wake velocity; W. Johnson, *Helicopter
 Theory* §2.2 and §5.2 (momentum theory, the vortex-cylinder wake and its skew); G.D. Padfield,
@@ -109,7 +111,8 @@ class Wake:
     def __post_init__(self):
         """The rotor's flow, shared by every point: thrust axis, through-flow ``λ``, the in-plane
         air velocity ``a`` (shaft frame x, y), ``V_T/λ``, the first harmonic of the inflow along
-        ``a`` at the disc edge and the swirl's ``Q/(ρ A λ)``."""
+        ``a`` at the disc edge and the swirl's ``Q/(ρ A V)``, ``V = sqrt(a² + λ²)`` the speed of
+        the flow through the disc (Glauert's mass flow ``ρ A V`` carries the angular momentum)."""
         self.axis = self.shaft[:, 2]
         self.lam = self._through_flow(self.axis)
         air_xy = self.air - ca.dot(self.air, self.axis) * self.axis
@@ -118,7 +121,7 @@ class Wake:
         self.stretch = ca.sqrt(speed2 + self.lam**2) / self.lam
         self.edge_harmonic = 0 if len(self.inflow) == 1 else \
             (self.inflow[2] * self.a_x + self.inflow[1] * self.a_y) / ca.sqrt(speed2 + MIN_THROUGH_FLOW**2)
-        self.swirl = self.torque / (self.rho * np.pi * self.radius**2 * self.lam)
+        self.swirl = self.torque / (self.rho * np.pi * self.radius**2 * ca.sqrt(speed2 + self.lam**2))
         self.hover_share = self._hover_share(speed2)
 
     def _hover_share(self, speed2):

@@ -22,8 +22,7 @@ def fill_defaults(values: dict, meta: dict) -> None:
         for key, spec in entries.items():
             if key in given or spec.default is None:
                 continue
-            given[key] = spec.default if spec.kind in ("choice", "text") else _default(section, key, spec.default,
-                                                                                        values)
+            given[key] = spec.default if spec.kind in ("choice", "text") else _default(section, key, spec.default, values)
             meta.setdefault(section, {})[key] = {"unit": spec.unit, "source": "default", "origin": "default",
                                                  "note": f"default ({spec.default})"}
 

@@ -141,17 +141,20 @@ def published_inertia(d) -> np.ndarray:
     return np.array([[a["Ixx"], 0, -a["Ixz"]], [0, a["Iyy"], 0], [-a["Ixz"], 0, a["Izz"]]], dtype=float)
 
 
-def airframe(d) -> Part:
-    """The airframe: the aircraft's mass less the rotors', its centre of mass such that the
-    aircraft's is the CG (the rotors' masses at their hubs), and its inertia about its own centre
-    of mass: the file's (``inertia = "airframe"``) or the file's whole-aircraft inertia about the
-    CG less the rotors' (``"whole-aircraft"``)."""
+def airframe(d, transmission: float = 0.0) -> Part:
+    """The airframe: the aircraft's mass less the rotors' (and a drive train's ``transmission``,
+    kg, a body at the main hub), its centre of mass such that the aircraft's is the CG (the rotors'
+    masses at their hubs), and its inertia about its own centre of mass: the file's (``inertia =
+    "airframe"``) or the file's whole-aircraft inertia about the CG less the rotors' and the
+    transmission's as a point mass (``"whole-aircraft"``)."""
     main, tail = rotor_masses(d)
+    main += transmission
     mass = d["aircraft"]["mass"] - main - tail
     com = -(main * geo.main_hub_position(d) + tail * geo.tail_hub_position(d)) / mass
     if d["aircraft"].get("inertia", "airframe") == "airframe":
         return Part(mass, com, published_inertia(d))
-    rest = published_inertia(d) - sum(p.about(np.zeros(3)) for p in rotors(d))
+    hub = Part(transmission, geo.main_hub_position(d), np.zeros((3, 3)))
+    rest = published_inertia(d) - sum(p.about(np.zeros(3)) for p in [*rotors(d), hub])
     return Part(mass, com, rest - mass * (com @ com * np.eye(3) - np.outer(com, com)))
 
 

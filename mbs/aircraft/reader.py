@@ -277,8 +277,11 @@ def _missing(out: Reading, raw: dict) -> None:
                                     f"leave it out")
 
 
-def _applies(spec: Entry, values: dict, specs: dict) -> bool:
+def _applies(spec: Entry, values: dict, entries: dict | None = None) -> bool:
+    """Whether ``spec`` applies: its ``only_if`` entry has the wanted value (given, else its default)."""
     if not spec.only_if:
         return True
     other, wanted = spec.only_if
-    return values.get(other, specs[other].default if specs[other].default is not None else wanted) == wanted
+    default = (entries or {}).get(other)
+    fallback = default.default if default is not None and default.default is not None else wanted
+    return values.get(other, fallback) == wanted

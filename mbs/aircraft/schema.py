@@ -188,6 +188,33 @@ def _fuselage_tables() -> dict[str, Entry]:
     return out
 
 
+def _turboshaft() -> dict[str, Entry]:
+    """The turboshaft engines' entries (only with ``model = "turboshaft"``)."""
+    ts = ("model", "turboshaft")
+    return {
+        "count": count("number of engines", 1, 4, only_if=ts),
+        "takeoff_power": positive("W", "each engine's take-off power rating at sea level, ISA", only_if=ts),
+        "max_continuous_power": positive("W", "each engine's maximum continuous power at sea level, ISA", only_if=ts),
+        "oei_power": positive("W", "an engine's one-engine-inoperative rating (the power the remaining engine may "
+                              "give when another has failed), sea level, ISA", only_if=ts),
+        "transmission_power": positive("W", "main gearbox limit on the engines' power together", only_if=ts),
+        "lapse_temperature": num("-", "power available at altitude: rating times delta / theta^lapse_temperature "
+                                 "(delta, theta: ambient pressure and temperature over sea level ISA)", 0.0, 4.0,
+                                 only_if=ts),
+        "gas_generator_time_constant": positive("s", "lag of the gas generator's power behind the fuel flow",
+                                                only_if=ts),
+        "fuel_time_constant": positive("s", "lag of the metered fuel flow behind the governor's demand", only_if=ts),
+        "governor_droop": num("-", "rotor speed drop (fraction of nominal) from zero to take-off power of every "
+                              "engine, without anticipation: the governor's proportional gain is its inverse", 0.0,
+                              0.5, open_low=True, only_if=ts),
+        "anticipation": num("1/rad", "collective anticipation: fuel demand (fraction of take-off power) per rad of "
+                            "collective above its least", 0.0, 50.0, only_if=ts),
+        "governor_lead": num("s", "lead time constant of the governor's compensation (1 + lead s)/(1 + lag s) on the "
+                             "speed error", 0.0, 10.0, only_if=ts),
+        "governor_lag": positive("s", "lag time constant of the governor's compensation", only_if=ts),
+    }
+
+
 ENTRIES: dict[str, dict[str, Entry]] = {
     "aircraft": {
         "name": Entry("-", "name of the aircraft", "text"),
@@ -343,6 +370,18 @@ ENTRIES: dict[str, dict[str, Entry]] = {
         "transmission_efficiency": num("-", "main gearbox and tail-rotor drive together: engine power = rotors' "
                                        "shaft power / efficiency + accessory power", 0.5, 1.0, open_low=True),
         "accessory_power": num("W", "hydraulic pumps, generators, cooling fans driven by the gearbox", 0.0),
+        "model": choice("the engines' dynamics: none (the power the rotors need, as it comes) or turboshaft (gas "
+                        "generator, fuel-flow lag, power limits and a rotor-speed governor, for scenes whose rotor "
+                        "speed is a state)", "none", "turboshaft", default="none"),
+        **{k: e for k, e in _turboshaft().items()},
+    },
+    "drive_train": {
+        "transmission_inertia": positive("kg m^2", "polar inertia of the main gearbox, the shafts and the engines' "
+                                         "power turbines, referred to the main-rotor shaft (each part's inertia times "
+                                         "the square of its speed over the rotor's)"),
+        "shaft_stiffness": positive("N m/rad", "torsional stiffness of the main-rotor shaft between the gearbox and "
+                                    "the hub (scenes with a flexible drive train)"),
+        "shaft_damping": num("N m s/rad", "torsional damping of the main-rotor shaft (flexible drive train)", 0.0),
     },
     "elastic_blade": {
         "torsion_frequency": positive("1/rev", "first rotating torsion frequency of the blade"),
@@ -374,10 +413,11 @@ ENTRIES: dict[str, dict[str, Entry]] = {
 }
 
 OPTIONAL_SECTIONS = ("environment", "geometry", "elastic_blade", "swashplate", "stabilator", "controls",
-                     "conventions", "envelope", "lag_damper")
+                     "conventions", "envelope", "lag_damper", "drive_train")
 """Sections a file may leave out: ISA, display sizes scaled from the rotor, no elastic blades, no
 swashplate mechanism (the blade pitch then only driven), no pilot-control rigging (the controls are
-the blade angles), the model's own conventions."""
+the blade angles), the model's own conventions, no drive-train data (the rotors then only at
+constant speed)."""
 
 
 @dataclass(frozen=True)

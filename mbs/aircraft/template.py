@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 
+from mbs.aircraft.reader import _applies
 from mbs.aircraft.schema import DERIVED, ENTRIES, OPTIONAL_SECTIONS
 
 HEADER = """\
@@ -53,16 +54,11 @@ def template(name: str, source: str = "TEMPLATE") -> str:
                 line += f"  # only with {spec.only_if[0]} = \"{spec.only_if[1]}\""
             shown = {"airfoils": "none: the analytic section", "table": "none"}.get(spec.kind, spec.default)
             lines += [f"# {spec.text} ({spec.unit}" + (f"; default {shown})" if spec.default is not None else ")"),
-                      ("# " if spec.default is not None or _elsewhere(spec, values) else "") + line]
+                      ("# " if spec.default is not None or not _applies(spec, values, entries) else "") + line]
         lines += _derived_comment(section)
         out += [f"# {line}" for line in lines] if section in COMMENTED else lines  # uncommented: one '# ' less
         out.append("")
     return "\n".join(out)
-
-
-def _elsewhere(spec, values: dict) -> bool:
-    """Whether ``spec`` applies only with another value of its section's switch than the template's."""
-    return bool(spec.only_if) and spec.only_if[0] in values and values[spec.only_if[0]] != spec.only_if[1]
 
 
 def _optional(section: str) -> str:

@@ -85,7 +85,7 @@ class TrimLayout:
         free = "fuselage.qw" in names
         idx = lambda keys: [names.index(f"fuselage.{k}") for k in keys] if free else []  # noqa: E731
         fuselage = set(idx("xyz") + idx(("qw", "qx", "qy", "qz")) + idx(BODY_RATES))
-        controls = [i for i, q in enumerate(info.parameters) if q.get("control")] if free else []
+        controls = [i for i, q in enumerate(info.parameters) if _flight_control(q)] if free else []
         return cls(names, free, idx("xyz"), idx(("qw", "qx", "qy", "qz")), idx(BODY_RATES),
                    [i for i in range(len(names)) if i not in fuselage], controls,
                    [info.parameters[i]["name"] for i in controls], sideslip and free)
@@ -109,6 +109,12 @@ class TrimLayout:
         nc, nb = len(self.controls), len(self.body)
         na = 2 if self.free else 0
         return z[:nc], z[nc:nc + na], z[nc + na:nc + na + nb], z[nc + na + nb:]
+
+
+def _flight_control(q: dict) -> bool:
+    """A pilot's flight control (pitch of the blades or the swashplate), which a trim solves for; an
+    engine's throttle is an input the trim holds."""
+    return bool(q.get("control")) and not q["name"].endswith("_throttle")
 
 
 def quaternion(roll, pitch):

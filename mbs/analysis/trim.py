@@ -209,15 +209,21 @@ def evaluators(sc, method: str = "rk4", backend: str = "compiled"):
 
 
 def trimmable(scene) -> bool:
-    """A scene can be trimmed when it has controls and rotor aerodynamics (an inflow state)."""
+    """A scene can be trimmed when it has controls and rotor aerodynamics (an inflow state) and its
+    rotors turn at a prescribed speed (a rotor speed that is a state: :mod:`mbs.analysis.rotor_speed_trim`)."""
     model = scene.model()
-    return any(p.control for p in model.parameters.values()) and any(n.endswith(".inflow") for n in model.states)
+    return (any(p.control for p in model.parameters.values()) and any(n.endswith(".inflow") for n in model.states)
+            and not model.dependent)
 
 
 def _check_scene(name):
     from mbs import scenes
 
     sc = scenes.get(name) if isinstance(name, str) else name
+    if sc.options.get("drive_train", getattr(getattr(sc.builder, "config", None), "drive_train", None)):
+        raise ValueError(f"scene {sc.name!r} turns its rotors at a speed that is a state: its periodic trim holds "
+                         "the rotor speed with the descent rate or a drive parameter; use 'heli autorotation' "
+                         "(mbs.analysis.rotor_speed_trim)")
     if not trimmable(sc):
         ok = sorted(n for n, s in scenes.all_scenes().items() if trimmable(s))
         raise ValueError(f"scene {sc.name!r} cannot be trimmed: it has no controls or no rotor aerodynamics; "

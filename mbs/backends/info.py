@@ -79,11 +79,13 @@ class ModelInfo(StateSizes):
 def info_of(symbolic, methods: dict[str, int]) -> ModelInfo:
     """Describe ``symbolic`` (a :class:`mbs.dynamics.Symbolic`)."""
     model, lay = symbolic.model, symbolic.layout
+    states = set(lay.q_names) | set(lay.v_names)  # a dependent coordinate is no state (mbs.dynamics._dependent)
     bodies = [dict(name=b.name, parent=b.parent, joint=type(b.joint).__name__, mass=b.mass,
                    com=b.com.tolist(), inertia=b.inertia.tolist(), at=b.at.tolist(),
                    frame=b.frame.tolist(), shape=b.shape,
-                   q_names=[f"{b.name}.{n}" for n in b.joint.q_names],
-                   v_names=[f"{b.name}.{n}" for n in b.joint.v_names]) for b in lay.bodies]
+                   q_names=[f"{b.name}.{n}" for n in b.joint.q_names if f"{b.name}.{n}" in states],
+                   v_names=[f"{b.name}.{n}" for n in b.joint.v_names if f"{b.name}.{n}" in states])
+              for b in lay.bodies]
     params = [dict(name=p.name, default=p.default, unit=p.unit, description=p.description,
                    control=p.control, low=p.low, high=p.high) for p in model.parameters.values()]
     outputs = [dict(name=o.name, unit=o.unit, description=o.description) for o in model.outputs.values()]
@@ -95,12 +97,16 @@ def info_of(symbolic, methods: dict[str, int]) -> ModelInfo:
 def initial_state(symbolic) -> np.ndarray:
     """Default state: joint defaults (unit quaternions, zero angles) plus ``model.initial``."""
     lay, model = symbolic.layout, symbolic.model
-    s = np.concatenate([b.joint.q_default() for b in lay.bodies] + [np.zeros(0)])
-    z = np.array([model.states[n].initial for n in lay.z_names])
-    x = np.concatenate([s, np.zeros(lay.nv), z])
-    names = lay.q_names + lay.v_names + lay.z_names
+    full = getattr(lay, "full", lay)  # a model with dependent coordinates: its tree's layout
+    s = np.concatenate([b.joint.q_default() for b in full.bodies] + [np.zeros(0)])
+    z = np.array([model.states[n].initial for n in full.z_names])
+    x = np.concatenate([s, np.zeros(full.nv), z])
+    names = full.q_names + full.v_names + full.z_names
+    dependent = set(getattr(model, "dependent", {}))
     for name, value in model.initial.items():
         if name not in names:
             raise ValueError(f"initial value for unknown coordinate {name!r}")
+        if name in dependent or name.removesuffix("_rate") in dependent:
+            raise ValueError(f"initial value for {name!r}, a dependent coordinate (a function of the others)")
         x[names.index(name)] = value
-    return x
+    return x[[names.index(n) for n in lay.state_names]] if full is not lay else x

@@ -19,14 +19,18 @@ The joint reaction loads (:class:`Reactions`, what the parent passes to each bod
 joint) come from one backward Newton–Euler pass over the same quantities, with the body
 accelerations ``J_u u' + H``; model outputs read them as ``state.reactions``.
 
+Coordinates declared dependent (:meth:`mbs.tree.Model.add_dependent`: a geared rotor, a cyclic
+pitch following the hub's azimuth) leave the state; the equations hold in the others
+(:mod:`._dependent`).
+
 No Jacobian is written by hand: each joint states only its relative kinematics.
 """
 from __future__ import annotations
 
 from mbs.dynamics._kinematics import Kinematics, body_states, kinematics, traverse
-from mbs.dynamics._layout import Layout
+from mbs.dynamics._layout import Layout, state_layout
 from mbs.dynamics._reactions import Reactions
 from mbs.dynamics._symbolic import PATHS, Symbolic, symbolic
 
-__all__ = ["Kinematics", "Layout", "PATHS", "Reactions", "Symbolic", "body_states", "kinematics", "symbolic",
-           "traverse"]
+__all__ = ["Kinematics", "Layout", "PATHS", "Reactions", "Symbolic", "body_states", "kinematics", "state_layout",
+           "symbolic", "traverse"]

@@ -49,3 +49,14 @@ class Layout(StateSizes):
     def moving(self) -> list:
         """The bodies whose joints have rates (the others are fixed or driven)."""
         return [b for b in self.bodies if b.joint.nv]
+
+
+def state_layout(model: _tree.Model):
+    """The layout of the model's state: its tree's, without dependent coordinates
+    (:class:`mbs.dynamics._dependent.DependentLayout`) when it declares some."""
+    lay = Layout.of(model)
+    if not model.dependent:
+        return lay
+    from mbs.dynamics._dependent import DependentLayout
+
+    return DependentLayout(lay, model.dependent)

@@ -7,13 +7,13 @@ import casadi as ca
 from mbs.forces import Loads, State
 
 
-def state_view(lay, s, u, z, t, p, motions) -> State:
+def state_view(lay, s, u, z, t, p, motions, air=None) -> State:
     """The :class:`mbs.forces.State` of the symbolic state (coordinates and rates by name)."""
     coords = {n: s[i] for i, n in enumerate(lay.q_names)}
     rates = {n: u[i] for i, n in enumerate(lay.v_names)}
     extra = {n: z[i] for i, n in enumerate(lay.z_names)}
     v_index = {n: i for i, n in enumerate(lay.v_names)}
-    return State(t, p, motions, coords, rates, v_index, extra)
+    return State(t, p, motions, coords, rates, v_index, extra, air)
 
 
 def applied(lay, model, state: State) -> tuple[ca.SX, ca.SX, ca.SX]:

@@ -87,13 +87,39 @@ def choose(operations: dict[str, int], path: str | None) -> str:
 
 def symbolic(model: _tree.Model, path: str | None = None) -> Symbolic:
     """Build the symbolic equations of motion of ``model``; ``path`` forces one of
-    :data:`PATHS` (default: the one with fewer operations)."""
+    :data:`PATHS` (default: the one with fewer operations). A model with dependent coordinates
+    (:meth:`mbs.tree.Model.add_dependent`) takes the composite path on its full tree and keeps
+    the independent coordinates (:mod:`mbs.dynamics._dependent`)."""
+    if model.dependent:
+        return _with_dependent(model, path)
+    return _tree_symbolic(model, path)
+
+
+def _with_dependent(model: _tree.Model, path: str | None) -> Symbolic:
+    from mbs.dynamics import _dependent as dep
+
+    if path == "articulated":
+        raise ValueError(f"model {model.name!r} has dependent coordinates ({', '.join(model.dependent)}): the "
+                         "articulated path takes no coordinate map; use the composite path")
+    full = _tree_symbolic(model, "composite", full=True)
+    dep.check(model, full.layout)
+    embed, lay = dep.embedding(model, full)
+    parts = dep.reduced_parts(full, embed, lay, len(model.parameters))
+    rhs = solve(parts, lay.nx, len(model.parameters))
+    fns = {"parts": parts, **dep.reduced_functions(full, embed, lay, rhs), "rhs": rhs}
+    operations = {"composite": int(parts.n_instructions()) + ldl_operations(parts.sparsity_out(1))}
+    return Symbolic(model, lay, fns, "composite", operations)
+
+
+def _tree_symbolic(model: _tree.Model, path: str | None = None, full: bool = False) -> Symbolic:
+    """The equations of the tree with every coordinate free; ``full``: the composite path and,
+    besides, ``outputs_at(x, t, p, udot)`` whose reactions read given accelerations."""
     lay = Layout.of(model)
     x, t, p = ca.SX.sym("x", lay.nx), ca.SX.sym("t"), ca.SX.sym("p", len(model.parameters))
     s, u, z = x[:lay.nq], x[lay.nq:lay.nq + lay.nv], x[lay.nq + lay.nv:]
     params = Params(list(model.parameters), p)
     kin = kinematics(lay, s, u, t, params)
-    state = state_view(lay, s, u, z, t, params, kin.motions)
+    state = state_view(lay, s, u, z, t, params, kin.motions, model.air)
     state.energy = energy(lay, model, state, kin.V)
     h, q, zdot = applied(lay, model, state)
     g = h - mass_times(lay, kin.H)
@@ -105,7 +131,7 @@ def symbolic(model: _tree.Model, path: str | None = None) -> Symbolic:
     parts = ca.Function("parts", args, [kin.sdot, mt, jtg + q, zdot], names, ["sdot", "Mt", "ht", "zdot"])
     operations = {"composite": int(parts.n_instructions()) + ldl_operations(mt.sparsity())}
     flexible = bool(lay.sections())  # their sections share rates, which the recursion does not take
-    if flexible:
+    if flexible or full:
         udot = ca.SX.sym("udot", lay.nv)
         path = choose(operations, _rigid_only(path, model))
     else:
@@ -121,12 +147,14 @@ def symbolic(model: _tree.Model, path: str | None = None) -> Symbolic:
         "parts": parts,
         "kin": _kin(lay, args, names, kin, spatial),
         "energy": ca.Function("energy", args, [state.energy], names, ["energy"]),
-        "outputs": _outputs(args, names, outputs, udot, rhs, lay) if flexible else
+        "outputs": _outputs(args, names, outputs, udot, rhs, lay) if flexible or full else
         ca.Function("outputs", args, [outputs], names, ["y"]),
         "poses": ca.Function("poses", args, [poses(lay, kin.motions)], names, ["poses"]),
         "project": ca.Function("project", [x], [project], ["x"], ["x_projected"]),
         "rhs": rhs,
     }
+    if full:
+        fns["outputs_at"] = ca.Function("outputs_at", args + [udot], [outputs], names + ["udot"], ["y"])
     return Symbolic(model, lay, fns, path, operations)
 
 

@@ -188,6 +188,7 @@ def register(sub, bench) -> None:
     p.add_argument("--out", type=A.output_folder, default=None,
                    help="output folder: the period's loads and their harmonics (CSV) and charts (default: print only)")
     core._aero(p)
+    core._air(p)
     core._quiet(p)
     add_json(p)
     p.set_defaults(fn=cmd_loads)

@@ -35,19 +35,23 @@ def _model_options(kind: str, options: dict) -> dict:
     """The options that change the built evaluators (not those of a single point)."""
     names = {"trim": ("backend", "method"), "simulate": ("backend", "dtype"),
              "floquet": ("backend", "method", "steps_per_rev", "settings", "frame")}[kind]
-    return {n: options.get(n) for n in (*names, "aircraft")}
+    return {n: options.get(n) for n in (*names, "aircraft", "environment")}
 
 
 def scene_of(scene: str, options: dict):
     """The scene ``scene`` of the sweep's aircraft (``options["aircraft"]``: file and SHA-256, or
-    absent for the Bo105); ValueError when the file has changed since the sweep began."""
+    absent for the Bo105) in its air (``options["environment"]``: the scene options of
+    :func:`mbs.models.helicopter.environment.environment_record`, e.g. ``{"atmosphere": "isa"}`` or
+    ``{"turbulence": "dryden"}``); ValueError when the file has changed since the sweep began."""
     from mbs import aircraft, scenes
+    from mbs.models.helicopter.environment import environment_of_record
 
     recorded = options.get("aircraft")
     craft = aircraft.load(recorded["file"]) if recorded else None
     if craft is not None and craft.digest != recorded["sha256"]:
         raise ValueError(f"the aircraft file {recorded['file']} has changed since the sweep began")
-    return scenes.get(scene, aircraft=craft)
+    sc = scenes.get(scene, aircraft=craft)
+    return environment_of_record(sc, options["environment"]) if options.get("environment") else sc
 
 
 def aircraft_option(craft) -> dict:

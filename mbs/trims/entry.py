@@ -10,6 +10,10 @@ TOLERANCE = 1e-8
 and revolution; the trims converge to 1e-10 or below)."""
 
 
+TURNING = ("main_hub.azimuth", "transmission.angle")
+"""States that advance by 2π per revolution on a periodic solution (a drive train's azimuths)."""
+
+
 def scene_identity(scene, parameters: dict, speed: float, climb_rate: float, method: str,
                    steps_per_rev: int) -> dict:
     """:func:`mbs.trims.store.identity` of the scene ``scene`` (a :class:`mbs.scenes.Scene`)."""
@@ -58,7 +62,9 @@ def residual(entry: dict, system, scene) -> float:
     traj = system.run(x0, 0.0, period.duration / n, n, every=n, p=p, method=entry["method"])
     if not traj.ok:
         return float("inf")
-    keep = [i for i, name in enumerate(info.state_names) if name not in ("fuselage.x", "fuselage.y", "fuselage.z")]
-    r = period.symmetry(info.nx)[keep] * traj.x[-1][keep] - x0[keep]
+    keep = [i for i, name in enumerate(info.state_names) if name not in ("fuselage.x", "fuselage.y", "fuselage.z")
+            and name not in TURNING]
+    source = period.permutation(info.nx)[keep]
+    r = period.symmetry(info.nx)[keep] * traj.x[-1][source] - x0[keep]
     radius = reference_radius(scene)
     return float(np.max(np.abs(r) / residual_scales([info.state_names[i] for i in keep], period.omega, radius)))

@@ -26,7 +26,8 @@ def rotor_model(d, cfg, section: str) -> RotorModel:
     return RotorModel(inflow=cfg.inflow if section == "main_rotor" else "uniform",
                       tip_loss=sec["tip_loss"] if cfg.tip_loss else 1.0,
                       compressibility=comp if cfg.compressibility else None,
-                      wake=wake if section == "main_rotor" and (cfg.tail_wake or cfg.download) else None)
+                      wake=wake if section == "main_rotor" and (cfg.tail_wake or cfg.download) else None,
+                      ground_effect=cfg.ground_effect and section == "main_rotor")
 
 
 def main_rotor_wake(d) -> WakeGeometry:
@@ -126,7 +127,7 @@ def add_airframe_aero(m: Model, d, cfg) -> None:
     if fa["model"] == "tables":
         m.add_force(FuselageTables("fuselage", fuselage_table(d), rho))
     else:
-        m.add_force(FuselageAero("fuselage", {k: fa[k] for k in "XYZMN"}, fa["v_ref"], fa["angle_limit"]))
+        m.add_force(FuselageAero("fuselage", {k: fa[k] for k in "XYZMN"}, fa["v_ref"], fa["angle_limit"], rho))
     m.add_force(tail_surface(d, cfg, "horizontal_tail", "horizontal tail", (0, 0, -1), wake))
     m.add_force(tail_surface(d, cfg, "vertical_fin", "fin", (0, 1, 0), wake))
     if cfg.download:

@@ -11,6 +11,7 @@ from mbs.loads.rotorcraft import add_load_outputs
 from mbs.models.helicopter import frames as fr
 from mbs.models.helicopter.aero import add_airframe_aero, add_rotor_aero
 from mbs.models.helicopter.config import Config
+from mbs.models.helicopter.environment import add_air, add_height, add_payload, data_in_air, isa_defaults
 from mbs.models.helicopter.estimate import TrimEstimate, estimate_trim
 from mbs.models.helicopter.outputs import add_outputs
 from mbs.models.helicopter.swashplate import add_actuator_inputs, add_elastic_links, add_swashplate_outputs
@@ -30,19 +31,26 @@ def build(cfg: Config = Config(), aircraft=None, name: str | None = None) -> Mod
     aircraft = ac.load() if aircraft is None else aircraft
     d = getattr(aircraft, "data", aircraft)
     _check_distributions(d, cfg)
-    stored = stored_trim(aircraft, cfg.trim, cfg.speed)
-    trim = estimate_trim(d, cfg.speed)
+    stored = stored_trim(aircraft, cfg.trim, cfg.speed) if cfg.atmosphere == "file" else None
     m = Model(name or f"{getattr(aircraft, 'key', 'aircraft')}-model", gravity=(0.0, 0.0, d["environment"]["g"]))
+    trim = estimate_trim(data_in_air(d, isa_defaults(cfg)), cfg.speed)
     parent = add_fuselage(m, d, cfg)
     add_main_rotor(m, d, cfg, parent)
     if cfg.tail_rotor:
         add_tail_rotor(m, d, cfg, parent)
+    if cfg.drive_train:
+        _add_drive_train(m, d, cfg, parent)
     if cfg.rotor_aero:
         add_rotor_aero(m, d, cfg, trim, parent)
     if cfg.airframe_aero and cfg.fuselage == "free":
         add_airframe_aero(m, d, cfg)
     if cfg.rotors == "driven":
         _add_parameters(m, d, cfg, trim, stored)
+    if cfg.drive_train:
+        _add_drive(m, d, cfg, trim)
+    add_air(m, cfg, d)
+    add_height(m, cfg)
+    add_payload(m, d, cfg)
     add_outputs(m, d, cfg)
     add_load_outputs(m, d, cfg)
     if cfg.swashplate:
@@ -51,6 +59,55 @@ def build(cfg: Config = Config(), aircraft=None, name: str | None = None) -> Mod
     if cfg.pitch_link == "elastic":
         add_elastic_links(m, d, cfg)
     return m
+
+
+def _add_drive_train(m: Model, d, cfg: Config, parent: str) -> None:
+    """The drive train, the blades' pitch as dependent coordinates of the hub's azimuth, and the
+    run-time drive torque (:mod:`mbs.drivetrain`)."""
+    from mbs.drivetrain import train
+
+    train.add_drive_train(m, d, cfg, parent)
+    sense = fr.main_sense(d)
+    if cfg.pitch_hinge:
+        for k, psi0 in enumerate(fr.blade_azimuths(d["main_rotor"]["n_blades"])[:cfg.blade_count(
+                d["main_rotor"]["n_blades"])]):
+            m.add_dependent(f"blade{k + 1}.pitch", train.pitch_law(psi0, sense))
+
+
+def _add_drive(m: Model, d, cfg: Config, trim: TrimEstimate) -> None:
+    """What drives the drive train: the aircraft's engines and governor, or the run-time drive torque."""
+    from mbs.drivetrain import engine, train
+
+    sense, coordinate = fr.main_sense(d), f"{train.TRANSMISSION}.angle"
+    if not cfg.engines:
+        m.add_parameter("drive_torque", 0.0, "N m", "torque driving the transmission in the rotors' sense (an "
+                        "engine holding a constant torque; 0: free-wheeling)", low=-1e6, high=1e6)
+        m.add_force(train.DriveTorque(coordinate, sense))
+        return
+    eng = engine.Turboshaft.of(d)
+    engine.add_parameters(m, eng, d["main_rotor"]["omega"], cfg.failure_time)
+    element = engine.Engines(eng, coordinate, sense, d["main_rotor"]["collective_min"], air_ratios(cfg))
+    share = float(np.clip(eng.anticipation * (trim.collective - d["main_rotor"]["collective_min"]), 0, 1))
+    m.add_state("governor.lead", 0.0, "1", "governor: the lag state of its lead-lag compensation")
+    for k in range(1, eng.count + 1):
+        fuel, power = engine.names(k)
+        m.add_state(fuel, share, "1", f"engine {k}: metered fuel flow, fraction of its take-off power")
+        m.add_state(power, share, "1", f"engine {k}: gas generator power, fraction of its take-off power")
+    m.add_force(element)
+    engine.add_outputs(m, element)
+
+
+def air_ratios(cfg: Config):
+    """``state -> (δ, θ)``: the air's pressure and temperature over sea level's (1, 1 for the file's air)."""
+    from mbs.environment import atmosphere as isa
+
+    if cfg.atmosphere != "isa":
+        return lambda state: (1.0, 1.0)
+
+    def ratios(state):
+        h, dt = state.p["altitude"], state.p["temperature_offset"]
+        return isa.pressure(h) / isa.P0, isa.temperature(h, dt) / isa.T0
+    return ratios
 
 
 def _check_distributions(d, cfg: Config) -> None:
@@ -76,8 +133,9 @@ def _add_parameters(m: Model, d, cfg: Config, trim: TrimEstimate, stored: dict |
     if stored:
         trim = replace(trim, **{k: stored[k] for k in ("collective", "lateral_cyclic", "longitudinal_cyclic",
                                                       "tail_collective") if k in stored})
-    m.add_parameter("omega", mr["omega"], "rad/s", "main-rotor speed (tail rotor turns gear_ratio times faster)",
-                    low=mr["omega_min"], high=mr["omega_max"])
+    if not cfg.drive_train:  # with a drive train the rotor speed is a state
+        m.add_parameter("omega", mr["omega"], "rad/s", "main-rotor speed (tail rotor turns gear_ratio times faster)",
+                        low=mr["omega_min"], high=mr["omega_max"])
     if not cfg.pitch_hinge:
         return
     if cfg.swashplate == "actuators":
@@ -110,8 +168,10 @@ def _set_initial(m: Model, d, cfg: Config, trim: TrimEstimate, stored: dict | No
                          f"blade{k + 1}.flap_rate": trim.a1s * omega * np.sin(psi)})
         if cfg.rotors == "free" and cfg.pitch_hinge:
             m.set_initial(**{f"blade{k + 1}.pitch": trim.collective})
-    if cfg.rotors == "free":
+    if cfg.rotors == "free" or cfg.drive_train:
         sense = fr.main_sense(d)
         m.set_initial(**{"main_hub.azimuth_rate": sense * omega})
-        if cfg.tail_rotor:
+        if cfg.drive_train == "flexible":
+            m.set_initial(**{"transmission.angle_rate": sense * omega})
+        if cfg.tail_rotor and not cfg.drive_train:
             m.set_initial(**{"tail_hub.azimuth_rate": fr.tail_sense(d) * d["tail_rotor"]["gear_ratio"] * omega})

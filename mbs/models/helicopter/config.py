@@ -29,6 +29,29 @@ class Config:
     pitch links' loops are solved, "closed-form" or "newton"; pitch_link: "rigid" (the pitch solved
     from each link's loop) or "elastic" (the pitch a state, each link a spring of the aircraft's
     link_stiffness) (:mod:`mbs.models.helicopter.swashplate`).
+
+    The air (:mod:`mbs.models.helicopter.environment`): atmosphere "file" (the aircraft file's
+    density and speed of sound) or "isa" (the ISA at the run-time parameters ``altitude``, m,
+    and ``temperature_offset``, K, whose defaults are ``altitude`` and ``temperature_offset``);
+    wind: None (still air) or the defaults (north, east, down; m/s) of the steady-wind
+    parameters ``wind_north``, ``wind_east``, ``wind_down``.
+
+    The rotors' speed (:mod:`mbs.drivetrain`): drive_train None (hubs at the constant speed
+    ``omega``), "rigid" (the rotor speed a state: main and tail rotors and the transmission on one
+    rigid drive train) or "flexible" (the main shaft a torsion spring between transmission and
+    hub); with a drive train, the run-time parameter ``drive_torque`` (N m) drives it, or with
+    engines (True) the aircraft's turboshafts and their governor (:mod:`mbs.drivetrain.engine`);
+    failure_time: the default of every engine's run-time failure time (s; None: never).
+
+    ground_effect: the main rotor's induced inflow reduced near the ground (Cheeseman and Bennett,
+    :mod:`mbs.aero.ground`), the ground plane at the world's ``z`` = the run-time parameter
+    ``height`` (m below the world's origin, where the aircraft starts), whose default is ``height``.
+    turbulence: None, "dryden" or "von-karman" (MIL-F-8785C, :mod:`mbs.environment.turbulence`);
+    gust: a discrete 1 − cosine gust (:mod:`mbs.environment.gust`); both need a free fuselage;
+    turbulence_intensity: the default of the run-time ``turbulence_intensity`` (W20, m/s; None:
+    moderate, 15.4 m/s). payload: None, or the default of the run-time ``payload`` (kg): weight
+    added at the centre of gravity (a free fuselage; its inertia stays the file's: for trims
+    and performance at another mass).
     """
 
     fuselage: str = "free"
@@ -54,9 +77,26 @@ class Config:
     swashplate: str | None = None
     loop_solver: str = "closed-form"
     pitch_link: str = "rigid"
+    atmosphere: str = "file"
+    altitude: float = 0.0
+    temperature_offset: float = 0.0
+    wind: tuple | None = None
+    drive_train: str | None = None
+    engines: bool = False
+    failure_time: float | None = None
+    ground_effect: bool = False
+    height: float | None = None
+    turbulence: str | None = None
+    gust: bool = False
+    turbulence_intensity: float | None = None
+    payload: float | None = None
 
     def __post_init__(self):
+        from mbs.drivetrain import train
+        from mbs.models.helicopter import environment
         from mbs.models.helicopter.swashplate import check
+        environment.check(self)
+        train.check(self)
         if self.blade_segments and self.blade_modes:
             raise ValueError(f"blade_segments = {self.blade_segments} and blade_modes = {self.blade_modes!r}: an "
                              "elastic blade is either a chain of segments or a modal blade; give one of them")

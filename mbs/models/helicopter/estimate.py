@@ -32,6 +32,7 @@ class TrimEstimate:
     inflow_main: float
     inflow_tail: float
     tail_thrust: float
+    power: float = 0.0  # W: the main rotor's shaft power (its torque times the rotor speed)
 
 
 def _fuselage_drag(d, speed: float) -> float:
@@ -74,7 +75,7 @@ def estimate_trim(d, speed: float) -> TrimEstimate:
     roll = -main_sense(d) * side / weight  # the main rotor leans against the tail rotor's side force
     return TrimEstimate(speed, theta0, 0.0, hub_moment_tilt - blowback, theta_t,
                         mr["shaft_tilt"] - (tilt + hub_moment_tilt), roll, coning,
-                        hub_moment_tilt, lam_i * tip, v_tail, t_thrust)
+                        hub_moment_tilt, lam_i * tip, v_tail, t_thrust, torque * omega)
 
 
 def _tail_collective(d, thrust: float, speed: float) -> tuple[float, float]:

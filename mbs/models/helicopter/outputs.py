@@ -23,11 +23,24 @@ def add_outputs(m: Model, d, cfg) -> None:
     _add_airframe_outputs(m, cfg)
     if cfg.airframe_aero and cfg.fuselage == "free":
         _add_tail_outputs(m, d, cfg)
+    if cfg.turbulence:
+        field = next(f for f in m.air.motions if hasattr(f, "at_station"))
+        for i, axis in enumerate(("north", "east", "down")):
+            m.add_output(f"turbulence.{axis}", lambda s, i=i: field.at_station(s, 0)[i], "m/s",
+                         f"the turbulence's air velocity towards {axis} at the main rotor's hub")
+            m.add_output(f"turbulence.tail_{axis}", lambda s, i=i: field.at_station(s, 1)[i], "m/s",
+                         f"the turbulence's air velocity towards {axis} at the tail rotor's hub")
+    if cfg.ground_effect:
+        m.add_output("main_rotor.ground_factor", lambda s: s.signals["main_rotor.ground_factor"], "1",
+                     "share of the induced velocity the main rotor's blades see near the ground (1 far from it)")
+    if cfg.drive_train:
+        from mbs.drivetrain.train import add_outputs as add_drive_train_outputs
+        add_drive_train_outputs(m, d, cfg)
 
 
 def _add_azimuth(m: Model, cfg, rotor: str, hub: str, ratio: float, sense: int, text: str) -> None:
     """The azimuth (rad) in the rotor's sense of rotation."""
-    if cfg.rotors == "driven":
+    if cfg.rotors == "driven" and not cfg.drive_train:
         m.add_output(f"{rotor}.azimuth", lambda s: ratio * s.p["omega"] * s.t, "rad", text)
     else:
         m.add_output(f"{rotor}.azimuth", lambda s: sense * s.q(f"{hub}.azimuth"), "rad", text)

@@ -27,6 +27,8 @@ def _plots(cfg: Config, n_blades: int) -> dict:
               "main-rotor lag (rad)": [f"blade{k + 1}.lag" for k in blades]}
     if cfg.tail_rotor:
         panels["tail-rotor seesaw (rad)"] = ["seesaw.teeter"]
+    if cfg.drive_train:
+        panels["rotor speed (rad/s)"] = ["main_rotor.speed"]
     return panels
 
 
@@ -78,6 +80,25 @@ SCENE_CONFIGS = {
                           "Lock-number check of the flap mode", False),
 }
 
+DRIVE_TRAIN_CONFIGS = {
+    "engine-failure": (Config(speed=0.0, trim="hover", drive_train="rigid", engines=True, failure_time=1.0, **FULL),
+                       "as hover, the rotor speed a state: main and tail rotors and the transmission on one drive "
+                       "train driven by the two turboshafts and their governor; both engines fail at 1 s (the "
+                       "run-time engine<k>_failure_time; one for one engine inoperative), pilot inputs held or "
+                       "from --inputs"),
+    "engine-failure-cruise": (Config(speed=50.0, drive_train="rigid", engines=True, failure_time=1.0, **FULL),
+                              "as engine-failure, at 50 m/s"),
+    "hover-engines": (Config(speed=0.0, trim="hover", drive_train="rigid", engines=True, atmosphere="isa",
+                             wind=(0.0, 0.0, 0.0), turbulence="dryden", turbulence_intensity=0.0, gust=True, **FULL),
+                      "as hover, the rotor speed a state on the drive train with the two turboshafts and their "
+                      "governor, in the ISA (altitude, temperature offset), a steady wind, Dryden turbulence (calm "
+                      "by default: turbulence_intensity 0) and a discrete gust (none by default): the FMU's scene "
+                      "for engine failures and turbulence"),
+    "autorotation": (Config(speed=30.0, drive_train="rigid", **FULL),
+                     "free flight at 30 m/s, the rotor speed a state, no engine (free-wheeling drive train: "
+                     "drive_torque 0): the steady autorotation that 'heli autorotation' trims"),
+}
+
 ELASTIC_ROTOR = Config(fuselage="none", tail_rotor=False, airframe_aero=False, shaft_tilt=False, speed=0.0,
                        trim="hover", blade_segments=8)
 ELASTIC_TEXT = ("hub clamped and driven (vertical shaft), the main rotor's blades elastic, 8 segments each on flap, "
@@ -98,6 +119,8 @@ def _register() -> None:
     for name, (cfg, text, conservative) in SCENE_CONFIGS.items():
         register(Scene(name, text, _builder(cfg, name), omega=bo105.omega, conservative=conservative,
                        plots=_plots(cfg, n), aircraft=bo105))
+    for name, (cfg, text) in DRIVE_TRAIN_CONFIGS.items():
+        register(Scene(name, text, _builder(cfg, name), omega=bo105.omega, plots=_plots(cfg, n), aircraft=bo105))
     register(Scene("elastic-rotor", ELASTIC_TEXT, _builder(ELASTIC_ROTOR, "elastic-rotor"), omega=bo105.omega,
                    steps_per_rev=300, plots=_plots(ELASTIC_ROTOR, n), aircraft=bo105))
     register(Scene("elastic-rotor-modal", MODAL_TEXT, _builder(ELASTIC_ROTOR_MODAL, "elastic-rotor-modal"),

@@ -19,6 +19,7 @@ import numpy as np
 
 from mbs.aircraft import mass as mass_props
 from mbs.aircraft.mass import box_inertia  # noqa: F401 (re-exported)
+from mbs.drivetrain.train import transmission_mass
 from mbs.joints import DrivenHinge, Fixed, FreeJoint, Hinge, Serial
 from mbs.models.elastic_blade import add_elastic_blade
 from mbs.models.modal_blade import add_modal_blade
@@ -35,7 +36,7 @@ def add_fuselage(m: Model, d, cfg) -> str:
     if cfg.fuselage == "none":
         return "world"
     joint = FreeJoint() if cfg.fuselage == "free" else Fixed()
-    body = mass_props.airframe(d)
+    body = mass_props.airframe(d, transmission_mass(cfg))
     m.add_body("fuselage", "world", joint, mass=body.mass, com=body.com, inertia=body.inertia,
                shape=_fuselage_shape(d), physical=d["aircraft"]["inertia"] == "airframe")
     return "fuselage"
@@ -70,13 +71,13 @@ def _blade_joint(d, cfg, psi0: float, sense: int):
              Hinge((0, 0, -sense), name="lag", stiffness=mr["lag_stiffness"],
                    damping=mr["lag_damping"] if cfg.dampers else 0.0)]
     if cfg.pitch_hinge:
-        parts.append(DrivenHinge((sense, 0, 0), _pitch_law(psi0), name="pitch") if cfg.rotors == "driven"
-                     else Hinge((sense, 0, 0), name="pitch"))
+        parts.append(DrivenHinge((sense, 0, 0), _pitch_law(psi0), name="pitch")
+                     if cfg.rotors == "driven" and not cfg.drive_train else Hinge((sense, 0, 0), name="pitch"))
     return Serial(*parts)
 
 
 def _azimuth_joint(cfg, speed_ratio: float, sense: int):
-    if cfg.rotors != "driven":
+    if cfg.rotors != "driven" or cfg.drive_train:
         return Hinge((0, 0, 1), name="azimuth")
     return DrivenHinge((0, 0, 1), lambda t, p: sense * speed_ratio * p["omega"] * t, name="azimuth")
 

@@ -1,0 +1,78 @@
+"""``heli autorotation``: the steady autorotation of a scene whose rotor speed is a state, trimmed
+at several forward speeds (:mod:`mbs.analysis.rotor_speed_trim`)."""
+from __future__ import annotations
+
+from mbs import arguments as A
+from mbs.cli import add_json, emit
+
+FT_PER_MIN = 196.850394  # per m/s
+
+
+def speed_list(text: str) -> list[float]:
+    """``20,30,40`` (m/s): finite speeds from 5 to 90 m/s (below 5 m/s the rotor's wake is in the vortex
+    ring and windmill states the inflow models do not cover)."""
+    import math
+
+    try:
+        values = [float(t) for t in str(text).split(",") if t.strip()]
+    except ValueError:
+        raise ValueError(f"{text!r} is not a comma-separated list of speeds (m/s)") from None
+    if not values or not all(math.isfinite(v) and 5.0 <= v <= 90.0 for v in values):
+        raise ValueError(f"{text!r}: give speeds from 5 to 90 m/s (below 5 m/s the wake is in the vortex ring state, "
+                         "which the inflow models do not cover)")
+    return values
+
+
+def cmd_autorotation(args) -> int:
+    from mbs.analysis.rotor_speed_trim import descent_estimate, rotor_speed_trim
+    from mbs.analysis.trim import evaluators
+    from mbs.commands import _scene
+
+    sc = _scene(args)
+    _check(sc)
+    system, stepper = evaluators(sc)
+    rows, lines = [], [f"{sc.name}: steady autorotation at the rotor's nominal speed (descent rate solved for)"]
+    for v in speed_list(args.speeds):
+        res = rotor_speed_trim(sc, v, steps_per_rev=args.steps_per_rev, system=system, stepper=stepper)
+        row = {"speed": v, "converged": res.converged, "reason": res.reason, "iterations": res.iterations,
+               "climb_rate": res.climb_rate, "descent_rate": -res.climb_rate,
+               "energy_method_descent_rate": -descent_estimate(sc, v), "controls":
+               {k: res.unknowns[k] for k in ("collective", "lateral_cyclic", "longitudinal_cyclic", "tail_collective")
+                if k in res.unknowns}, "mean_aerodynamic_torque": res.mean_torque,
+               "torque_balance": res.torque_balance, "wall_s": res.wall_s}
+        rows.append(row)
+        lines.append(f"  {v:5.1f} m/s: " + (f"descent {-res.climb_rate:6.2f} m/s ({-res.climb_rate * FT_PER_MIN:5.0f} "
+                                          f"ft/min; energy method {row['energy_method_descent_rate']:.2f} m/s), "
+                                          f"collective {row['controls']['collective']:.4f} rad, {res.iterations} "
+                                          "Newton iterations" if res.converged else f"no trim: {res.reason}"))
+    emit({"scene": sc.name, "trims": rows}, args.json, lines)
+    return 0 if all(r["converged"] for r in rows) else 1
+
+
+def _check(sc) -> None:
+    """ValueError unless ``sc`` turns its rotors on a free-wheeling rigid drive train in free flight."""
+    from mbs import scenes
+    from mbs.models.helicopter.config import config_of
+
+    cfg = config_of(sc)
+    options = {**{k: getattr(cfg, k) for k in ("drive_train", "engines", "fuselage")}, **sc.options}
+    ok = ", ".join(n for n, s in scenes.all_scenes().items() if s.aircraft is not None
+                   and getattr(s.builder.config, "drive_train", None) == "rigid" and not s.builder.config.engines)
+    if options["drive_train"] != "rigid" or options["engines"] or options["fuselage"] != "free":
+        raise ValueError(f"scene {sc.name!r} cannot autorotate: the trim needs a free fuselage and the rotor speed as "
+                         f"a state on a rigid drive train without engines (scenes: {ok})")
+
+
+def register(sub, bench) -> None:
+    from mbs.commands import _air, _steps_per_rev
+
+    p = sub.add_parser("autorotation", help="steady autorotation: periodic trims with the rotor speed a state, no "
+                       "engine torque, the descent rate solved for")
+    A.add_scene(p, nargs="?", default="autorotation", what="scene (default autorotation)")
+    A.add_aircraft(p)
+    p.add_argument("--speeds", default="20,30,40", type=A.checked_by(speed_list), metavar="V1,V2,...",
+                   help="forward speeds in m/s (default 20,30,40)")
+    _steps_per_rev(p)
+    _air(p)
+    add_json(p)
+    p.set_defaults(fn=cmd_autorotation)

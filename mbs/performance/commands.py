@@ -1,0 +1,128 @@
+"""``heli performance ceiling|speed``: hover ceilings and the largest level speed of the Bo105
+against altitude, mass and temperature, from trims swept on Dask (:mod:`mbs.performance.ceiling`)."""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from mbs import arguments as A
+from mbs.cli import add_json, emit
+
+FT = 0.3048
+
+
+def values(flag: str, low: float, high: float):
+    """Type: ``A,B,C`` or ``LO:HI:N`` of finite numbers within ``[low, high]``."""
+    def parse(text: str) -> np.ndarray:
+        from mbs.sweep.grid import parse_range
+
+        try:
+            out = parse_range(flag, text) if ":" in text else np.array([float(t) for t in text.split(",") if t])
+        except ValueError as exc:
+            raise ValueError(str(exc) if ":" in text else f"{flag} {text!r} must be A,B,... or LO:HI:N") from None
+        if not out.size or not np.all(np.isfinite(out)) or out.min() < low or out.max() > high:
+            raise ValueError(f"{flag} {text!r}: give values from {low:g} to {high:g}")
+        return out
+    return parse
+
+
+ALTITUDES = values("--altitudes", -1000.0, 20000.0)
+MASSES = values("--masses", 500.0, 10000.0)
+TEMPERATURES = values("--temperatures", -60.0, 60.0)
+SPEEDS = values("--speeds", 5.0, 100.0)
+
+
+def cmd_ceiling(args) -> int:
+    from mbs._progress import Progress
+    from mbs.performance.ceiling import hover_ceilings
+
+    grounds = tuple(g for g in ("oge", "ige") if g in args.grounds.split(","))
+    res = hover_ceilings(ALTITUDES(args.altitudes), MASSES(args.masses), TEMPERATURES(args.temperatures), grounds,
+                         workers=args.workers, progress=Progress("performance ceiling", not args.quiet))
+    rows = [{**c.__dict__} for c in res]
+    lines = ["hover ceiling (pressure altitude; power required from the trims, available from the engine model):"]
+    for c in res:
+        where = (f"{c.ceiling:7.0f} m ({c.ceiling / FT:6.0f} ft)" if c.ceiling is not None else
+                 "not within the swept altitudes")
+        lines.append(f"  {c.ground.upper()} {c.mass:6.0f} kg ISA{c.offset:+.0f}: {where}"
+                     + (f" ({c.failed} trims failed)" if c.failed else ""))
+    files = _write(args.out, "ceiling", rows, lambda path: _plot_ceiling(res, path)) if args.out else {}
+    emit({"ceilings": rows, "files": files}, args.json, lines + [f"wrote {p}" for p in files.values()])
+    return 0
+
+
+def cmd_speed(args) -> int:
+    from mbs._progress import Progress
+    from mbs.performance.ceiling import level_speeds
+
+    res = level_speeds(SPEEDS(args.speeds), ALTITUDES(args.altitudes), MASSES(args.masses),
+                       TEMPERATURES(args.temperatures), workers=args.workers,
+                       progress=Progress("performance speed", not args.quiet))
+    rows = [{**c.__dict__} for c in res]
+    lines = ["largest level speed (power required from the trims, available from the engine model):"]
+    for c in res:
+        where = f"{c.speed:5.1f} m/s ({c.speed / 0.514444:5.1f} kt)" if c.speed is not None else \
+            "not within the swept speeds"
+        lines.append(f"  {c.altitude:6.0f} m {c.mass:6.0f} kg ISA{c.offset:+.0f}: {where}"
+                     + (f" ({c.failed} trims failed)" if c.failed else ""))
+    files = _write(args.out, "speed", rows, None) if args.out else {}
+    emit({"level_speeds": rows, "files": files}, args.json, lines + [f"wrote {p}" for p in files.values()])
+    return 0
+
+
+def _write(out: str, kind: str, rows: list[dict], plot) -> dict:
+    folder = Path(out)
+    folder.mkdir(parents=True, exist_ok=True)
+    files = {"json": folder / f"{kind}.json"}
+    files["json"].write_text(json.dumps(rows, indent=1, default=lambda o: None if o is None else float(o)))
+    if plot:
+        files["png"] = plot(folder / f"{kind}.png")
+    return {k: str(v) for k, v in files.items()}
+
+
+def _plot_ceiling(res, path: Path) -> Path:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for c in res:
+        ax.plot(np.array(c.margins) / 1e3, c.altitudes, "o-",
+                label=f"{c.ground.upper()} {c.mass:.0f} kg ISA{c.offset:+.0f}")
+    ax.axvline(0.0, color="k", lw=0.8)
+    ax.set_xlabel("power available − required (kW)")
+    ax.set_ylabel("pressure altitude (m)")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
+    ax.set_title("Bo105 hover: the ceiling where the margin is zero")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def register(sub, bench) -> None:
+    p = sub.add_parser("performance", help="hover ceilings and the largest level speed from trims swept on Dask")
+    kinds = p.add_subparsers(dest="kind", required=True, metavar="KIND", parser_class=type(p))
+    for kind, text in (("ceiling", "hover ceilings in and out of ground effect"),
+                       ("speed", "the largest level speed")):
+        q = kinds.add_parser(kind, help=text)
+        q.add_argument("--altitudes", default="0:4000:5" if kind == "ceiling" else "0,2000",
+                       type=A.checked_by(ALTITUDES), help="pressure altitudes in m: A,B,... or LO:HI:N (default %(default)s)")
+        q.add_argument("--masses", default="2200", type=A.checked_by(MASSES), help="masses in kg (default 2200)")
+        q.add_argument("--temperatures", default="0,20" if kind == "ceiling" else "0", type=A.checked_by(TEMPERATURES),
+                       help="ISA temperature offsets in K (default %(default)s)")
+        if kind == "ceiling":
+            q.add_argument("--grounds", default="oge,ige", choices=("oge", "ige", "oge,ige"), metavar="oge|ige|oge,ige",
+                           help="out of and/or in ground effect (default both)")
+        else:
+            q.add_argument("--speeds", default="50:80:4", type=A.checked_by(SPEEDS), help="speeds in m/s (default %(default)s)")
+        q.add_argument("--workers", type=A.non_negative_int, default=None,
+                       help="Dask workers (default: the machine's cores; 0: a plain loop)")
+        q.add_argument("--out", type=A.output_folder, default=None, help="write the table (JSON) and a chart here")
+        q.add_argument("--quiet", action="store_true", help="no progress bar")
+        add_json(q)
+        q.set_defaults(fn=cmd_ceiling if kind == "ceiling" else cmd_speed)

@@ -1,0 +1,93 @@
+"""Autorotation: the rotor speed a state, no engine torque; the steady autorotation as a periodic
+trim with the descent rate solved for (:mod:`mbs.analysis.rotor_speed_trim`), and the engine
+failure scenes."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from mbs import scenes
+from mbs.analysis.rotor_speed_trim import descent_estimate, rotor_speed_trim
+from mbs.analysis.trim import evaluators
+
+SPEEDS = (20.0, 30.0, 40.0)
+
+
+@pytest.fixture(scope="module")
+def autorotation():
+    sc = scenes.get("autorotation")
+    system, stepper = evaluators(sc)
+    return sc, system, stepper, {v: rotor_speed_trim(sc, v, system=system, stepper=stepper) for v in SPEEDS}
+
+
+@pytest.mark.parametrize("speed", SPEEDS)
+def test_steady_autorotation_trims_in_at_most_8_iterations_with_the_torque_balanced(autorotation, speed):
+    """The rotor at its nominal speed, no drive torque: Newton from the level-flight estimate
+    converges to 1e-10 in at most 8 iterations; the drive train's angular momentum returns after
+    the period (its mean torque, all forces on the drive train, zero to 1e-10 of the hover torque);
+    the aerodynamic torque alone averages within 1e-4 of the hover torque (the rest: the blades'
+    weight about the tilted shaft and their pitch motion's inertia)."""
+    sc, _, _, trims = autorotation
+    res = trims[speed]
+    assert res.converged, res.reason
+    assert res.iterations <= 8
+    assert abs(res.torque_balance) < 1e-10
+    hover_torque = 8000.0  # N m, the Bo105 model's hover torque
+    assert abs(res.mean_torque) < 1e-4 * hover_torque
+    assert res.climb_rate < 0
+
+
+@pytest.mark.parametrize("speed", SPEEDS)
+def test_autorotation_descent_rate_against_the_energy_method(autorotation, speed):
+    """Momentum theory's energy balance: in a steady autorotation the descent supplies the power of
+    level flight at the same speed, ``V_d ≈ P_level / W`` (Gessow & Myers, Aerodynamics of the
+    Helicopter, ch. 7; the closed-form level power of :func:`mbs.models.helicopter.estimate_trim`):
+    within 10 %, the model descending a little faster (its induced and profile power are larger in
+    the autorotating flow)."""
+    sc, _, _, trims = autorotation
+    estimate = descent_estimate(sc, speed)
+    assert trims[speed].climb_rate == pytest.approx(estimate, rel=0.10)
+    assert trims[speed].climb_rate < estimate  # faster down
+
+
+def test_the_descent_rate_has_its_minimum_between_the_slow_and_the_fast_speed(autorotation):
+    """The power curve's bucket: slowest descent at the middle speed (30 m/s, 58 kt)."""
+    trims = autorotation[3]
+    sink = {v: -t.climb_rate for v, t in trims.items()}
+    assert sink[30.0] < sink[20.0] and sink[30.0] < sink[40.0]
+
+
+def test_the_trimmed_autorotation_runs_periodic_in_the_simulation(autorotation):
+    sc, system, _, trims = autorotation
+    res = trims[30.0]
+    h = 2 * np.pi / res.omega / 100
+    traj = system.run(res.x0, 0.0, h, 800, every=200, p=res.params)  # the period is 2 revolutions
+    speed = traj.column("main_hub.azimuth_rate")
+    assert np.abs(speed - speed[0]).max() < 1e-8 * res.omega
+    assert np.abs(speed[0] - res.omega) < 1e-3 * res.omega
+
+
+def test_the_constant_speed_trim_points_a_free_rotor_scene_to_the_rotor_speed_trim():
+    from mbs.analysis.trim import trim
+
+    with pytest.raises(ValueError, match="at a speed that is a state"):
+        trim("autorotation")
+
+
+def test_engine_failure_in_hover_with_the_collective_lowered_the_rotor_recovers():
+    """Both engines fail at 1 s in hover; the pilot lowers the collective to 0.15 rad from 1.5 s to
+    2 s: the rotor speed falls to a minimum and recovers, the aircraft sinks; the run reports the
+    minimum, the time to it and the sink rate (run.json's ``rotor_speed``)."""
+    from mbs.inputs import InputTable
+    from mbs.simulate import simulate
+
+    sc = scenes.get("engine-failure")
+    hover = sc.model().parameters["collective"].default
+    table = InputTable(np.array([0.0, 1.5, 2.0]), ["collective"], np.array([[hover], [hover], [0.15]]))
+    sim = simulate(sc, revs=60, inputs=table)
+    figures = sim.summary()["rotor_speed"]
+    print(figures)
+    assert 0.3 < figures["time_to_min_rotor_speed"] < 6.0
+    assert 0.6 * 44.4 < figures["rotor_speed_min"] < 0.95 * 44.4
+    assert sim.columns()["main_rotor.speed"][-1] > figures["rotor_speed_min"] + 1.0  # recovering
+    assert figures["sink_rate_end"] > 3.0 and figures["height_lost"] > 5.0
