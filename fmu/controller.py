@@ -14,7 +14,10 @@ The FMU (``HoverHold``, FMI 2.0 co-simulation, C: ``controller_fmi2.c`` with the
 ``hover_hold_data.h``): inputs are the helicopter FMU's fuselage outputs (``fuselage.x`` ...
 ``fuselage.r``, same names), outputs its four pitch inputs
 ``δ = δ_trim − gain_scale · K e`` (``e``: the inputs minus the trim, positions turned into the
-trim heading's axes, heading wrapped to ±π; outputs clamped to the helicopter's input ranges).
+trim heading's axes, heading taken nearest the trim heading by one ``remainder()``, so any finite
+heading costs the same and one beyond ±2³³ rad, which a double no longer resolves, is discarded;
+outputs clamped to the helicopter's input ranges). Libraries for the native FMU's platforms
+(``linux64``, ``win64``, and ``sources/`` for ARM Linux, which FMI 2.0 has no folder for).
 The controller samples: ``fmi2DoStep`` computes the outputs from the inputs averaged over the
 last 1/N_b revolution (which removes the rotor harmonics at N_b/rev and its multiples, all
 the fuselage feels in steady flight, and which the quasi-static design leaves out: fed back, they

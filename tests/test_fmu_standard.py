@@ -20,6 +20,7 @@ import statistics
 import subprocess
 import sys
 import zipfile
+from pathlib import Path
 from xml.etree import ElementTree
 
 import pytest
@@ -155,17 +156,30 @@ def test_fmpy_runs_the_same_with_its_default_start_values_applied_or_not(which, 
     gives the same outputs with it and without it (a fresh process each)."""
     fmu = fmu_files[which]()
     names = ["blade1.flap" if which != "native3" else "seesaw.teeter", "fuselage.u", "main_rotor.thrust"]
-    runs = []
-    for apply in (False, True):
-        args = {"fmu": str(fmu), "stop": 0.05, "dt": 0.0025, "names": names, "apply_defaults": apply,
-                "start_values": {"scene": "hover"}}
-        path = tmp_path / f"args-{apply}.json"
-        path.write_text(json.dumps(args))
-        proc = subprocess.run([sys.executable, "-m", "fmu.hosts", "fmpy_starts", str(path)], cwd=tmp_path,
-                              capture_output=True, text=True, timeout=600)
-        assert proc.returncode == 0, proc.stderr[-3000:]
-        runs.append(json.loads(proc.stdout.strip().splitlines()[-1]))
+    runs = [fmpy_outputs(fmu, {"scene": "hover"}, names, tmp_path, apply) for apply in (False, True)]
     assert runs[0] == runs[1] and len(runs[0]["time"]) == 21
+
+
+def fmpy_outputs(fmu, start_values: dict, names: list[str], folder: Path, apply: bool = False) -> dict:
+    """``fmpy.simulate_fmu`` of ``fmu`` for 20 steps of 2.5 ms in a fresh process (``fmu.hosts``)."""
+    args = {"fmu": str(fmu), "stop": 0.05, "dt": 0.0025, "names": names, "apply_defaults": apply,
+            "start_values": start_values}
+    path = folder / f"args-{len(list(folder.glob('args-*')))}.json"
+    path.write_text(json.dumps(args))
+    proc = subprocess.run([sys.executable, "-m", "fmu.hosts", "fmpy_starts", str(path)], cwd=folder,
+                          capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    return json.loads(proc.stdout.strip().splitlines()[-1])
+
+
+def test_a_scene_with_its_listed_start_values_runs_as_the_fmu_built_for_it(fmu_files, tmp_path):
+    """``start_values_of(fmu, "hover")`` (the FMU's ``resources/scene_start_values.json``) runs hover in
+    the family FMU as the FMU built for hover alone runs from its XML, bit for bit."""
+    names = ["blade1.flap", "seesaw.teeter", "fuselage.u", "fuselage.pitch", "main_rotor.thrust"]
+    family, own = fmu_files["python"](), build.ensure_fmu(("hover",))[0]
+    values = build.start_values_of(family, "hover")
+    assert values["scene"] == "hover" and values["initial_forward_speed"] == 0.0 and "collective" in values
+    assert fmpy_outputs(family, values, names, tmp_path) == fmpy_outputs(own, {}, names, tmp_path)
 
 
 # -- 4. the pythonfmu FMU: strings, status, states ---------------------------------------------------

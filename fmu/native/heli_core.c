@@ -1236,13 +1236,24 @@ int heli_completed_integrator_step(heli_instance* c, const char* call, int* term
 
 /* -- exact derivatives ---------------------------------------------------------------------------- */
 
+/* -2, reported: `slot` cannot be a `role` (known or unknown) of a derivative, which must be `what`. */
+static int not_a(heli_instance* c, const char* call, unsigned slot, const char* role, const char* what) {
+  char buf[TEXT_LEN];
+  unsigned ref;
+  if (slot >= (unsigned) n_slots()) {
+    report(c, HELI_ERROR, "%s: unknown value reference %u (%s)", call, slot, role);
+    return -2;
+  }
+  slot_label(c, (int) slot, buf, &ref);
+  report(c, HELI_ERROR, "%s: %s '%s' (value reference %u) is not %s", call, role, buf, ref, what);
+  return -2;
+}
+
 /* Where a known goes in the seed (x, p): 0 .. nx-1 a state, nx + j the j-th model parameter (an input);
    -1 a continuous state this model holds (contributes nothing); -2 (reported) not a known. */
 static int known_index(heli_instance* c, const char* call, unsigned slot, int scene) {
   const heli_scene* sc = &M->scenes[scene];
   const heli_group* g = &M->groups[sc->group];
-  char buf[TEXT_LEN];
-  unsigned ref;
   int k;
   if (slot < (unsigned) M->n_variables && var((int) slot)->causality == HELI_INPUT) {
     for (k = 0; k < sc->n_params; ++k)
@@ -1251,33 +1262,19 @@ static int known_index(heli_instance* c, const char* call, unsigned slot, int sc
   }
   for (k = 0; c->kind == HELI_MODEL_EXCHANGE && k < M->n_states; ++k)
     if (M->me_state[k] == (int) slot) return g->state_of[slot];
-  if (slot >= (unsigned) n_slots()) {
-    report(c, HELI_ERROR, "%s: unknown value reference %u (known)", call, slot);
-    return -2;
-  }
-  slot_label(c, (int) slot, buf, &ref);
-  report(c, HELI_ERROR, "%s: known '%s' (value reference %u) is not %s", call, buf, ref,
-         c->kind == HELI_MODEL_EXCHANGE ? "a continuous state or an input" : "an input (co-simulation)");
-  return -2;
+  return not_a(c, call, slot, "known", c->kind == HELI_MODEL_EXCHANGE ? "a continuous state or an input"
+                                                                      : "an input (co-simulation)");
 }
 
 /* Where an unknown is in the result (x', y): 0 .. nx-1 a derivative, nx + position a computed variable;
    -1 the derivative of a held state (0); -2 (reported) not an unknown. */
 static int unknown_index(heli_instance* c, const char* call, unsigned slot, int scene) {
   const heli_group* g = &M->groups[M->scenes[scene].group];
-  char buf[TEXT_LEN];
-  unsigned ref;
   if (slot < (unsigned) M->n_variables && var((int) slot)->position >= 0) return g->nx + var((int) slot)->position;
   if (slot >= (unsigned) M->n_variables && slot < (unsigned) n_slots() && c->kind == HELI_MODEL_EXCHANGE)
     return g->state_of[M->me_state[slot - (unsigned) M->n_variables]];
-  if (slot >= (unsigned) n_slots()) {
-    report(c, HELI_ERROR, "%s: unknown value reference %u (unknown)", call, slot);
-    return -2;
-  }
-  slot_label(c, (int) slot, buf, &ref);
-  report(c, HELI_ERROR, "%s: unknown '%s' (value reference %u) is not %s", call, buf, ref,
-         c->kind == HELI_MODEL_EXCHANGE ? "an output, a local or a derivative" : "an output or a local");
-  return -2;
+  return not_a(c, call, slot, "unknown", c->kind == HELI_MODEL_EXCHANGE ? "an output, a local or a derivative"
+                                                                        : "an output or a local");
 }
 
 static int derivative_problem(heli_instance* c, const char* call, size_t nu, const void* unknown, size_t nk,
