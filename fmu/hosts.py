@@ -292,12 +292,17 @@ def _mode_fmpy(a: dict) -> dict:
 
 
 def _mode_fmpy_starts(a: dict) -> dict:
-    """``fmpy.simulate_fmu`` with ``start_values`` and fmpy's ``apply_default_start_values`` (every
-    XML start value written) as ``apply_defaults`` says: the ``names`` after every step."""
-    from fmpy import simulate_fmu
+    """``fmpy.simulate_fmu`` with ``start_values``, and with ``apply_defaults`` every XML start value of
+    the inputs and parameters written before them (fmpy's own ``apply_default_start_values`` is
+    deprecated and does nothing): the ``names`` after every step."""
+    from fmpy import read_model_description, simulate_fmu
 
-    res = simulate_fmu(a["fmu"], stop_time=a["stop"], output_interval=a["dt"], start_values=a["start_values"],
-                       apply_default_start_values=a["apply_defaults"], output=a["names"])
+    starts = {}
+    if a["apply_defaults"]:
+        starts = {v.name: v.start for v in read_model_description(a["fmu"]).modelVariables
+                  if v.causality in ("input", "parameter") and v.start is not None}
+    res = simulate_fmu(a["fmu"], stop_time=a["stop"], output_interval=a["dt"],
+                       start_values={**starts, **a["start_values"]}, output=a["names"])
     return {"time": res["time"].tolist(), **{n: res[n].tolist() for n in a["names"]}}
 
 

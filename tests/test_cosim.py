@@ -29,6 +29,7 @@ def cosim(tmp_path_factory) -> dict:
 
 
 def test_libcosim_and_the_fmpy_master_agree(cosim):
+    print(f"libcosim vs the fmpy master: largest difference {cosim['libcosim_vs_fmpy_max_abs']:.1e}")
     assert cosim["libcosim_vs_fmpy_max_abs"] <= 1e-9
     assert cosim["steps"] == round(60.0 / cosim["step_s"])
 

@@ -151,9 +151,10 @@ def test_the_same_run_whether_the_master_writes_every_start_value_or_none(kind, 
 
 
 @pytest.mark.parametrize("which", ["python", "native2", "native3"])
-def test_fmpy_runs_the_same_with_its_default_start_values_applied_or_not(which, fmu_files, tmp_path):
-    """fmpy's ``apply_default_start_values`` writes every XML start value: hover from the family FMU
-    gives the same outputs with it and without it (a fresh process each)."""
+def test_fmpy_runs_the_same_with_every_start_value_written_or_none(which, fmu_files, tmp_path):
+    """fmpy given every XML start value of the inputs and parameters (as fmpy's GUI and
+    ``apply_start_values`` write them) and fmpy given none: hover from the family FMU gives the same
+    outputs either way (a fresh process each)."""
     fmu = fmu_files[which]()
     names = ["blade1.flap" if which != "native3" else "seesaw.teeter", "fuselage.u", "main_rotor.thrust"]
     runs = [fmpy_outputs(fmu, {"scene": "hover"}, names, tmp_path, apply) for apply in (False, True)]
