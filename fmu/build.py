@@ -36,6 +36,7 @@ SLAVE = "heli_bo105_slave"
 RUNTIME = ["backends/__init__.py", "backends/info.py", "backends/system.py", "backends/closure.py",
            "backends/compiled.py", "backends/vm.py", "backends/cache.py", "integrators/*.py"]
 VM_FUNCTIONS = ("incr_rk4", "incr_rk8", "project", "fmu_outputs")
+MODELS_FOLDER = "heli_models"  # resources/heli_models/ of the pythonfmu FMU
 _IMPORT = re.compile(r"^(\s*)(from|import)\s+mbs(?=[\s.])", re.MULTILINE)
 # Ranges shared by every scene (and by the native FMU, which reads spec.json).
 # max_step: with RK4 (the default integrator) over 20 revolutions at the trim, the hinge
@@ -141,20 +142,73 @@ def _default_experiment(primary) -> dict:
 
 
 def _add_starts(variables: list[dict], primary: dict, primary_name: str) -> None:
-    """Give every input and parameter its ``start``: its value in the primary scene. An FMU
-    treats a value set equal to the start as "not set" (the scene in use supplies its own)."""
+    """Give every input and parameter its ``start``: its value in the primary scene. The FMU uses
+    the start of every value the master does not set, in every scene (no start depends on another
+    variable: FMI 2.0 section 2.2.7)."""
     for v in variables:
         if v["causality"] in ("input", "parameter"):
-            v["start"] = _primary_value(v["name"], primary, primary_name)
+            v["start"] = scene_value(v["name"], primary, primary_name)
 
 
-def _primary_value(name: str, scene: dict, scene_name: str):
-    """Default of the variable ``name`` in the scene ``scene`` (a scene spec)."""
+def scene_value(name: str, scene: dict, scene_name: str, periodic: bool = False):
+    """The value of the input or parameter ``name`` in the scene ``scene`` (a scene spec) by itself,
+    from its own start (``periodic``: its periodic trim): rad, rad/s, s, m/s as declared."""
+    start = scene["periodic"] if periodic and scene.get("periodic") else scene
     omega = scene["defaults"].get("omega", scene["omega"])
-    fixed = {"scene": scene_name, "evaluator": "compiled", "integrator": "rk4", "initial_state": "scene",
-             "max_step": 2 * math.pi / abs(omega) / scene["steps_per_rev"],  # as the slave computes it
-             "initial_forward_speed": scene["forward_speed"]["default"] if scene["forward_speed"] else 0.0}
-    return fixed[name] if name in fixed else float(scene["defaults"][name])
+    speed = (trim_speed(start) if start is not scene else start["forward_speed"]["default"]) \
+        if scene["forward_speed"] else 0.0
+    fixed = {"scene": scene_name, "evaluator": "compiled", "integrator": "rk4",
+             "initial_state": "periodic" if start is not scene else "scene",
+             "max_step": 2 * math.pi / abs(omega) / scene["steps_per_rev"],  # 1/steps_per_rev of a revolution
+             "initial_forward_speed": speed}
+    return fixed[name] if name in fixed else float(start["defaults"][name])
+
+
+def trim_speed(periodic: dict) -> float:
+    """The flight speed (m/s) of a scene's periodic trim: the ``initial_forward_speed`` that starts
+    from the trim's own state (whose velocity differs from it by the trim's residual)."""
+    return float(periodic["trim"]["speed"])
+
+
+SCENE_STARTS = "scene_start_values.json"
+"""The FMU's resource that lists, per scene of the family, the start values a master writes to run
+it (:func:`scene_start_values`; its ``periodic`` entry for ``initial_state = "periodic"``)."""
+
+
+def scene_starts_table(spec: dict) -> dict:
+    """``{scene: {"scene": values, "periodic": values or None}}`` of :func:`scene_start_values`."""
+    return {s: {"scene": scene_start_values(spec, s),
+                "periodic": scene_start_values(spec, s, True) if spec["scenes"][s].get("periodic") else None}
+            for s in spec["scenes"]}
+
+
+def start_values_of(fmu: str | Path, scene: str, periodic: bool = False) -> dict:
+    """The start values to write to run ``scene`` of the family FMU ``fmu`` (either FMU kind) as the
+    FMU built for that scene alone would start (from its periodic trim with ``periodic``), read from
+    the FMU's resources: e.g. ``simulate_fmu(fmu, start_values=start_values_of(fmu, "hover"))``."""
+    with zipfile.ZipFile(fmu) as z:
+        name = next((n for n in z.namelist() if n.endswith(f"resources/{SCENE_STARTS}") or
+                     n.endswith(f"resources/{MODELS_FOLDER}/{SCENE_STARTS}")), None)
+        if name is None:
+            raise ValueError(f"{fmu} lists no start values of its scenes (no resources/{SCENE_STARTS})")
+        table = json.loads(z.read(name))
+    if scene not in table:
+        raise ValueError(f"scene {scene!r} is not one of the FMU's: {', '.join(table)}")
+    values = table[scene]["periodic" if periodic else "scene"]
+    if values is None:
+        raise ValueError(f"scene {scene!r} has no periodic start (it cannot be trimmed)")
+    return {**values, **({"initial_state": "periodic"} if periodic else {})}
+
+
+def scene_start_values(spec: dict, scene: str, periodic: bool = False) -> dict:
+    """The start values a master writes to run ``scene`` (from its periodic trim with ``periodic``)
+    in the family FMU of ``spec`` as the FMU built for that scene alone starts: ``scene``, and every
+    input or parameter whose value in that scene differs from its XML start (the primary scene's)."""
+    sc = spec["scenes"][scene]
+    names = [v["name"] for v in spec["variables"] if v["causality"] in ("input", "parameter")]
+    starts = {v["name"]: v["start"] for v in spec["variables"] if "start" in v}
+    own = {n: scene_value(n, sc, scene, periodic) for n in names if n not in ("evaluator", "integrator")}
+    return {n: value for n, value in own.items() if value != starts.get(n) or n == "scene"}
 
 
 def _var(name, causality, variability, description, unit=None, **extra) -> dict:
@@ -419,6 +473,7 @@ def stage_models(stage: Path, spec: dict, groups: dict, code_digest: str = "") -
         for name in VM_FUNCTIONS:
             functions[name].save(str(folder / "vm" / f"{name}.casadi"))
     (root / "spec.json").write_text(json.dumps(spec, indent=1))
+    (root / SCENE_STARTS).write_text(json.dumps(scene_starts_table(spec), indent=1))
     return root
 
 

@@ -111,9 +111,17 @@ def cmd_cosim(args) -> int:
              f"without ModelStructure dependencies: {res['algebraic_loops_without_dependencies']})",
              f"libcosim vs fmpy master: largest difference {res['libcosim_vs_fmpy_max_abs']:.3g}; wall time "
              f"libcosim {res['libcosim_wall_s']:.2f} s (recording), fmpy {res['fmpy_wall_s']:.2f} s",
+             _fmpy_runner_line(res["fmpy_ssp_runner"]),
              *[f"wrote {p}" for p in res["files"].values()]]
     emit(res, args.json, lines)
     return 0
+
+
+def _fmpy_runner_line(res: dict) -> str:
+    if res["completed"]:
+        return "fmpy's own SSP runner (fmpy.ssp.simulation.simulate_ssp): ran"
+    why = res["refused"][0] if res["refused"] else res["error"]
+    return f"fmpy's own SSP runner (fmpy.ssp.simulation.simulate_ssp) cannot run it, as documented: {why}"
 
 
 def cmd_bench_cosim(args) -> int:

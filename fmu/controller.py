@@ -14,7 +14,10 @@ The FMU (``HoverHold``, FMI 2.0 co-simulation, C: ``controller_fmi2.c`` with the
 ``hover_hold_data.h``): inputs are the helicopter FMU's fuselage outputs (``fuselage.x`` ...
 ``fuselage.r``, same names), outputs its four pitch inputs
 ``δ = δ_trim − gain_scale · K e`` (``e``: the inputs minus the trim, positions turned into the
-trim heading's axes, heading wrapped to ±π; outputs clamped to the helicopter's input ranges).
+trim heading's axes, heading taken nearest the trim heading by one ``remainder()``, so any finite
+heading costs the same and one beyond ±2³³ rad, which a double no longer resolves, is discarded;
+outputs clamped to the helicopter's input ranges). Libraries for the native FMU's platforms
+(``linux64``, ``win64``, and ``sources/`` for ARM Linux, which FMI 2.0 has no folder for).
 The controller samples: ``fmi2DoStep`` computes the outputs from the inputs averaged over the
 last 1/N_b revolution (which removes the rotor harmonics at N_b/rev and its multiples, all
 the fuselage feels in steady flight, and which the quasi-static design leaves out: fed back, they
@@ -40,6 +43,8 @@ import zipfile
 from pathlib import Path
 
 import numpy as np
+
+from fmu.native import platforms
 
 HERE = Path(__file__).resolve().parent
 NAME = "hover-hold"
@@ -251,8 +256,6 @@ def default_step(spec: dict | None = None, aircraft=None) -> float:
 def build_controller(dest: Path, log=None, aircraft=None) -> dict:
     """Design, generate, compile and zip the controller FMU of ``aircraft`` into ``dest``;
     returns the design."""
-    from mbs.backends.compiled import find_compiler
-
     from fmu.native.build import fmi_headers_dir
 
     dsg = design(log, aircraft)
@@ -266,12 +269,11 @@ def build_controller(dest: Path, log=None, aircraft=None) -> dict:
         (src / "hover_hold_data.h").write_text(c_data(dsg, guid))
         for h in ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h"):
             shutil.copy2(fmi_headers_dir() / h, src / h)
-        (root / "binaries" / "linux64").mkdir(parents=True)
-        proc = subprocess.run([find_compiler(), "-shared", "-fPIC", "-O2", "-fvisibility=hidden", "-I", str(src),
-                               str(src / SOURCE), "-o", str(root / "binaries" / "linux64" / f"{IDENTIFIER}.so")],
-                              capture_output=True, text=True)
-        if proc.returncode:
-            raise RuntimeError(f"compiling the controller FMU failed:\n{proc.stderr[-3000:]}")
+        for platform in platforms.available():
+            if platform.fmi2:  # FMI 2.0 has no folder for ARM Linux: sources/ serve it, as in the native FMU
+                compile_library(src, root / "binaries" / platform.fmi2 / f"{IDENTIFIER}{platform.suffix}", platform)
+        if log and platforms.missing():
+            log("controller FMU: no binaries for " + ", ".join(p.fmi3 for p in platforms.missing()))
         (root / "modelDescription.xml").write_bytes(model_description(dsg, guid, default_step(aircraft=aircraft)))
         (root / "resources").mkdir()
         (root / "resources" / "design.json").write_text(json.dumps(dsg, indent=1))
@@ -282,6 +284,19 @@ def build_controller(dest: Path, log=None, aircraft=None) -> dict:
     return dsg
 
 
+def compile_library(sources: Path, out: Path, platform) -> Path:
+    """The controller's shared library ``out`` from ``sources/`` for ``platform`` (a
+    :class:`fmu.native.platforms.Platform`): no fused multiply-adds, so every platform gives the
+    same bits where the C runtime's functions do."""
+    out.parent.mkdir(parents=True, exist_ok=True)
+    cmd = [platforms.compiler(platform), "-shared", "-O2", "-ffp-contract=off", "-fvisibility=hidden", *platform.cflags,
+           "-I", str(sources), str(sources / SOURCE), "-o", str(out), *platform.ldflags]
+    proc = subprocess.run(cmd, capture_output=True, text=True)
+    if proc.returncode:
+        raise RuntimeError(f"compiling the controller FMU for {platform.fmi3} failed:\n{proc.stderr[-3000:]}")
+    return out
+
+
 def cache_key(aircraft=None) -> str:
     """Hash of what the controller is designed and built from (the core, the aircraft, the FMU code)."""
     from fmu import build as pybuild
@@ -290,6 +305,7 @@ def cache_key(aircraft=None) -> str:
     for name in ("controller.py", SOURCE):
         h.update((HERE / name).read_bytes())
     h.update(os.environ.get("CC", "").encode())
+    h.update(json.dumps(platforms.key()).encode())
     return h.hexdigest()[:20]
 
 

@@ -9,7 +9,12 @@
    average removes the rotor's harmonics (the 4/rev vibration of the fuselage), which the
    design's quasi-static rotor does not have and which high-gain feedback would amplify; the
    window before the start counts as at the trim. Before the first step the outputs are
-   TRIM_OUT. The design's numbers are in hover_hold_data.h. */
+   TRIM_OUT. The heading is taken as the angle nearest the trim heading (one remainder(), so any
+   finite heading costs the same); a heading beyond +-HEADING_LIMIT rad, which a double no longer
+   resolves to 2e-6 rad, and outputs that overflow are refused (fmi2Discard) instead of being
+   sent on. With stopTimeDefined a step past stopTime is fmi2Error. The design's numbers are in
+   hover_hold_data.h. */
+#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -22,6 +27,9 @@
 #define VR_SCALE (HH_NIN + HH_NOUT)
 #define NV (VR_SCALE + 1)
 #define HH_SAMPLES 2048
+#define YAW 5                      /* the heading's index among the inputs (fuselage.yaw) */
+#define HEADING_LIMIT 8589934592.0 /* 2^33 rad: beyond it a double's spacing exceeds 2e-6 rad */
+#define TIME_TOLERANCE 1e-9        /* relative: a step ending this close past stopTime is no step past it */
 
 enum { INSTANTIATED, INITIALIZATION, STEPPING, TERMINATED };
 
@@ -30,14 +38,20 @@ typedef struct {
   char* name;
   fmi2CallbackLogger logger;
   fmi2ComponentEnvironment env;
-  int logging_on, phase;
-  double t, scale;
+  int logging_on, phase, stop_defined;
+  double t, stop, scale;
   double in[HH_NIN], out[HH_NOUT];
   int head, count;                     /* ring of the latest samples: newest at head */
   double sample_dt[HH_SAMPLES], samples[HH_SAMPLES][HH_NIN];
 } controller;
 
 #define MAGIC 0x484f4c44u
+
+static const char* category(fmi2Status st) {
+  static const char* const names[] = {"logAll", "logStatusWarning", "logStatusDiscard", "logStatusError",
+                                      "logStatusFatal"};
+  return (unsigned) st < 5 ? names[st] : "logAll";
+}
 
 static void say(controller* c, fmi2Status st, const char* fmt, ...) {
   char text[512];
@@ -46,7 +60,7 @@ static void say(controller* c, fmi2Status st, const char* fmt, ...) {
   va_start(ap, fmt);
   vsnprintf(text, sizeof text, fmt, ap);
   va_end(ap);
-  if (c->logger) c->logger(c->env, c->name, st, st == fmi2OK ? "logAll" : "logStatusError", "%s", text);
+  if (c->logger) c->logger(c->env, c->name, st, category(st), "%s", text);
   if (st > fmi2OK) fprintf(stderr, "HoverHold (%s): %s\n", c->name, text);
 }
 
@@ -63,12 +77,18 @@ static fmi2Status wrong_phase(controller* c, const char* call) {
   return fmi2Error;
 }
 
+static fmi2Status null_pointer(controller* c, const char* call) {
+  say(c, fmi2Error, "%s: the pointer for the value is NULL", call);
+  return fmi2Error;
+}
+
 const char* fmi2GetTypesPlatform(void) { return fmi2TypesPlatform; }
 const char* fmi2GetVersion(void) { return fmi2Version; }
 
 static void reset(controller* c) {
   c->phase = INSTANTIATED;
   c->t = 0.0;
+  c->stop_defined = 0;
   c->scale = 1.0;
   memcpy(c->in, TRIM_IN, sizeof c->in);
   memcpy(c->out, TRIM_OUT, sizeof c->out);
@@ -131,10 +151,17 @@ fmi2Status fmi2SetDebugLogging(fmi2Component component, fmi2Boolean on, size_t n
 fmi2Status fmi2SetupExperiment(fmi2Component component, fmi2Boolean tol_defined, fmi2Real tol, fmi2Real start,
                                fmi2Boolean stop_defined, fmi2Real stop) {
   controller* c = live(component, "fmi2SetupExperiment");
-  (void) tol_defined, (void) tol, (void) stop_defined, (void) stop;
+  (void) tol_defined, (void) tol;
   if (!c) return fmi2Error;
   if (c->phase != INSTANTIATED) return wrong_phase(c, "fmi2SetupExperiment");
+  if (!isfinite(start) || (stop_defined && !(stop >= start))) {
+    say(c, fmi2Error, "fmi2SetupExperiment: startTime = %g s must be finite and stopTime = %g s (stopTimeDefined = %s) "
+        "not before it", start, stop, stop_defined ? "true" : "false");
+    return fmi2Error;
+  }
   c->t = start;
+  c->stop_defined = stop_defined != fmi2False;
+  c->stop = stop;
   return fmi2OK;
 }
 
@@ -179,6 +206,7 @@ fmi2Status fmi2GetReal(fmi2Component component, const fmi2ValueReference vr[], s
   controller* c = live(component, "fmi2GetReal");
   size_t k;
   if (!c || (n && (!vr || !value))) return fmi2Error;
+  if (c->phase == INSTANTIATED) return wrong_phase(c, "fmi2GetReal");
   for (k = 0; k < n; ++k) {
     if (bad_vr(c, "fmi2GetReal", vr[k])) return fmi2Error;
     value[k] = vr[k] < HH_NIN ? c->in[vr[k]] : vr[k] < VR_SCALE ? c->out[vr[k] - HH_NIN] : c->scale;
@@ -208,6 +236,13 @@ fmi2Status fmi2SetReal(fmi2Component component, const fmi2ValueReference vr[], s
   return fmi2OK;
 }
 
+/* The heading psi (rad) as the angle nearest the trim heading: unchanged within pi of it, else
+   wrapped by one remainder() (any finite psi in the same time). */
+static double near_trim(double psi) {
+  double d = psi - TRIM_IN[YAW];
+  return fabs(d) <= PI ? psi : TRIM_IN[YAW] + remainder(d, 2 * PI);
+}
+
 /* Record the inputs held over a step of dt s; the average of the latest samples spanning one
    revolution (the oldest one weighted by the part of it inside) into mean. */
 static void average(controller* c, double dt, double* mean) {
@@ -217,6 +252,7 @@ static void average(controller* c, double dt, double* mean) {
   c->count = c->count < HH_SAMPLES ? c->count + 1 : HH_SAMPLES;
   c->sample_dt[c->head] = dt;
   memcpy(c->samples[c->head], c->in, sizeof c->in);
+  c->samples[c->head][YAW] = near_trim(c->in[YAW]);
   memset(mean, 0, sizeof(double) * HH_NIN);
   for (n = 0; n < c->count && span < WINDOW; ++n) {
     j = (c->head - n + HH_SAMPLES) % HH_SAMPLES;
@@ -227,8 +263,9 @@ static void average(controller* c, double dt, double* mean) {
   for (k = 0; k < HH_NIN; ++k) mean[k] /= span;
 }
 
-/* The regulator: outputs from the inputs averaged over the last revolution. */
-static void sample(controller* c, double dt) {
+/* The regulator: outputs (into out) from the inputs averaged over the last revolution; -1 when all
+   are finite, else the index of the first that is not. */
+static int regulate(controller* c, double dt, double* out) {
   double e[HH_NIN], north, east;
   int i, k;
   average(c, dt, e);
@@ -236,34 +273,73 @@ static void sample(controller* c, double dt) {
   north = e[0], east = e[1];
   e[0] = COS_HEADING * north + SIN_HEADING * east;
   e[1] = -SIN_HEADING * north + COS_HEADING * east;
-  while (e[5] > PI) e[5] -= 2 * PI;
-  while (e[5] < -PI) e[5] += 2 * PI;
+  if (fabs(e[YAW]) > PI) e[YAW] = remainder(e[YAW], 2 * PI); /* the samples are near the trim already */
   for (i = 0; i < HH_NOUT; ++i) {
     double u = 0.0;
     for (k = 0; k < HH_NIN; ++k) u += GAINS[i][k] * e[k];
     u = TRIM_OUT[i] - c->scale * u;
-    c->out[i] = u < LOW[i] ? LOW[i] : u > HIGH[i] ? HIGH[i] : u;
+    if (!isfinite(u)) return i;
+    out[i] = u < LOW[i] ? LOW[i] : u > HIGH[i] ? HIGH[i] : u;
   }
+  return -1;
+}
+
+/* The input farthest from its trim (for a message). */
+static int largest_input(const controller* c) {
+  int k, worst = 0;
+  for (k = 1; k < HH_NIN; ++k)
+    if (fabs(c->in[k] - TRIM_IN[k]) > fabs(c->in[worst] - TRIM_IN[worst])) worst = k;
+  return worst;
+}
+
+/* One sample of the regulator; on outputs that overflow, everything stays as it was (fmi2Discard). */
+static fmi2Status sample(controller* c, double dt) {
+  int head = c->head, count = c->count, bad, worst;
+  double out[HH_NOUT], dt_old = c->sample_dt[(c->head + 1) % HH_SAMPLES], old[HH_NIN];
+  memcpy(old, c->samples[(c->head + 1) % HH_SAMPLES], sizeof old);
+  if ((bad = regulate(c, dt, out)) < 0) {
+    memcpy(c->out, out, sizeof out);
+    return fmi2OK;
+  }
+  memcpy(c->samples[c->head], old, sizeof old); /* undo the sample */
+  c->sample_dt[c->head] = dt_old;
+  c->head = head, c->count = count;
+  worst = largest_input(c);
+  say(c, fmi2Discard, "fmi2DoStep: output '%s' would not be finite: the inputs overflow the regulator (the farthest "
+      "from the trim: '%s' = %g); the step was discarded", NAMES[HH_NIN + bad], NAMES[worst], c->in[worst]);
+  return fmi2Discard;
 }
 
 fmi2Status fmi2DoStep(fmi2Component component, fmi2Real t, fmi2Real dt, fmi2Boolean no_set_prior) {
   controller* c = live(component, "fmi2DoStep");
   int k;
+  fmi2Status st;
   (void) no_set_prior;
   if (!c) return fmi2Error;
   if (c->phase != STEPPING) return wrong_phase(c, "fmi2DoStep");
-  for (k = 0; k < HH_NIN; ++k) {
-    if (!(c->in[k] == c->in[k]) || c->in[k] - c->in[k] != 0.0) {
-      say(c, fmi2Discard, "fmi2DoStep: input '%s' is not finite", NAMES[k]);
-      return fmi2Discard;
-    }
-  }
-  if (!(dt > 0.0) || dt - dt != 0.0 || t - t != 0.0) {
+  if (!(dt > 0.0) || !isfinite(dt) || !isfinite(t)) {
     say(c, fmi2Error, "fmi2DoStep: currentCommunicationPoint %g s and communicationStepSize %g s must be finite, "
         "the step positive", t, dt);
     return fmi2Error;
   }
-  sample(c, dt);
+  if (c->stop_defined && t + dt > c->stop + TIME_TOLERANCE * (fabs(c->stop) > 1.0 ? fabs(c->stop) : 1.0)) {
+    say(c, fmi2Error, "fmi2DoStep: the step from %.17g s to %.17g s ends past stopTime = %.17g s (stopTimeDefined = "
+        "true); the step was not taken", t, t + dt, c->stop);
+    return fmi2Error;
+  }
+  for (k = 0; k < HH_NIN; ++k) {
+    if (!isfinite(c->in[k])) {
+      say(c, fmi2Discard, "fmi2DoStep: input '%s' is not finite", NAMES[k]);
+      return fmi2Discard;
+    }
+  }
+  if (fabs(c->in[YAW]) > HEADING_LIMIT) {
+    say(c, fmi2Discard, "fmi2DoStep: input '%s' = %g rad is beyond +-%g rad, where a double no longer resolves a "
+        "heading (its spacing is %g rad): a wrong connection? The step was discarded", NAMES[YAW], c->in[YAW],
+        HEADING_LIMIT, nextafter(fabs(c->in[YAW]), HUGE_VAL) - fabs(c->in[YAW]));
+    return fmi2Discard;
+  }
+  if ((st = sample(c, dt)) != fmi2OK) return st;
   c->t = t + dt;
   return fmi2OK;
 }
@@ -341,35 +417,39 @@ fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2ValueReferenc
 }
 fmi2Status fmi2CancelStep(fmi2Component c) { return unsupported(c, "fmi2CancelStep"); }
 
-static fmi2Status no_status(fmi2Component component, const char* call) {
+static fmi2Status no_status(fmi2Component component, const char* call, const void* v) {
   controller* c = live(component, call);
   if (!c) return fmi2Error;
+  if (!v) return null_pointer(c, call);
   say(c, fmi2Discard, "%s: not available (fmi2DoStep never returns fmi2Pending)", call);
   return fmi2Discard;
 }
 
 fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind s, fmi2Status* v) {
   (void) s, (void) v;
-  return no_status(c, "fmi2GetStatus");
+  return no_status(c, "fmi2GetStatus", v);
 }
 fmi2Status fmi2GetRealStatus(fmi2Component component, const fmi2StatusKind s, fmi2Real* v) {
   controller* c = live(component, "fmi2GetRealStatus");
   if (!c) return fmi2Error;
-  if (s != fmi2LastSuccessfulTime || !v) return no_status(component, "fmi2GetRealStatus");
+  if (!v) return null_pointer(c, "fmi2GetRealStatus");
+  if (s != fmi2LastSuccessfulTime) return no_status(component, "fmi2GetRealStatus", v);
   *v = c->t;
   return fmi2OK;
 }
 fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind s, fmi2Integer* v) {
   (void) s, (void) v;
-  return no_status(c, "fmi2GetIntegerStatus");
+  return no_status(c, "fmi2GetIntegerStatus", v);
 }
 fmi2Status fmi2GetBooleanStatus(fmi2Component component, const fmi2StatusKind s, fmi2Boolean* v) {
-  if (!live(component, "fmi2GetBooleanStatus")) return fmi2Error;
-  if (s != fmi2Terminated || !v) return no_status(component, "fmi2GetBooleanStatus");
+  controller* c = live(component, "fmi2GetBooleanStatus");
+  if (!c) return fmi2Error;
+  if (!v) return null_pointer(c, "fmi2GetBooleanStatus");
+  if (s != fmi2Terminated) return no_status(component, "fmi2GetBooleanStatus", v);
   *v = fmi2False;
   return fmi2OK;
 }
 fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind s, fmi2String* v) {
   (void) s, (void) v;
-  return no_status(c, "fmi2GetStringStatus");
+  return no_status(c, "fmi2GetStringStatus", v);
 }

@@ -11,6 +11,12 @@ and the hover-hold controller FMU (:mod:`fmu.controller`) in one SSP file, run b
 The disturbance: ``initial_forward_speed`` = 1 m/s at the hover trim (the aircraft moving 1 m/s
 relative to still air, as after a 1 m/s gust step). ``gain_scale = 0`` runs the same system
 open loop.
+
+The SSD gives every start value a run needs as SSP 1.0 parameter bindings (inline parameter
+sets): the helicopter's scene, start and disturbance, and its four pitch inputs at the hover trim
+(SSP 1.0 binds start values of inputs too; its connectors carry no start value), so a master
+that applies the bindings starts at the trim before any value is transferred.
+:mod:`fmu.fmpy_ssp` runs fmpy's own SSP runner on it, which cannot run it (see there why).
 """
 from __future__ import annotations
 
@@ -31,8 +37,10 @@ VIEWER_REVS = 20  # revolutions shown by the viewer page: the first 2.8 s, the r
 
 def system(heli_fmu: Path, ctrl_fmu: Path, closed: bool = True, speed: float = 1.0) -> dict:
     """Components and connections of the hover-hold system (see :func:`fmu.ssp.write_ssp`)."""
+    trim = controller.read_design(ctrl_fmu)["trim_controls"]
     heli = {"path": heli_fmu, "fmu": heli_fmu.name, "inputs": list(controller.OUTPUTS), "outputs": RECORDED,
-            "parameters": {"scene": controller.SCENE, "initial_state": "periodic", "initial_forward_speed": speed}}
+            "parameters": {"scene": controller.SCENE, "initial_state": "periodic", "initial_forward_speed": speed,
+                           **{c: float(trim[c]) for c in controller.OUTPUTS}}}
     ctrl = {"path": ctrl_fmu, "fmu": ctrl_fmu.name, "inputs": RECORDED, "outputs": list(controller.OUTPUTS),
             "parameters": {"gain_scale": 1.0 if closed else 0.0}}
     wires = [(HELI, n, CTRL, n) for n in RECORDED] + [(CTRL, n, HELI, n) for n in controller.OUTPUTS]
@@ -317,6 +325,7 @@ def run(out: Path, stop: float = 60.0, log=None, aircraft=None) -> dict:
     """``heli cosim``: build both FMUs, write the closed- and open-loop ``.ssp``, run the closed
     loop in libcosim and in the fmpy loop, the open loop in libcosim; compare, plot, write CSV."""
     from fmu import build as pybuild
+    from fmu import fmpy_ssp
     from fmu.native.build import ensure_native_fmu
 
     out.mkdir(parents=True, exist_ok=True)
@@ -332,6 +341,7 @@ def run(out: Path, stop: float = 60.0, log=None, aircraft=None) -> dict:
     with tempfile.TemporaryDirectory(prefix="heli-cosim-fmpy-") as tmp:
         via_fmpy = run_fmpy(closed_ssp, stop, step, Path(tmp), _state_names(heli))
     open_ = run_libcosim(open_ssp, stop, step)
+    fmpy_runner = fmpy_ssp.run(closed_ssp, stop, step)
     trim = dsg["trim_inputs"]
     figure = plot(closed, open_, trim, out / "hover_hold.png", craft.name)
     page = viewer_page(via_fmpy, out / "viewer.html", aircraft=craft)
@@ -342,7 +352,7 @@ def run(out: Path, stop: float = 60.0, log=None, aircraft=None) -> dict:
     return {"stop_s": stop, "step_s": step, "steps": len(closed["time"]), "closed": excursions(closed, trim),
             "open": excursions(open_, trim), "libcosim_vs_fmpy_max_abs": max_difference(closed, via_fmpy),
             "algebraic_loops": loops, "algebraic_loops_without_dependencies": len(algebraic_loops(closed_ssp, False)),
-            "libcosim_wall_s": closed["wall_s"], "fmpy_wall_s": via_fmpy["wall_s"],
+            "libcosim_wall_s": closed["wall_s"], "fmpy_wall_s": via_fmpy["wall_s"], "fmpy_ssp_runner": fmpy_runner,
             "closed_loop_eigenvalues": dsg["closed_loop"], "open_loop_eigenvalues": dsg["open_loop"],
             "files": {"ssp": str(closed_ssp), "ssp_open": str(open_ssp), "figure": str(figure), "csv": str(csv),
                       **({"viewer": str(page)} if page else {})},

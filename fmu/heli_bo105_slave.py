@@ -8,11 +8,13 @@ Inputs are held constant over a communication step, which is split into
 ``n = ceil(dt / max_step (1 - SUBSTEP_TOLERANCE))`` equal sub-steps (a master that counts time in
 whole nanoseconds rounds the default step, which is ``max_step``, up by up to 0.5 ns).
 
-Start values: every input and parameter has the primary scene's value as its XML start. A
-value that the master sets is used, whatever it is ("was it set" is recorded, never inferred
-from the value); one not set takes the default of the scene in use. When the scene in use is
-not the primary one, ``exitInitializationMode`` warns about each value set equal to its XML
-start that differs from that scene's default (a master that applies every XML start).
+Start values: every input and parameter has the primary scene's value as its XML start, and one
+that the master does not set is that start, in every scene (FMI 2.0 section 2.2.7: no start
+depends on another variable, so a master that writes every start value and one that writes
+none run the same). When the scene in use is not the primary one, ``exitInitializationMode``
+warns about each value in use equal to its start that differs from that scene's own value
+(naming both), and a value the scene cannot take (a forward speed without a free fuselage)
+fails it.
 ``initial_state`` selects the start: ``scene`` (the scene's initial state, the default) or
 ``periodic`` (the scene's periodic trim from the build, :mod:`fmu.periodic`), whose
 controls are then the inputs' defaults.
@@ -466,19 +468,27 @@ class HeliRotorSlave(Fmi2Slave):
         return "initial_state" in self._vars and self._use("initial_state") == "periodic"
 
     def _default(self, name: str):
-        """The default of ``name`` in the scene and start in use (rad, rad/s, s, m/s as declared)."""
-        fixed = {"scene": self._spec["primary"], "evaluator": "compiled", "integrator": "rk4",
-                 "initial_state": "scene"}
-        if name in fixed:
-            return fixed[name]
+        """The value of ``name`` when the master did not set it: its XML start, whatever the scene."""
+        return self._vars[name]["start"]
+
+    def _own(self, name: str):
+        """The value of ``name`` in the scene and start in use by itself, the start of an FMU built for
+        that scene alone (rad, rad/s, s, m/s as declared)."""
         scene = self._scene()
         if name == "max_step":
-            omega = self._use("omega") if "omega" in self._vars else scene["omega"]
-            return 2 * math.pi / abs(omega) / scene["steps_per_rev"]
+            return 2 * math.pi / abs(scene["omega"]) / scene["steps_per_rev"]
         start = self._start()
         if name == "initial_forward_speed":
-            return start["forward_speed"]["default"] if start["forward_speed"] else 0.0
+            return self._own_speed(start)
         return start["defaults"][name]
+
+    @staticmethod
+    def _own_speed(start: dict) -> float:
+        """The forward speed (m/s) of a start (the scene's or its periodic trim's): the trim's flight
+        speed, the scene's initial speed, 0 without a free fuselage."""
+        if not start["forward_speed"]:
+            return 0.0
+        return float(start["trim"]["speed"]) if "trim" in start else start["forward_speed"]["default"]
 
     def _set(self, name: str, value, call: str = "set") -> None:
         """Store ``value`` for the input or parameter ``name`` (set, whatever its value),
@@ -581,19 +591,19 @@ class HeliRotorSlave(Fmi2Slave):
         self._warn_start_values()
 
     def _warn_start_values(self) -> None:
-        """Warn about each Real set equal to its XML start (the primary scene's default) that
-        differs from the default of the scene in use; the value set is used."""
+        """In a scene other than the primary one, warn about each Real input or parameter in use at
+        its XML start (the primary scene's value), set or not, that differs from the scene's own."""
         scene, primary = self._use("scene"), self._spec["primary"]
-        for name, value in self._settings.items():
-            v = self._vars[name]
-            if scene == primary or name in self._errors or v["type"] != "Real" or value != v.get("start"):
+        for name, v in self._vars.items():
+            if scene == primary or v["type"] != "Real" or "start" not in v or self._use(name) != v["start"]:
                 continue
-            default = self._default(name)
-            if default != value:
+            own = self._own(name)
+            if own != v["start"]:
                 unit = v.get("unit") or ""
-                self._report(f"fmi2ExitInitializationMode: {v['causality']} {name!r} = {value!r} {unit} was set: it "
-                             f"equals its XML start (the default of scene {primary!r}), while scene {scene!r} "
-                             f"defaults to {default!r} {unit}; the value set is used", Fmi2Status.warning)
+                self._report(f"fmi2ExitInitializationMode: scene {scene!r} runs with {v['causality']} {name!r} = "
+                             f"{v['start']!r} {unit}, its start value (that of scene {primary!r}); scene {scene!r} by "
+                             f"itself has {own!r} {unit}: set it to that, or use the FMU built for scene {scene!r} "
+                             f"(heli fmu build --scenes {scene})", Fmi2Status.warning)
 
     @entry_point("terminate")
     def terminate(self):
@@ -606,8 +616,8 @@ class HeliRotorSlave(Fmi2Slave):
                            "periodic start (it cannot be trimmed)")
         start = self._start()
         x0 = np.array(start["x0"], dtype=float)
-        if "initial_forward_speed" in self._settings and "initial_forward_speed" not in self._errors:
-            x0 = self._with_forward_speed(start, x0, float(self._settings["initial_forward_speed"]))
+        if "initial_forward_speed" in self._vars:
+            x0 = self._with_forward_speed(start, x0, float(self._use("initial_forward_speed")))
         self._load(self._scene()["group"], self._use("evaluator"), x0, np.zeros(x0.size))
         self._t = self._start_time
 
@@ -623,12 +633,15 @@ class HeliRotorSlave(Fmi2Slave):
 
     def _with_forward_speed(self, start: dict, x0: np.ndarray, speed: float) -> np.ndarray:
         """Initial body velocity ``R(q0)^T (speed, 0, 0)`` (m/s): level flight north at the start's attitude
-        (``R(q0)^T e_x`` computed at build time)."""
+        (``R(q0)^T e_x`` computed at build time); the start's own state at its own speed."""
         fs = start["forward_speed"]
         if fs is None:
             if speed != 0.0:
-                raise BadValue(f"parameter 'initial_forward_speed' = {speed!r} m/s: the scene "
-                               f"{self._use('scene')!r} has no free fuselage")
+                how = "" if "initial_forward_speed" in self._settings else " (its start value)"
+                raise BadValue(f"parameter 'initial_forward_speed' = {speed!r} m/s{how}: the scene "
+                               f"{self._use('scene')!r} has no free fuselage; set it to 0.0")
+            return x0
+        if speed == self._own_speed(start):
             return x0
         x0 = x0.copy()
         x0[fs["v"]] = speed * np.asarray(fs["direction"])

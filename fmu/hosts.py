@@ -291,6 +291,21 @@ def _mode_fmpy(a: dict) -> dict:
     return {"time": res["time"][1:].tolist(), **{n: res[n][1:].tolist() for n in a["names"]}}
 
 
+def _mode_fmpy_starts(a: dict) -> dict:
+    """``fmpy.simulate_fmu`` with ``start_values``, and with ``apply_defaults`` every XML start value of
+    the inputs and parameters written before them (fmpy's own ``apply_default_start_values`` is
+    deprecated and does nothing): the ``names`` after every step."""
+    from fmpy import read_model_description, simulate_fmu
+
+    starts = {}
+    if a["apply_defaults"]:
+        starts = {v.name: v.start for v in read_model_description(a["fmu"]).modelVariables
+                  if v.causality in ("input", "parameter") and v.start is not None}
+    res = simulate_fmu(a["fmu"], stop_time=a["stop"], output_interval=a["dt"],
+                       start_values={**starts, **a["start_values"]}, output=a["names"])
+    return {"time": res["time"].tolist(), **{n: res[n].tolist() for n in a["names"]}}
+
+
 def _mode_libcosim(a: dict) -> dict:
     return run_libcosim(a["fmu"], a["stop"], a["dt"], _table(a), a["names"])
 
@@ -391,9 +406,9 @@ def _mode_broken(a: dict) -> dict:
     return {"init_status": call_status(inst.initialise), "messages": inst.messages}
 
 
-MODES = {"fmpy": _mode_fmpy, "libcosim": _mode_libcosim, "save": _mode_save, "restore": _mode_restore,
-         "two": _mode_two, "errors": _mode_errors, "broken": _mode_broken, "steps": _mode_steps,
-         "initial": _mode_initial}
+MODES = {"fmpy": _mode_fmpy, "fmpy_starts": _mode_fmpy_starts, "libcosim": _mode_libcosim, "save": _mode_save,
+         "restore": _mode_restore, "two": _mode_two, "errors": _mode_errors, "broken": _mode_broken,
+         "steps": _mode_steps, "initial": _mode_initial}
 
 
 def main(argv: list[str] | None = None) -> int:

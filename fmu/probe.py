@@ -263,14 +263,19 @@ def case_set_output(a: dict) -> dict:
 
 
 def case_start_roundtrip(a: dict) -> dict:
-    """Set every Real input and parameter to its XML start text, read it back (hex)."""
+    """Set every Real input and parameter to its XML start text, read it back (hex): set when
+    instantiated (read in Initialization Mode: the standards allow no reading before), in
+    Initialization Mode, and after it."""
     p = Probe(a["fmu"])
     starts = real_starts(p.md)
     out = {}
-    for when, call in (("instantiated", None), ("initialization", p.enter), ("stepping", p.exit)):
-        if call:
-            call() if when != "initialization" else (p.setup(), call())
+    for when, before, after in (("instantiated", None, lambda: (p.setup(), p.enter())), ("initialization", None, None),
+                                ("stepping", p.exit, None)):
+        if before:
+            before()
         set_status = p.set({n: float(s) for n, s in starts.items()})
+        if after:
+            after()
         status, values = p.get_reals([p.vr(n) for n in starts])
         out[when] = {"set_status": set_status, "get_status": status,
                      "values": {n: float(v).hex() for n, v in zip(starts, values)}}

@@ -29,8 +29,27 @@ def cosim(tmp_path_factory) -> dict:
 
 
 def test_libcosim_and_the_fmpy_master_agree(cosim):
+    print(f"libcosim vs the fmpy master: largest difference {cosim['libcosim_vs_fmpy_max_abs']:.1e}")
     assert cosim["libcosim_vs_fmpy_max_abs"] <= 1e-9
     assert cosim["steps"] == round(60.0 / cosim["step_s"])
+
+
+def test_fmpy_ssp_runner_cannot_run_the_ssp_as_the_readme_says(cosim):
+    """fmpy's own SSP runner (``fmpy.ssp.simulation.simulate_ssp``) starts every connector at 0.0
+    and ignores the SSD's parameter bindings (which give the helicopter's inputs their trim values,
+    as SSP 1.0 allows): the helicopter FMU refuses ``collective = 0.0`` with fmi2Error and fmpy
+    raises. Our master over fmpy (bindings applied, connections transferred in initialisation)
+    equals libcosim instead (the test above)."""
+    from fmpy.ssp.ssd import read_ssd
+
+    res = cosim["fmpy_ssp_runner"]
+    assert res["completed"] is False and "fmi2SetReal failed with status 3" in res["error"], res
+    assert any("input 'collective' = 0.0 rad is outside its range" in m for m in res["refused"]), res
+    heli = next(c for c in read_ssd(cosim["files"]["ssp"]).system.elements if c.name == "helicopter")
+    bound = {p.name: p.value for b in heli.parameterBindings for s in b.parameterValues for p in s.parameters}
+    trim = controller.read_design(Path(cosim["controller_fmu"]))["trim_controls"]
+    assert {c: float(bound[c]) for c in controller.OUTPUTS} == trim
+    assert bound["scene"] == "hover" and bound["initial_state"] == "periodic"
 
 
 def test_no_algebraic_loop_and_libcosim_warns_of_nothing(cosim):

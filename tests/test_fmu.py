@@ -152,7 +152,7 @@ def test_scene_parameter_selects_the_family_member(fmu_path, spec, dt, names, sc
     table = hosts.pitch_schedule(trim_inputs(spec, scene), dt, 100, revs=(0.5, 1.0, 1.5, 2.0))
     stop = 250 * dt
     run = host("fmpy", {"fmu": str(fmu_path), "stop": stop, "dt": dt, "table": hosts.table_rows(table),
-                        "names": names, "start_values": {"scene": scene}}, tmp_path)
+                        "names": names, "start_values": build.scene_start_values(spec, scene)}, tmp_path)
     ref = hosts.run_core(scene, hosts.grid(stop, dt), table)
     present = [n for n in names if n in ref]
     assert_close(run, ref, present, rtol=1e-9, atol=1e-9)
@@ -225,7 +225,8 @@ def test_periodic_start_is_periodic_from_the_first_step(fmu_path, spec, scene, t
               and re.search(r"\.(flap|lag|teeter)(_rate)?$", v["name"])]
     args = {"fmu": str(fmu_path), "stop": (period + 1) * dt, "dt": dt, "table": held(periodic_inputs(spec, scene)),
             "names": hinges}
-    runs = {start: host("fmpy", {**args, "start_values": {"scene": scene, "initial_state": start}}, tmp_path)
+    runs = {start: host("fmpy", {**args, "start_values": {**build.scene_start_values(spec, scene, start == "periodic"),
+                                                          "initial_state": start}}, tmp_path)
             for start in ("periodic", "scene")}
     for n in hinges:
         rate = n.endswith("_rate")
@@ -324,7 +325,8 @@ def test_bad_input_gives_a_discard_and_a_message_naming_it(fmu_path, dt, tmp_pat
         {"name": "pitch out of range", "set": {"tail_collective": 0.9}, "fix": {"tail_collective": 0.1}},
         {"name": "zero step", "step": 0.0},
         {"name": "negative step", "step": -dt},
-        {"name": "diverging", "init_strings": {"scene": "hover"}, "init": {"omega": 53.3, "max_step": 0.012},
+        {"name": "diverging", "init_strings": {"scene": "hover"},
+         "init": {"omega": 53.3, "max_step": 0.012, "initial_forward_speed": 0.0},
          "set": {"collective": 0.412}, "step": 3.0},
         {"name": "fixed parameter changed", "set": {"omega": 40.0}, "fix": {"omega": 44.4}},
     ]

@@ -67,13 +67,20 @@ def trims(spec: dict, scene: str) -> dict:
             if v["causality"] == "input"}
 
 
+def own_reals(spec: dict, scene: str) -> dict:
+    """The Real values a master writes for ``scene`` to run as its own FMU (its trim inputs, its forward
+    speed), where they differ from the XML starts (the primary scene's)."""
+    return {n: v for n, v in build.scene_start_values(spec, scene).items() if n != "scene"}
+
+
 def fmpy_run(fmu: Path, scene: str, spec: dict, dt: float, steps: int, names: list[str], tmp_path: Path,
              start_values: dict | None = None, inputs: dict | None = None) -> dict:
     """``fmpy.simulate_fmu`` of ``fmu`` in a fresh process (``python -m fmu.hosts fmpy``), the
     inputs held at ``inputs`` (default the scene's trim)."""
     table = [{"time": 0.0, **{n: (inputs or spec["scenes"][scene]["defaults"])[n] for n in trims(spec, scene)}}]
+    periodic = (start_values or {}).get("initial_state") == "periodic"
     args = {"fmu": str(fmu), "stop": steps * dt, "dt": dt, "table": table, "names": names,
-            "start_values": {"scene": scene, **(start_values or {})}}
+            "start_values": {**build.scene_start_values(spec, scene, periodic), **(start_values or {})}}
     path = tmp_path / f"fmpy-{scene}-{fmu.stem}.json"
     path.write_text(json.dumps(args))
     proc = subprocess.run([sys.executable, "-m", "fmu.hosts", "fmpy", str(path)], cwd=tmp_path, capture_output=True,
@@ -148,7 +155,7 @@ def test_model_description_declares_cosimulation_sources_and_structure(native_fm
     assert {"heli_core.c", "fmi2Functions.c"} <= set(sources) and all(f"sources/{s}" in z.namelist() for s in sources)
     built = {p.fmi2 for p in platforms.available() if p.fmi2}  # win64 where mingw is installed (CI: always)
     assert {n.split("/")[1] for n in z.namelist() if n.startswith("binaries/")} == built
-    assert not [n for n in z.namelist() if n.startswith("resources/")]
+    assert [n for n in z.namelist() if n.startswith("resources/")] == ["resources/scene_start_values.json"]
     svs = list(root.find("ModelVariables"))
     outputs = [str(i + 1) for i, sv in enumerate(svs) if sv.get("causality") == "output"]
     derivatives = [str(i + 1) for i, sv in enumerate(svs) if sv[0].get("derivative")]
@@ -168,7 +175,7 @@ def test_c_host_equals_fmpy_and_the_pythonfmu_fmu(scene, native_fmu, python_fmu,
     dt = spec["scenes"][scene]["revolution"] / spec["scenes"][scene]["steps_per_rev"]
     steps, names = REVS * spec["scenes"][scene]["steps_per_rev"], facts["outputs"]
     c_run = run.run_host(host_exe, run.library(unzipped, facts["identifier"]), facts, scene, dt, steps,
-                         trims(spec, scene), names)
+                         {**trims(spec, scene), **own_reals(spec, scene)}, names)
     native = fmpy_run(native_fmu, scene, spec, dt, steps, names, tmp_path)
     python = fmpy_run(python_fmu, scene, spec, dt, steps, names, tmp_path)
     assert len(c_run["time"]) == len(native["time"]) == len(python["time"]) == steps
@@ -325,16 +332,21 @@ def test_corrupt_serialised_states_are_refused(checks):
     assert case["good_step"] == 0 and case["after_restore"] == case["continued"]  # the good blob still restores
 
 
-def test_xml_start_values_set_are_used(checks):
-    """Values set equal to their XML start are settings (recorded, not inferred from the value):
-    in ground-run, forward flight's initial_forward_speed = 10 m/s is refused by name."""
+def test_xml_start_values_written_or_not_are_the_values_in_use(checks):
+    """In ground-run, the XML start values written and not written give the same values and the same
+    answers: forward flight's initial_forward_speed = 10 m/s is refused by name (with or without
+    "its start value") until it is set to 0, and both runs then step alike."""
     case = checks["start_values"]
-    assert case["set"] == 0 and case["exits"] == [3, 0] and case["steps"][1] == 0
+    assert case["set"] == 0 and case["exits"] == [3, 3, 0, 0] and case["steps"] == [0, 0]  # fmpy hides warnings
     applied, plain = case["before"]
+    assert applied == plain
     values = dict(zip(case["names"], applied))
     assert values["initial_forward_speed"] == pytest.approx(10.0) == case["starts"]["initial_forward_speed"]
-    assert values["collective"] == case["starts"]["collective"] != dict(zip(case["names"], plain))["collective"]
-    assert "'initial_forward_speed' = 10.0 m/s: the scene 'ground-run' has no free fuselage" in messages(case)
+    assert values["collective"] == case["starts"]["collective"]
+    assert case["after"][0] == case["after"][1]
+    text = messages(case)
+    assert "'initial_forward_speed' = 10.0 m/s: the scene 'ground-run' has no free fuselage" in text
+    assert "'initial_forward_speed' = 10.0 m/s (its start value): the scene 'ground-run'" in text
 
 
 def test_huge_communication_steps_are_discarded_at_once(checks):
@@ -395,7 +407,7 @@ def test_calls_without_an_instance_or_callbacks_do_not_crash(checks):
     assert case["wrong_guid"] is None
     err = checks["_stderr"]
     assert "fmi2GetFMUstate called without a valid instance (NULL)" in err
-    assert "(bare) error: fmi2GetReal: unknown value reference 999" in err and "does not match this FMU's" in err
+    assert "(bare) error: fmi2GetReal called in instantiated mode" in err and "does not match this FMU's" in err
 
 
 # -- 5. and 6. unzip folder, memory -------------------------------------------------------------------------
@@ -404,7 +416,7 @@ def test_runs_from_a_folder_with_awkward_characters(native_fmu, spec, facts, hos
     folder = run.extract(native_fmu, tmp_path / "a#b&c%d ü")
     dt, names = facts["step"], facts["outputs"]
     c_run = run.run_host(host_exe, run.library(folder, facts["identifier"]), facts, "hover", dt, 20,
-                         trims(spec, "hover"), names)
+                         {**trims(spec, "hover"), **own_reals(spec, "hover")}, names)
     via_fmpy = fmpy_run(folder, "hover", spec, dt, 20, names, tmp_path)
     for n in names:
         np.testing.assert_allclose(c_run[n], via_fmpy[n], rtol=1e-12, atol=1e-12, err_msg=n)

@@ -128,10 +128,9 @@ def test_bad_max_step_while_stepping_discards_steps_until_corrected(fmu_path, tm
 @pytest.mark.parametrize("scene", ["ground-run", "hover"])
 def test_all_xml_start_values_applied_are_used_and_named(fmu_path, tmp_path, scene):
     """A master that applies every XML start (the primary scene's values) to another scene:
-    the values set are used ("was it set" is recorded, never inferred from the value), and
-    exitInitializationMode says so: hover starts at forward flight's 10 m/s with a warning
-    naming the values; ground-run, which has no free fuselage, refuses the 10 m/s (error)
-    until it is set to 0."""
+    they are the values in use (as they are when not set), and exitInitializationMode says so:
+    hover starts at forward flight's 10 m/s with a warning naming the values; ground-run, which
+    has no free fuselage, refuses the 10 m/s (error) until it is set to 0."""
     names = ["blade1.flap", "seesaw.teeter", "total_energy", "fuselage.u", "fuselage.v", "fuselage.w"]
     res = probe("all_starts", {"fmu": str(fmu_path), "scene": scene, "names": names,
                                "fix": {"initial_forward_speed": 0.0}}, tmp_path)

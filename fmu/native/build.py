@@ -6,6 +6,7 @@ the machine's own and the cross compilers found), and the model descriptions.
 Layout of the FMI 2.0 ``.fmu`` (co-simulation and model exchange)::
 
     modelDescription.xml
+    resources/scene_start_values.json         (what a master writes to run each scene of the family)
     binaries/linux64/<identifier>.so  binaries/win64/<identifier>.dll
     sources/heli_core.c heli_core.h fmi2Functions.c fmi3Functions.c heli_model.h heli_libm.[ch]
     sources/heli_config.h heli_data.c         (generated: sizes and tables from the spec)
@@ -241,7 +242,7 @@ def _scene_entry(spec: dict, name: str, k: int, group_index: dict) -> str:
     return (f"  {{{c_string(name)}, {group_index[sc['group']]}, x0_{k}, {c_real(sc['omega'])}, {sc['steps_per_rev']}, "
             f"{len(sc['parameter_order'])}, params_{k}, defaults_{k}, low_{k}, high_{k}, {int(fs is not None)}, "
             f"{{{', '.join(map(str, v))}}}, {c_reals(direction)}, {c_real(fs['default'] if fs else 0.0)}, "
-            f"{tables}, {c_reals(p_direction)}, {c_real(pfs['default'] if pfs else 0.0)}}}")
+            f"{tables}, {c_reals(p_direction)}, {c_real(pybuild.trim_speed(periodic) if pfs else 0.0)}}}")
 
 
 
@@ -505,6 +506,9 @@ def build_native(scene_names, dest: Path, key: str | None = None, aircraft=None,
         (root3 / "sources" / "buildDescription.xml").write_bytes(fmi3.build_description(ident, files))
         (root2 / "modelDescription.xml").write_bytes(model_description(spec, guid, files))
         (root3 / "modelDescription.xml").write_bytes(model_description3(spec, guid))
+        for root in (root2, root3):  # the start values of each scene of the family, for masters
+            (root / "resources").mkdir()
+            (root / "resources" / pybuild.SCENE_STARTS).write_text(json.dumps(pybuild.scene_starts_table(spec), indent=1))
         _zip(root2, Path(dest))
         _zip(root3, fmi3_path(dest))
     return Path(dest), fmi3_path(dest)

@@ -78,8 +78,8 @@ fmi2Status fmi2SetDebugLogging(fmi2Component component, fmi2Boolean loggingOn, s
 fmi2Status fmi2SetupExperiment(fmi2Component component, fmi2Boolean toleranceDefined, fmi2Real tolerance,
                                fmi2Real startTime, fmi2Boolean stopTimeDefined, fmi2Real stopTime) {
   INSTANCE("fmi2SetupExperiment");
-  (void) toleranceDefined, (void) tolerance, (void) stopTimeDefined, (void) stopTime;
-  return (fmi2Status) heli_setup(c, "fmi2SetupExperiment", startTime);
+  (void) toleranceDefined, (void) tolerance; /* fixed-step: no tolerance */
+  return (fmi2Status) heli_setup(c, "fmi2SetupExperiment", startTime, stopTimeDefined != fmi2False, stopTime);
 }
 
 HELI_FORWARD0(fmi2Status, fmi2EnterInitializationMode, heli_enter_initialization, (fmi2Component instance))
@@ -95,7 +95,7 @@ HELI_FORWARD0(fmi2Status, fmi2Reset, heli_reset, (fmi2Component instance))
 fmi2Status fmi2GetReal(fmi2Component component, const fmi2ValueReference vr[], size_t n, fmi2Real value[]) {
   size_t k;
   INSTANCE("fmi2GetReal");
-  if (heli_no_values(c, "fmi2GetReal", n, vr, value)) return fmi2Error;
+  if (heli_no_values(c, "fmi2GetReal", n, vr, value) || !heli_gettable_now(c, "fmi2GetReal")) return fmi2Error;
   for (k = 0; k < n; ++k)
     if (!heli_lookup(c, "fmi2GetReal", vr[k], "Real") || heli_get_real(c, "fmi2GetReal", (int) vr[k], &value[k]))
       return fmi2Error;
@@ -118,7 +118,7 @@ fmi2Status fmi2SetReal(fmi2Component component, const fmi2ValueReference vr[], s
 fmi2Status fmi2GetString(fmi2Component component, const fmi2ValueReference vr[], size_t n, fmi2String value[]) {
   size_t k;
   INSTANCE("fmi2GetString");
-  if (heli_no_values(c, "fmi2GetString", n, vr, value)) return fmi2Error;
+  if (heli_no_values(c, "fmi2GetString", n, vr, value) || !heli_gettable_now(c, "fmi2GetString")) return fmi2Error;
   for (k = 0; k < n; ++k) {
     if (!heli_lookup(c, "fmi2GetString", vr[k], "String")) return fmi2Error;
     value[k] = heli_get_string(c, (int) vr[k]);
@@ -179,12 +179,11 @@ UNSUPPORTED(GetRealOutputDerivatives, "not supported (maxOutputDerivativeOrder =
             (fmi2Component component, const fmi2ValueReference vr[], size_t n, const fmi2Integer order[],
              fmi2Real value[]), ((void) vr, (void) n, (void) order, (void) value))
 
-/* Status kinds this FMU does not have: fmi2Discard with a message. */
+/* Status kinds this FMU does not have: fmi2Discard with a message (fmi2Error for a NULL value pointer). */
 #define NO_STATUS(name, value_type)                                                        \
   fmi2Status fmi2##name(fmi2Component component, const fmi2StatusKind s, value_type* value) { \
     INSTANCE("fmi2" #name);                                                               \
-    (void) value;                                                                         \
-    return (fmi2Status) heli_no_status(c, "fmi2" #name, (int) s);                         \
+    return (fmi2Status) heli_no_status(c, "fmi2" #name, (int) s, value);                  \
   }
 NO_STATUS(GetStatus, fmi2Status)
 NO_STATUS(GetIntegerStatus, fmi2Integer)
@@ -192,16 +191,17 @@ NO_STATUS(GetStringStatus, fmi2String)
 
 fmi2Status fmi2GetRealStatus(fmi2Component component, const fmi2StatusKind s, fmi2Real* value) {
   INSTANCE("fmi2GetRealStatus");
-  if (s != fmi2LastSuccessfulTime || !value) return (fmi2Status) heli_no_status(c, "fmi2GetRealStatus", (int) s);
-  *value = heli_time(c);
-  return fmi2OK;
+  if (s != fmi2LastSuccessfulTime) return (fmi2Status) heli_no_status(c, "fmi2GetRealStatus", (int) s, value);
+  return (fmi2Status) heli_last_successful_time(c, "fmi2GetRealStatus", value);
 }
 
 fmi2Status fmi2GetBooleanStatus(fmi2Component component, const fmi2StatusKind s, fmi2Boolean* value) {
+  int terminated = 0, st;
   INSTANCE("fmi2GetBooleanStatus");
-  if (s != fmi2Terminated || !value) return (fmi2Status) heli_no_status(c, "fmi2GetBooleanStatus", (int) s);
-  *value = fmi2False; /* the FMU never asks to end the simulation */
-  return fmi2OK;
+  if (s != fmi2Terminated) return (fmi2Status) heli_no_status(c, "fmi2GetBooleanStatus", (int) s, value);
+  st = heli_terminated_status(c, "fmi2GetBooleanStatus", value ? &terminated : NULL);
+  if (value && st == fmi2OK) *value = terminated ? fmi2True : fmi2False;
+  return (fmi2Status) st;
 }
 
 /* -- model exchange ------------------------------------------------------------------------------------ */
@@ -209,13 +209,15 @@ fmi2Status fmi2GetBooleanStatus(fmi2Component component, const fmi2StatusKind s,
 HELI_FORWARD0(fmi2Status, fmi2EnterEventMode, heli_event_mode, (fmi2Component instance))
 
 fmi2Status fmi2NewDiscreteStates(fmi2Component component, fmi2EventInfo* info) {
+  int st;
   INSTANCE("fmi2NewDiscreteStates");
   if (!info) return (fmi2Status) heli_refuse(c, "fmi2NewDiscreteStates", "the event info pointer is NULL");
-  memset(info, 0, sizeof *info); /* no events, no discrete states: nothing to iterate */
-  return (fmi2Status) heli_event_mode(c, "fmi2NewDiscreteStates");
+  st = heli_discrete_states(c, "fmi2NewDiscreteStates");
+  if (st == fmi2OK) memset(info, 0, sizeof *info); /* no events, no discrete states: nothing to iterate */
+  return (fmi2Status) st;
 }
 
-HELI_FORWARD0(fmi2Status, fmi2EnterContinuousTimeMode, heli_event_mode, (fmi2Component instance))
+HELI_FORWARD0(fmi2Status, fmi2EnterContinuousTimeMode, heli_continuous_time_mode, (fmi2Component instance))
 
 fmi2Status fmi2CompletedIntegratorStep(fmi2Component component, fmi2Boolean noSetFMUStatePriorToCurrentPoint,
                                        fmi2Boolean* enterEventMode, fmi2Boolean* terminateSimulation) {

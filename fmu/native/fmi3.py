@@ -46,14 +46,19 @@ def variables3(scalars: list[dict]) -> list[dict]:
         if slot in first:
             key = first[slot]
             out.append({**v, "name": key[0], "slots": arrays[key], "dims": len(arrays[key]),
-                        "description": _array_description(v["description"])})
+                        "description": _array_description(v["description"], key[0])})
         elif slot not in taken:
             out.append({**v, "slots": [slot], "dims": None})
     return out
 
 
-def _array_description(text: str) -> str:
-    return re.sub(r"^(\w+?)1\b", r"\1 k (element k)", text, count=1)
+def _array_description(text: str, name: str) -> str:
+    """The description of an array from its first element's: ``blade1``/``blade 1`` become ``blade k``,
+    and element k is said to be blade k's; a derivative's names its array (``der(blade.flap)``)."""
+    part = (name[4:] if name.startswith("der(") else name).split(".")[0]
+    if name.startswith("der("):
+        return f"time derivative of {name[4:-1]}; element k is {part} k's (model exchange)"
+    return re.sub(rf"\b{re.escape(part)} ?1\b", f"{part} k", text) + f"; element k is {part} k's"
 
 
 def me_order(vars3: list[dict], state_slots: list[int], n_variables: int) -> list[int]:
@@ -70,10 +75,13 @@ def me_order(vars3: list[dict], state_slots: list[int], n_variables: int) -> lis
 
 def c_tables(vars3: list[dict], order: list[int]) -> str:
     """C tables of ``heli_data.c`` for the FMI 3.0 interface (see ``heli_model.h``)."""
+    from fmu.native.build import c_string
+
     rows = [f"static const int slots3_{k}[{len(v['slots'])}] = {{{', '.join(map(str, v['slots']))}}};\n"
             for k, v in enumerate(vars3)]
     rows.append("static const heli_variable3 variables3[] = {\n"
-                + ",\n".join(f"  {{{len(v['slots'])}, slots3_{k}}}" for k, v in enumerate(vars3)) + "\n};\n")
+                + ",\n".join(f"  {{{c_string(v['name'])}, {len(v['slots'])}, slots3_{k}}}" for k, v in enumerate(vars3))
+                + "\n};\n")
     rows.append(f"static const int me_order3[{max(len(order), 1)}] = {{{', '.join(map(str, order)) or '0'}}};\n")
     return "".join(rows)
 

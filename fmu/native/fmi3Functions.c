@@ -148,8 +148,8 @@ fmi3Status fmi3SetDebugLogging(fmi3Instance instance, fmi3Boolean loggingOn, siz
 fmi3Status fmi3EnterInitializationMode(fmi3Instance instance, fmi3Boolean toleranceDefined, fmi3Float64 tolerance,
                                        fmi3Float64 startTime, fmi3Boolean stopTimeDefined, fmi3Float64 stopTime) {
   INSTANCE("fmi3EnterInitializationMode");
-  (void) toleranceDefined, (void) tolerance, (void) stopTimeDefined, (void) stopTime;
-  if (heli_setup(c, "fmi3EnterInitializationMode", startTime)) return fmi3Error;
+  (void) toleranceDefined, (void) tolerance; /* fixed-step: no tolerance */
+  if (heli_setup(c, "fmi3EnterInitializationMode", startTime, stopTimeDefined != fmi3False, stopTime)) return fmi3Error;
   return (fmi3Status) heli_enter_initialization(c, "fmi3EnterInitializationMode");
 }
 
@@ -159,26 +159,22 @@ FORWARD(ExitInitializationMode, heli_exit_initialization)
 FORWARD(Terminate, heli_terminate)
 FORWARD(Reset, heli_reset)
 FORWARD(EnterEventMode, heli_event_mode)
-FORWARD(EnterContinuousTimeMode, heli_event_mode)
+FORWARD(EnterContinuousTimeMode, heli_continuous_time_mode)
+FORWARD(EnterStepMode, heli_step_mode)
 
-static int step_mode(heli_instance* c, const char* call) {
-  return heli_kind(c) == HELI_COSIMULATION ? fmi3OK : heli_refuse(c, call, "this instance is for model exchange");
+static int not_provided(heli_instance* c, const char* call) {
+  return heli_refuse(c, call, "not provided (providesEvaluateDiscreteStates = false: this FMU has no discrete states)");
 }
-FORWARD(EnterStepMode, step_mode)
-
-static int nothing_to_evaluate(heli_instance* c, const char* call) {
-  (void) c, (void) call;
-  return fmi3OK; /* no discrete states */
-}
-FORWARD(EvaluateDiscreteStates, nothing_to_evaluate)
+FORWARD(EvaluateDiscreteStates, not_provided)
 
 fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean* discreteStatesNeedUpdate,
                                     fmi3Boolean* terminateSimulation, fmi3Boolean* nominalsOfContinuousStatesChanged,
                                     fmi3Boolean* valuesOfContinuousStatesChanged, fmi3Boolean* nextEventTimeDefined,
                                     fmi3Float64* nextEventTime) {
   fmi3Boolean* flags[5];
-  int k;
+  int k, st;
   INSTANCE("fmi3UpdateDiscreteStates");
+  if ((st = heli_discrete_states(c, "fmi3UpdateDiscreteStates")) != fmi3OK) return (fmi3Status) st;
   flags[0] = discreteStatesNeedUpdate, flags[1] = terminateSimulation, flags[2] = nominalsOfContinuousStatesChanged;
   flags[3] = valuesOfContinuousStatesChanged, flags[4] = nextEventTimeDefined;
   for (k = 0; k < 5; ++k)
@@ -193,7 +189,7 @@ fmi3Status fmi3GetFloat64(fmi3Instance instance, const fmi3ValueReference vr[], 
                           size_t nValues) {
   int slots[MAX_SLOTS], total, k;
   INSTANCE("fmi3GetFloat64");
-  if ((total = expand(c, "fmi3GetFloat64", vr, n, "Float64", 1, slots)) < 0 ||
+  if (!heli_gettable_now(c, "fmi3GetFloat64") || (total = expand(c, "fmi3GetFloat64", vr, n, "Float64", 1, slots)) < 0 ||
       count_problem(c, "fmi3GetFloat64", "values", nValues, total) || (total && !values))
     return fmi3Error;
   for (k = 0; k < total; ++k) {
@@ -220,7 +216,7 @@ fmi3Status fmi3GetString(fmi3Instance instance, const fmi3ValueReference vr[], s
                          size_t nValues) {
   int slots[MAX_SLOTS], total, k;
   INSTANCE("fmi3GetString");
-  if ((total = expand(c, "fmi3GetString", vr, n, "String", 0, slots)) < 0 ||
+  if (!heli_gettable_now(c, "fmi3GetString") || (total = expand(c, "fmi3GetString", vr, n, "String", 0, slots)) < 0 ||
       count_problem(c, "fmi3GetString", "values", nValues, total) || (total && !values))
     return fmi3Error;
   for (k = 0; k < total; ++k) values[k] = heli_get_string(c, slots[k]);

@@ -4,11 +4,20 @@
    translate the standards' calls into these functions. Behaviour follows the pythonfmu slave
    (fmu/heli_bo105_slave.py):
 
-   - The scene (a String parameter) selects the model group, the initial state and the
-     defaults. An input or parameter that the master set is used whatever its value (also
-     when it equals the XML start, the primary scene's default); one not set takes the scene's
-     default. exitInitializationMode warns when a value set equal to its XML start differs
-     from the default of the scene in use.
+   - The scene (a String parameter) selects the model group and the initial state. Every input
+     and parameter that the master did not set is its XML start value (FMI 2.0 section 2.2.7: an
+     input or parameter is initialised with its start), in every scene: no start depends on
+     another variable, so a master that writes every start value and one that writes none run
+     the same. The XML starts are the primary scene's values; in another scene
+     exitInitializationMode warns about each value in use that equals its start but differs
+     from that scene's own value (hover's trim controls, ...), naming it; a value the scene
+     cannot take (a forward speed without a free fuselage) fails initialisation.
+   - stopTime: with stopTimeDefined, a step or a time past stopTime (beyond a relative 1e-9 for
+     rounding) is fmiXError, and stopTime before startTime is refused at once.
+   - The state machines of FMI 2.0 and 3.0: co-simulation steps in Step Mode; model exchange
+     enters Event Mode after initialisation, Continuous-Time Mode by EnterContinuousTimeMode;
+     a call in a mode where the standard does not allow it is fmiXError with a message naming
+     the mode (a co-simulation of this FMU has no Event Mode: eventModeUsed is refused).
    - Co-simulation: inputs are held over a step; doStep splits dt into n = ceil(dt / max_step
      (1 - 1e-6)) equal sub-steps of the core's fixed-step driver (RK4 or RK8, Kahan-compensated).
    - Model exchange: the continuous states are the primary scene's states x, their derivatives
@@ -42,7 +51,7 @@
 #define M (&heli_model_data)
 #define INSTANCE_MAGIC 0x48454c49u
 #define SAVED_MAGIC 0x53415645u
-#define BLOB_VERSION 2u
+#define BLOB_VERSION 3u
 #define TEXT_LEN 128
 #define MSG_LEN 512
 #define NAD (HELI_NX + HELI_NCOMPUTED > HELI_NX + HELI_NP ? HELI_NX + HELI_NCOMPUTED : HELI_NX + HELI_NP)
@@ -52,13 +61,17 @@
    0.5 ns, about 4e-7 of it; a sub-step 1e-6 longer than max_step changes nothing in stability. */
 #define SUBSTEP_TOLERANCE 1e-6
 
-enum { INSTANTIATED, INITIALIZATION, STEPPING, TERMINATED, PHASES };
-static const char* const PHASE_NAMES[PHASES] = {"instantiated", "initialization", "step", "terminated"};
+/* STEPPING is co-simulation's Step Mode; EVENT and CONTINUOUS are model exchange's modes. */
+enum { INSTANTIATED, INITIALIZATION, STEPPING, EVENT, CONTINUOUS, TERMINATED, PHASES };
+static const char* const PHASE_NAMES[PHASES] = {"instantiated", "initialization", "step", "event", "continuous-time",
+                                                "terminated"};
 
 /* Everything an FMU state holds: settings, refusals, the simulation state. */
 typedef struct {
   int phase;
   double start_time, t;
+  int stop_defined;
+  double stop_time;
   double real[HELI_NV];              /* Real value last set */
   unsigned char set[HELI_NV];        /* set by the master (whatever the value) since instantiation or reset */
   char text[HELI_NV][TEXT_LEN];      /* String value last set */
@@ -74,6 +87,8 @@ typedef struct {
 
 typedef struct {
   unsigned magic;
+  const heli_model* model;           /* the FMU (build) that saved it */
+  const void* owner;                 /* the instance that saved it */
   snapshot s;
 } saved_state;
 
@@ -106,6 +121,11 @@ typedef struct {
 } blob_header;
 
 static const char BLOB_MAGIC[8] = "HELIFMU";
+
+/* After initialisation, before termination: Step Mode, Event Mode or Continuous-Time Mode. */
+static int initialized(const heli_instance* c) {
+  return c->s.phase == STEPPING || c->s.phase == EVENT || c->s.phase == CONTINUOUS;
+}
 
 /* -- messages ------------------------------------------------------------------------------ */
 
@@ -179,6 +199,49 @@ static void copy_text(char* dst, const char* src, size_t size) {
 
 static const heli_variable* var(int vr) { return &M->variables[vr]; }
 
+static int is_fmi3(const heli_instance* c) { return c->api[3] == '3'; }
+
+static int n_slots(void) { return M->n_variables + M->n_states; }
+
+/* The name of a slot as the calling standard knows it, into buf (TEXT_LEN): FMI 2.0 the scalar
+   ("blade2.flap", "der(blade2.flap)"); FMI 3.0 the variable and element ("blade.flap[2]"). Its
+   value reference in that standard goes to *ref. */
+static const char* slot_label(const heli_instance* c, int slot, char* buf, unsigned* ref) {
+  int k, j;
+  for (k = 0; is_fmi3(c) && k < M->n_variables3; ++k) {
+    const heli_variable3* v = &M->variables3[k];
+    for (j = 0; j < v->n; ++j) {
+      if (v->slots[j] != slot) continue;
+      *ref = (unsigned) k;
+      if (v->n == 1) snprintf(buf, TEXT_LEN, "%s", v->name);
+      else snprintf(buf, TEXT_LEN, "%s[%d]", v->name, j + 1);
+      return buf;
+    }
+  }
+  *ref = (unsigned) slot;
+  if (slot < M->n_variables) snprintf(buf, TEXT_LEN, "%s", var(slot)->name);
+  else snprintf(buf, TEXT_LEN, "der(%s)", var(M->me_state[slot - M->n_variables])->name);
+  return buf;
+}
+
+/* The label of the model's state i (group g) as the calling standard names it. */
+static const char* state_label(const heli_instance* c, const heli_group* g, int i, char* buf) {
+  unsigned ref;
+  int vr;
+  for (vr = 0; vr < M->n_variables; ++vr)
+    if (g->state_of[vr] == i) return slot_label(c, vr, buf, &ref);
+  snprintf(buf, TEXT_LEN, "%s", g->state_names[i]);
+  return buf;
+}
+
+/* The number of continuous state k (FMI 2.0 order) in the calling standard's order. */
+static int state_number(const heli_instance* c, int k) {
+  int j;
+  for (j = 0; is_fmi3(c) && j < M->n_states; ++j)
+    if (M->me_order3[j] == k) return j;
+  return k;
+}
+
 static const char* causality_name(const heli_variable* v) {
   static const char* const names[] = {"input", "parameter", "output", "local"};
   return names[v->causality];
@@ -219,17 +282,20 @@ static int periodic_in_use(const heli_instance* c) {
   return k >= 0 && !strcmp(var(M->vr_initial_state)->allowed[k], "periodic");
 }
 
-static double use_real(const heli_instance* c, int vr);
-
-static double default_real(const heli_instance* c, int vr) {
-  const heli_scene* sc = &M->scenes[scene_in_use(c)];
+/* What the scene starts with by itself (the start value of an FMU built for it alone), for the
+   warnings of another scene; NAN where it has none. */
+static double scene_default(const heli_instance* c, int scene, int vr) {
+  const heli_scene* sc = &M->scenes[scene];
   int periodic = sc->periodic_x0 && periodic_in_use(c);
-  if (vr == M->vr_max_step) {
-    double omega = M->vr_omega >= 0 ? use_real(c, M->vr_omega) : sc->omega;
-    return 2 * 3.141592653589793 / fabs(omega) / sc->steps_per_rev;
-  }
-  if (vr == M->vr_forward_speed) return sc->free_body ? (periodic ? sc->periodic_fs_default : sc->fs_default) : 0.0;
+  if (vr == M->vr_max_step) return 2 * 3.141592653589793 / fabs(sc->omega) / sc->steps_per_rev;
+  if (vr == M->vr_forward_speed) return sc->free_body ? (periodic ? sc->trim_speed : sc->fs_default) : 0.0;
   return periodic ? sc->periodic_defaults[vr] : sc->defaults[vr];
+}
+
+/* A Real input or parameter not set by the master: its XML start, whatever the scene. */
+static double default_real(const heli_instance* c, int vr) {
+  (void) c;
+  return var(vr)->start;
 }
 
 /* The value in use: the one set unless refused, else the scene's default. */
@@ -276,7 +342,7 @@ static int is_fixed_parameter(int vr) {
 static int check_frozen(heli_instance* c, int vr) {
   char a[32], b[32], msg[MSG_LEN];
   const heli_variable* v = var(vr);
-  if (c->s.phase != STEPPING || !is_fixed_parameter(vr)) return 0;
+  if (!initialized(c) || !is_fixed_parameter(vr)) return 0;
   if (v->type == HELI_STRING) {
     int k = c->s.frozen_choice[vr];
     if (string_choice(c, vr) == k) return 0;
@@ -349,14 +415,15 @@ static int initial_state(heli_instance* c, int scene, double* x, char* msg) {
              "be trimmed)", sc->name);
     return 1;
   }
-  if (vr < 0 || !accepted(c, vr)) return 0;
-  speed = c->s.real[vr];
+  if (vr < 0) return 0;
+  speed = use_real(c, vr);
   if (!sc->free_body) {
     if (speed == 0.0) return 0;
-    snprintf(msg, MSG_LEN, "parameter 'initial_forward_speed' = %s m/s: the scene '%s' has no free fuselage",
-             repr(speed, a), sc->name);
+    snprintf(msg, MSG_LEN, "parameter 'initial_forward_speed' = %s m/s%s: the scene '%s' has no free fuselage; "
+             "set it to 0.0", repr(speed, a), c->s.set[vr] ? "" : " (its start value)", sc->name);
     return 1;
   }
+  if (speed == (periodic ? sc->trim_speed : sc->fs_default)) return 0; /* the start's own state */
   dir = periodic ? sc->periodic_fs_dir : sc->fs_dir;
   for (j = 0; j < 3; ++j) x[sc->fs_v[j]] = dir[j] * speed;
   return 0;
@@ -493,10 +560,27 @@ int heli_kind(const heli_instance* c) { return c->kind; }
 
 void* heli_environment(const heli_instance* c) { return c->env; }
 
-int heli_no_status(heli_instance* c, const char* call, int kind) {
+int heli_no_status(heli_instance* c, const char* call, int kind, const void* value) {
+  if (!value) return heli_refuse(c, call, "the pointer for the value is NULL");
   report(c, HELI_DISCARD, "%s: status kind %d is not available (%sDoStep never returns %sPending)", call, kind,
          c->api, c->api);
   return HELI_DISCARD;
+}
+
+/* fmi2GetRealStatus(fmi2LastSuccessfulTime): the time of the last step taken (startTime before the first). */
+int heli_last_successful_time(heli_instance* c, const char* call, double* value) {
+  if (!value) return heli_refuse(c, call, "the pointer for the value is NULL");
+  if (c->kind != HELI_COSIMULATION) return heli_refuse(c, call, "this instance is for model exchange (a status of "
+                                                       "co-simulation)");
+  *value = c->s.t;
+  return HELI_OK;
+}
+
+/* fmi2GetBooleanStatus(fmi2Terminated): false, always (the FMU never asks to end the simulation). */
+int heli_terminated_status(heli_instance* c, const char* call, int* value) {
+  if (!value) return heli_refuse(c, call, "the pointer for the value is NULL");
+  *value = 0;
+  return HELI_OK;
 }
 
 double heli_time(const heli_instance* c) { return c->s.t; }
@@ -530,8 +614,8 @@ static int wrong_phase(heli_instance* c, const char* call, const char* need) {
   return HELI_ERROR;
 }
 
-int heli_setup(heli_instance* c, const char* call, double start_time) {
-  char a[32], need[64];
+int heli_setup(heli_instance* c, const char* call, double start_time, int stop_defined, double stop_time) {
+  char a[32], b[32], need[64];
   if (c->s.phase != INSTANTIATED) {
     snprintf(need, sizeof need, "it must come right after %sInstantiate", c->api);
     return wrong_phase(c, call, need);
@@ -540,9 +624,30 @@ int heli_setup(heli_instance* c, const char* call, double start_time) {
     report(c, HELI_ERROR, "%s: startTime = %s s is not finite", call, repr(start_time, a));
     return HELI_ERROR;
   }
+  if (stop_defined && !(stop_time >= start_time)) {
+    report(c, HELI_ERROR, "%s: stopTime = %s s is %s startTime = %s s (stopTimeDefined = true)", call,
+           repr(stop_time, a), isnan(stop_time) ? "not a number, with" : "before", repr(start_time, b));
+    return HELI_ERROR;
+  }
   c->s.start_time = c->s.t = start_time;
+  c->s.stop_defined = stop_defined != 0;
+  c->s.stop_time = stop_time;
   invalidate(c);
   return HELI_OK;
+}
+
+/* 1 (reported, HELI_ERROR) when a step from `from` to `to` (from NAN: a time set to `to`) goes past
+   stopTime: the standards require fmiXError; beyond a relative TIME_TOLERANCE only, for rounding. */
+static int past_stop(heli_instance* c, const char* call, double from, double to) {
+  char a[32], b[32], d[32];
+  if (!c->s.stop_defined || to <= c->s.stop_time + TIME_TOLERANCE * fmax(1.0, fabs(c->s.stop_time))) return 0;
+  if (isnan(from))
+    report(c, HELI_ERROR, "%s: time = %s s is past stopTime = %s s (stopTimeDefined = true): the FMU computes "
+           "nothing beyond it", call, repr(to, a), repr(c->s.stop_time, b));
+  else
+    report(c, HELI_ERROR, "%s: the step from %s s to %s s ends past stopTime = %s s (stopTimeDefined = true); the "
+           "step was not taken", call, repr(from, a), repr(to, d), repr(c->s.stop_time, b));
+  return 1;
 }
 
 int heli_enter_initialization(heli_instance* c, const char* call) {
@@ -586,21 +691,24 @@ static void freeze(heli_instance* c) {
   }
 }
 
-/* Values set equal to their XML start (the primary scene's default) that differ from the default of
-   the scene in use (a master may apply every XML start): used as set, each with a warning. */
+/* In a scene other than the primary one: a warning for each Real input or parameter in use at its
+   XML start (the primary scene's value), set or not, where the scene's own value differs; the
+   start is used (a master writing every start value and one writing none run the same). */
 static int start_values_warned(heli_instance* c, const char* call) {
   int vr, n = 0, scene = scene_in_use(c);
+  const char* name = M->scenes[scene].name;
   char a[32], b[32];
   for (vr = 0; scene != M->primary && vr < M->n_variables; ++vr) {
     const heli_variable* v = var(vr);
-    double d;
-    if (!accepted(c, vr) || v->type != HELI_REAL || !(c->s.real[vr] == v->start)) continue;
-    d = default_real(c, vr);
-    if (isnan(d) || d == v->start) continue;
-    report(c, HELI_WARNING, "%s: %s '%s' = %s %s was set: it equals its XML start (the "
-           "default of scene '%s'), while scene '%s' defaults to %s %s; the value set is used", call, causality_name(v),
-           v->name, repr(c->s.real[vr], a), v->unit, M->scenes[M->primary].name, M->scenes[scene].name,
-           repr(d, b), v->unit);
+    double own;
+    if (v->type != HELI_REAL || v->causality == HELI_OUTPUT || v->causality == HELI_LOCAL || !(use_real(c, vr) == v->start))
+      continue;
+    own = scene_default(c, scene, vr);
+    if (isnan(own) || own == v->start) continue;
+    report(c, HELI_WARNING, "%s: scene '%s' runs with %s '%s' = %s %s, its start value (that of scene '%s'); "
+           "scene '%s' by itself has %s %s: set it to that, or use the FMU built for scene '%s' "
+           "(heli fmu build --scenes %s)", call, name, causality_name(v), v->name, repr(v->start, a), v->unit,
+           M->scenes[M->primary].name, name, repr(own, b), v->unit, name, name);
     ++n;
   }
   return n;
@@ -650,15 +758,16 @@ int heli_exit_initialization(heli_instance* c, const char* call) {
   c->s.t = c->s.start_time;
   invalidate(c);
   freeze(c);
-  c->s.phase = STEPPING;
+  c->s.phase = c->kind == HELI_MODEL_EXCHANGE ? EVENT : STEPPING; /* model exchange starts in Event Mode */
   warned = start_values_warned(c, call);
   warned += integrator_settings_warned(c, call);
   return warned ? HELI_WARNING : HELI_OK;
 }
 
 int heli_terminate(heli_instance* c, const char* call) {
-  if (c->s.phase != STEPPING && c->s.phase != INITIALIZATION)
-    return wrong_phase(c, call, "there is no simulation to terminate");
+  if (!initialized(c))
+    return wrong_phase(c, call, c->s.phase == TERMINATED ? "it is terminated already"
+                                                         : "there is no simulation to terminate (initialise first)");
   c->s.phase = TERMINATED;
   return HELI_OK;
 }
@@ -671,17 +780,9 @@ int heli_reset(heli_instance* c, const char* call) {
 
 /* -- getting and setting values ------------------------------------------------------------------ */
 
-static int n_slots(void) { return M->n_variables + M->n_states; }
-
 int heli_slot_type(int slot) {
   if (slot < 0 || slot >= n_slots()) return -1;
   return slot < M->n_variables ? var(slot)->type : HELI_REAL;
-}
-
-static const char* slot_name(int slot, char* buf) {
-  if (slot < M->n_variables) return var(slot)->name;
-  snprintf(buf, TEXT_LEN, "der(%s)", var(M->me_state[slot - M->n_variables])->name);
-  return buf;
 }
 
 static const char* type_name(const heli_instance* c, int type) {
@@ -690,6 +791,7 @@ static const char* type_name(const heli_instance* c, int type) {
 
 int heli_lookup(heli_instance* c, const char* call, unsigned slot, const char* type) {
   char buf[TEXT_LEN];
+  unsigned ref;
   int t;
   if (slot >= (unsigned) n_slots()) {
     report(c, HELI_ERROR, "%s: unknown value reference %u (this FMU has value references 0 to %d)", call, slot,
@@ -698,8 +800,9 @@ int heli_lookup(heli_instance* c, const char* call, unsigned slot, const char* t
   }
   t = heli_slot_type((int) slot);
   if (strcmp(type_name(c, t), type)) {
-    report(c, HELI_ERROR, "%s: value reference %u is the %s variable '%s', not %s %s", call, slot, type_name(c, t),
-           slot_name((int) slot, buf), strchr("AEIOU", type[0]) ? "an" : "a", type);
+    slot_label(c, (int) slot, buf, &ref);
+    report(c, HELI_ERROR, "%s: value reference %u is the %s variable '%s', not %s %s", call, ref, type_name(c, t), buf,
+           strchr("AEIOU", type[0]) ? "an" : "a", type);
     return 0;
   }
   return 1;
@@ -752,11 +855,12 @@ static int me_state_of(const heli_instance* c, int slot) {
 /* Model exchange, after initialisation: a continuous state set by its value reference (as some hosts,
    e.g. CasADi's FMU import, do instead of SetContinuousStates). */
 static int set_state_variable(heli_instance* c, const char* call, int k, double value) {
-  char a[32];
+  char a[32], buf[TEXT_LEN];
+  unsigned ref;
   int i = state_index(c, k);
   if (!isfinite(value)) {
-    report(c, HELI_ERROR, "%s: continuous state '%s' = %s is not finite", call, var(M->me_state[k])->name,
-           repr(value, a));
+    report(c, HELI_ERROR, "%s: continuous state '%s' = %s is not finite", call,
+           slot_label(c, M->me_state[k], buf, &ref), repr(value, a));
     return HELI_ERROR;
   }
   if (i >= 0) c->s.x[i] = value; /* a state the model holds keeps its value */
@@ -766,12 +870,13 @@ static int set_state_variable(heli_instance* c, const char* call, int k, double 
 
 int heli_set_real(heli_instance* c, const char* call, int slot, double value) {
   char a[32], buf[TEXT_LEN];
-  int k = c->s.loaded && c->s.phase == STEPPING ? me_state_of(c, slot) : -1;
+  unsigned ref;
+  int k = c->s.loaded && initialized(c) ? me_state_of(c, slot) : -1;
   if (k >= 0) return set_state_variable(c, call, k, value);
   if (slot >= M->n_variables || var(slot)->position >= 0) {
-    report(c, HELI_ERROR, "%s: %s '%s' (value reference %d) cannot be set (attempted %s)", call,
-           slot >= M->n_variables ? "derivative" : causality_name(var(slot)), slot_name(slot, buf), slot,
-           repr(value, a));
+    slot_label(c, slot, buf, &ref);
+    report(c, HELI_ERROR, "%s: %s '%s' (value reference %u) cannot be set (attempted %s)", call,
+           slot >= M->n_variables ? "derivative" : causality_name(var(slot)), buf, ref, repr(value, a));
     return HELI_ERROR;
   }
   c->s.real[slot] = value;
@@ -783,6 +888,15 @@ int heli_set_real(heli_instance* c, const char* call, int slot, double value) {
     return HELI_ERROR;
   }
   return HELI_OK;
+}
+
+/* Values can be read from Initialization Mode on (the standards forbid it in Instantiated). */
+int heli_gettable_now(heli_instance* c, const char* call) {
+  char need[64];
+  if (c->s.phase != INSTANTIATED) return 1;
+  snprintf(need, sizeof need, "call %sEnterInitializationMode first", c->api);
+  wrong_phase(c, call, need);
+  return 0;
 }
 
 int heli_settable_now(heli_instance* c, const char* call) {
@@ -880,7 +994,7 @@ static void tail(heli_instance* c, double t, char* out) {
 
 /* Redo the failed step up to its last good sub-step and name the state that became non-finite. */
 static void divergence(heli_instance* c, const heli_group* g, double t, double h, heli_int n, heli_int done, int status) {
-  char a[32], b[32], d[32], rest[MSG_LEN];
+  char a[32], b[32], d[32], rest[MSG_LEN], buf[TEXT_LEN];
   heli_int k = 0, i = 0;
   double tk = t + (double) done * h;
   memcpy(c->trial, c->s.x, sizeof c->trial);
@@ -896,13 +1010,14 @@ static void divergence(heli_instance* c, const heli_group* g, double t, double h
   for (k = g->nx - 1; k >= 0; --k)
     if (!isfinite(c->dx[k])) i = k; /* the first non-finite state, else the first state */
   report(c, HELI_DISCARD, "the simulation diverged at t = %s s (sub-step %lld of %lld, h = %s s): state '%s' = %s; %s",
-         repr(tk, a), done + 1, n, repr(h, b), g->state_names[i], repr(c->dx[i], d), rest);
+         repr(tk, a), done + 1, n, repr(h, b), state_label(c, g, (int) i, buf), repr(c->dx[i], d), rest);
 }
 
 /* 0 if the state c->trial reached at t1 is sound (hinge angles within range, finite
    energy), else 1 with a message. */
 static int unsound(heli_instance* c, const heli_group* g, double t, double t1) {
-  char a[32], b[32], d[32], rest[MSG_LEN];
+  char a[32], b[32], d[32], rest[MSG_LEN], buf[TEXT_LEN];
+  unsigned ref;
   double total;
   int vr;
   tail(c, t, rest);
@@ -911,7 +1026,8 @@ static int unsound(heli_instance* c, const heli_group* g, double t, double t1) {
     double value = g->state_of[vr] >= 0 ? c->trial[g->state_of[vr]] : 0.0;
     if (v->hinge && !(fabs(value) <= M->hinge_angle)) {
       report(c, HELI_DISCARD, "the simulation left the hinge range at t = %s s: state '%s' = %s rad is outside "
-             "[-%s, %s] rad; %s", repr(t1, a), v->name, repr(value, b), repr(M->hinge_angle, d), repr(M->hinge_angle, d), rest);
+             "[-%s, %s] rad; %s", repr(t1, a), slot_label(c, vr, buf, &ref), repr(value, b), repr(M->hinge_angle, d),
+             repr(M->hinge_angle, d), rest);
       return 1;
     }
   }
@@ -952,32 +1068,41 @@ static int advance(heli_instance* c, double t, double dt) {
 
 int heli_do_step(heli_instance* c, const char* call, double t, double dt) {
   char need[128];
+  if (c->kind != HELI_COSIMULATION) return heli_refuse(c, call, "this instance is for model exchange: the host "
+                                                       "integrates the continuous states");
   if (c->s.phase != STEPPING) {
     snprintf(need, sizeof need, "call %sExitInitializationMode first (and no %sTerminate before)", c->api, c->api);
     return wrong_phase(c, call, need);
   }
-  if (c->kind != HELI_COSIMULATION) return heli_refuse(c, call, "this instance is for model exchange: the host "
-                                                       "integrates the continuous states");
-  if (step_problem(c, call, t, dt)) return HELI_ERROR;
+  if (step_problem(c, call, t, dt) || past_stop(c, call, c->s.t, c->s.t + dt)) return HELI_ERROR;
   if (refused_step(c, t)) return HELI_DISCARD;
   return advance(c, t, dt);
 }
 
 /* -- model exchange --------------------------------------------------------------------------------- */
 
-/* Model exchange calls need an initialised instance for model exchange. */
-static int me_problem(heli_instance* c, const char* call, int need_loaded) {
-  char need[96];
+#define IN(phase) (1u << (phase))
+#define AFTER_SETUP (IN(INITIALIZATION) | IN(EVENT) | IN(CONTINUOUS) | IN(TERMINATED))
+
+/* What a model-exchange call needs, for the message of a call in the wrong mode. */
+static const char* me_need(unsigned allowed) {
+  if (allowed == IN(CONTINUOUS)) return "it belongs to Continuous-Time Mode (EnterContinuousTimeMode first)";
+  if (allowed == IN(EVENT)) return "it belongs to Event Mode (after ExitInitializationMode, or EnterEventMode)";
+  if (allowed == (IN(EVENT) | IN(CONTINUOUS))) return "it needs Event or Continuous-Time Mode (initialise first, "
+                                                      "no Terminate before)";
+  return "it needs Initialization, Event or Continuous-Time Mode (or Terminated)";
+}
+
+/* A model-exchange call: 1 (reported) unless the instance is for model exchange and in one of the
+   modes `allowed` (a mask of IN(phase)): the modes of the FMI 2.0 and 3.0 state machines. */
+static int me_problem(heli_instance* c, const char* call, unsigned allowed) {
   if (c->kind != HELI_MODEL_EXCHANGE) {
     heli_refuse(c, call, "this instance is for co-simulation: instantiate it for model exchange");
     return 1;
   }
-  if (c->s.phase == TERMINATED || (need_loaded && !c->s.loaded)) {
-    snprintf(need, sizeof need, "call %sExitInitializationMode first (and no %sTerminate before)", c->api, c->api);
-    wrong_phase(c, call, need);
-    return 1;
-  }
-  return 0;
+  if (allowed & IN(c->s.phase)) return 0;
+  wrong_phase(c, call, me_need(allowed));
+  return 1;
 }
 
 static int length_problem(heli_instance* c, const char* call, size_t n, const void* array) {
@@ -987,29 +1112,55 @@ static int length_problem(heli_instance* c, const char* call, size_t n, const vo
   return 1;
 }
 
-/* Event mode and its iteration: this FMU has no events, nothing changes. */
-int heli_event_mode(heli_instance* c, const char* call) { return me_problem(c, call, 1) ? HELI_ERROR : HELI_OK; }
+/* Event Mode and its iteration: this FMU has no events, nothing changes but the mode. */
+int heli_event_mode(heli_instance* c, const char* call) {
+  if (me_problem(c, call, IN(EVENT) | IN(CONTINUOUS))) return HELI_ERROR;
+  c->s.phase = EVENT;
+  return HELI_OK;
+}
+
+int heli_discrete_states(heli_instance* c, const char* call) {
+  if (c->kind == HELI_COSIMULATION && is_fmi3(c))
+    return heli_refuse(c, call, "this co-simulation has no Event Mode (eventModeUsed = false): there are no discrete "
+                                "states to update");
+  return me_problem(c, call, IN(EVENT)) ? HELI_ERROR : HELI_OK;
+}
+
+int heli_continuous_time_mode(heli_instance* c, const char* call) {
+  if (me_problem(c, call, IN(EVENT))) return HELI_ERROR;
+  c->s.phase = CONTINUOUS;
+  return HELI_OK;
+}
+
+/* fmi3EnterStepMode leaves a co-simulation's Event Mode, which this FMU never enters: always refused. */
+int heli_step_mode(heli_instance* c, const char* call) {
+  if (c->kind == HELI_MODEL_EXCHANGE) return heli_refuse(c, call, "this instance is for model exchange");
+  return wrong_phase(c, call, "it leaves Event Mode, which this co-simulation does not have (eventModeUsed = false: "
+                              "fmi3ExitInitializationMode enters Step Mode)");
+}
 
 int heli_set_time(heli_instance* c, const char* call, double t) {
   char a[32];
-  if (me_problem(c, call, 0)) return HELI_ERROR;
+  if (me_problem(c, call, IN(EVENT) | IN(CONTINUOUS))) return HELI_ERROR;
   if (!isfinite(t)) {
     report(c, HELI_ERROR, "%s: time = %s s is not finite", call, repr(t, a));
     return HELI_ERROR;
   }
+  if (past_stop(c, call, NAN, t)) return HELI_ERROR;
   c->s.t = t;
   invalidate(c);
   return HELI_OK;
 }
 
 int heli_set_states(heli_instance* c, const char* call, const double x[], size_t n) {
-  char a[32];
+  char a[32], buf[TEXT_LEN];
+  unsigned ref;
   int k, i;
-  if (me_problem(c, call, 1) || length_problem(c, call, n, x)) return HELI_ERROR;
+  if (me_problem(c, call, IN(CONTINUOUS)) || length_problem(c, call, n, x)) return HELI_ERROR;
   for (k = 0; k < M->n_states; ++k) {
     if (isfinite(x[k])) continue;
-    report(c, HELI_ERROR, "%s: continuous state %d ('%s') = %s is not finite", call, k, var(M->me_state[k])->name,
-           repr(x[k], a));
+    report(c, HELI_ERROR, "%s: continuous state %d ('%s') = %s is not finite", call, state_number(c, k),
+           slot_label(c, M->me_state[k], buf, &ref), repr(x[k], a));
     return HELI_ERROR;
   }
   for (k = 0; k < M->n_states; ++k)
@@ -1020,7 +1171,7 @@ int heli_set_states(heli_instance* c, const char* call, const double x[], size_t
 
 int heli_get_states(heli_instance* c, const char* call, double x[], size_t n) {
   int k;
-  if (me_problem(c, call, 0) || length_problem(c, call, n, x)) return HELI_ERROR;
+  if (me_problem(c, call, AFTER_SETUP) || length_problem(c, call, n, x)) return HELI_ERROR;
   for (k = 0; k < M->n_states; ++k)
     if (heli_get_real(c, call, M->me_state[k], &x[k])) return HELI_ERROR;
   return HELI_OK;
@@ -1036,7 +1187,7 @@ int heli_get_nominals(heli_instance* c, const char* call, double x[], size_t n) 
 
 /* x' = rhs(x, t, p) at the current state, once per state. */
 static int ensure_derivatives(heli_instance* c, const char* call) {
-  char a[32];
+  char a[32], b[32], buf[TEXT_LEN];
   int vr, n = 0, scene;
   const double* x;
   const heli_group* g;
@@ -1057,7 +1208,7 @@ static int ensure_derivatives(heli_instance* c, const char* call) {
   for (vr = 0; vr < g->nx; ++vr) {
     if (isfinite(c->s.xdot[vr])) continue;
     report(c, HELI_ERROR, "%s: the derivative of state '%s' is %s at t = %s s: the state is outside the model's range",
-           call, g->state_names[vr], repr(c->s.xdot[vr], a), repr(c->s.t, a));
+           call, state_label(c, g, vr, buf), repr(c->s.xdot[vr], a), repr(c->s.t, b));
     return HELI_ERROR;
   }
   c->s.derivatives_valid = 1;
@@ -1066,7 +1217,7 @@ static int ensure_derivatives(heli_instance* c, const char* call) {
 
 int heli_get_derivatives(heli_instance* c, const char* call, double dx[], size_t n) {
   int k;
-  if (me_problem(c, call, 0) || length_problem(c, call, n, dx)) return HELI_ERROR;
+  if (me_problem(c, call, AFTER_SETUP) || length_problem(c, call, n, dx)) return HELI_ERROR;
   for (k = 0; k < M->n_states; ++k)
     if (heli_get_real(c, call, M->n_variables + k, &dx[k])) return HELI_ERROR;
   return HELI_OK;
@@ -1074,7 +1225,7 @@ int heli_get_derivatives(heli_instance* c, const char* call, double dx[], size_t
 
 /* After each step of the host's integrator: the state must be sound (hinge angles, energy). */
 int heli_completed_integrator_step(heli_instance* c, const char* call, int* terminate) {
-  if (me_problem(c, call, 1)) return HELI_ERROR;
+  if (me_problem(c, call, IN(CONTINUOUS))) return HELI_ERROR;
   if (terminate) *terminate = 0;
   fill_params(c, c->s.scene, c->p);
   memcpy(c->trial, c->s.x, sizeof c->trial);
@@ -1085,12 +1236,24 @@ int heli_completed_integrator_step(heli_instance* c, const char* call, int* term
 
 /* -- exact derivatives ---------------------------------------------------------------------------- */
 
+/* -2, reported: `slot` cannot be a `role` (known or unknown) of a derivative, which must be `what`. */
+static int not_a(heli_instance* c, const char* call, unsigned slot, const char* role, const char* what) {
+  char buf[TEXT_LEN];
+  unsigned ref;
+  if (slot >= (unsigned) n_slots()) {
+    report(c, HELI_ERROR, "%s: unknown value reference %u (%s)", call, slot, role);
+    return -2;
+  }
+  slot_label(c, (int) slot, buf, &ref);
+  report(c, HELI_ERROR, "%s: %s '%s' (value reference %u) is not %s", call, role, buf, ref, what);
+  return -2;
+}
+
 /* Where a known goes in the seed (x, p): 0 .. nx-1 a state, nx + j the j-th model parameter (an input);
    -1 a continuous state this model holds (contributes nothing); -2 (reported) not a known. */
 static int known_index(heli_instance* c, const char* call, unsigned slot, int scene) {
   const heli_scene* sc = &M->scenes[scene];
   const heli_group* g = &M->groups[sc->group];
-  char buf[TEXT_LEN];
   int k;
   if (slot < (unsigned) M->n_variables && var((int) slot)->causality == HELI_INPUT) {
     for (k = 0; k < sc->n_params; ++k)
@@ -1099,31 +1262,26 @@ static int known_index(heli_instance* c, const char* call, unsigned slot, int sc
   }
   for (k = 0; c->kind == HELI_MODEL_EXCHANGE && k < M->n_states; ++k)
     if (M->me_state[k] == (int) slot) return g->state_of[slot];
-  if (slot >= (unsigned) n_slots()) report(c, HELI_ERROR, "%s: unknown value reference %u (known)", call, slot);
-  else report(c, HELI_ERROR, "%s: known '%s' (value reference %u) is not %s", call, slot_name((int) slot, buf), slot,
-              c->kind == HELI_MODEL_EXCHANGE ? "a continuous state or an input" : "an input (co-simulation)");
-  return -2;
+  return not_a(c, call, slot, "known", c->kind == HELI_MODEL_EXCHANGE ? "a continuous state or an input"
+                                                                      : "an input (co-simulation)");
 }
 
 /* Where an unknown is in the result (x', y): 0 .. nx-1 a derivative, nx + position a computed variable;
    -1 the derivative of a held state (0); -2 (reported) not an unknown. */
 static int unknown_index(heli_instance* c, const char* call, unsigned slot, int scene) {
   const heli_group* g = &M->groups[M->scenes[scene].group];
-  char buf[TEXT_LEN];
   if (slot < (unsigned) M->n_variables && var((int) slot)->position >= 0) return g->nx + var((int) slot)->position;
   if (slot >= (unsigned) M->n_variables && slot < (unsigned) n_slots() && c->kind == HELI_MODEL_EXCHANGE)
     return g->state_of[M->me_state[slot - (unsigned) M->n_variables]];
-  if (slot >= (unsigned) n_slots()) report(c, HELI_ERROR, "%s: unknown value reference %u (unknown)", call, slot);
-  else report(c, HELI_ERROR, "%s: unknown '%s' (value reference %u) is not %s", call, slot_name((int) slot, buf), slot,
-              c->kind == HELI_MODEL_EXCHANGE ? "an output, a local or a derivative" : "an output or a local");
-  return -2;
+  return not_a(c, call, slot, "unknown", c->kind == HELI_MODEL_EXCHANGE ? "an output, a local or a derivative"
+                                                                        : "an output or a local");
 }
 
 static int derivative_problem(heli_instance* c, const char* call, size_t nu, const void* unknown, size_t nk,
                               const void* known, const void* seed, const void* sensitivity) {
-  if (c->s.phase == INSTANTIATED || c->s.phase == TERMINATED) {
+  if (c->s.phase == INSTANTIATED) {
     char need[96];
-    snprintf(need, sizeof need, "call %sEnterInitializationMode first (and no %sTerminate before)", c->api, c->api);
+    snprintf(need, sizeof need, "call %sEnterInitializationMode first", c->api);
     return wrong_phase(c, call, need);
   }
   if ((nu && (!unknown || !sensitivity)) || (nk && (!known || !seed)))
@@ -1190,10 +1348,17 @@ int heli_adjoint(heli_instance* c, const char* call, const unsigned unknown[], s
 
 /* -- FMU state ----------------------------------------------------------------------------------- */
 
+/* The FMU state `state` if this instance saved it (got or deserialized it), else NULL (reported):
+   a state of another FMU, of another build of this one or of another instance is refused. */
 static saved_state* saved_of(heli_instance* c, void* state, const char* call) {
   saved_state* s = (saved_state*) state;
-  if (s && s->magic == SAVED_MAGIC) return s;
-  report(c, HELI_ERROR, "%s: %s is not an FMU state of this FMU", call, s ? "the state given" : "the state (NULL)");
+  if (s && s->magic == SAVED_MAGIC && s->model == M && s->owner == c) return s;
+  if (s && s->magic == SAVED_MAGIC && s->model == M)
+    report(c, HELI_ERROR, "%s: the state given belongs to another instance of this FMU (serialize it there and "
+           "deserialize it here to move it)", call);
+  else
+    report(c, HELI_ERROR, "%s: %s is not an FMU state of this FMU%s", call, s ? "the state given" : "the state (NULL)",
+           s && s->magic == SAVED_MAGIC ? " (it was saved by another FMU library: another build, or another copy)" : "");
   return NULL;
 }
 
@@ -1206,6 +1371,8 @@ int heli_get_state(heli_instance* c, const char* call, void** state) {
     return HELI_ERROR;
   }
   s->magic = SAVED_MAGIC;
+  s->model = M;
+  s->owner = c;
   s->s = c->s;
   *state = s;
   return HELI_OK;
@@ -1261,9 +1428,13 @@ int heli_serialize(heli_instance* c, const char* call, void* state, unsigned cha
   saved_state* s;
   blob_header h;
   if (!(s = saved_of(c, state, call))) return HELI_ERROR;
-  if (!bytes || size < blob_size()) {
-    report(c, HELI_ERROR, "%s: the buffer of %u bytes is too small for the %u bytes of the state", call,
-           (unsigned) size, (unsigned) blob_size());
+  if (!bytes) {
+    report(c, HELI_ERROR, "%s: the buffer for the %u bytes of the state is NULL", call, (unsigned) blob_size());
+    return HELI_ERROR;
+  }
+  if (size < blob_size()) {
+    report(c, HELI_ERROR, "%s: the buffer of %u bytes is too small for the %u bytes of the state (ask "
+           "%sSerializedFMU%sSize)", call, (unsigned) size, (unsigned) blob_size(), c->api, is_fmi3(c) ? "State" : "state");
     return HELI_ERROR;
   }
   fill_header(&h, &s->s);
@@ -1320,6 +1491,8 @@ int heli_deserialize(heli_instance* c, const char* call, const unsigned char byt
     return HELI_ERROR;
   }
   s->magic = SAVED_MAGIC;
+  s->model = M;
+  s->owner = c;
   *state = s;
   return HELI_OK;
 }

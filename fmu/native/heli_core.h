@@ -29,14 +29,16 @@ heli_instance* heli_checked(void* component, const char* call); /* NULL (reporte
 void heli_free(heli_instance* c);
 void heli_report_without(heli_log_fn log, void* env, const char* name, const char* fmt, ...);
 int heli_set_debug_logging(heli_instance* c, int on, size_t n, const char* const categories[]);
-int heli_setup(heli_instance* c, const char* call, double start_time);
+int heli_setup(heli_instance* c, const char* call, double start_time, int stop_defined, double stop_time);
 int heli_enter_initialization(heli_instance* c, const char* call);
 int heli_exit_initialization(heli_instance* c, const char* call);
 int heli_terminate(heli_instance* c, const char* call);
 int heli_reset(heli_instance* c, const char* call);
 int heli_kind(const heli_instance* c);
 void* heli_environment(const heli_instance* c); /* the wrapper's env given to heli_instantiate */
-int heli_no_status(heli_instance* c, const char* call, int kind); /* HELI_DISCARD: no such status */
+int heli_no_status(heli_instance* c, const char* call, int kind, const void* value); /* no such status */
+int heli_last_successful_time(heli_instance* c, const char* call, double* value);
+int heli_terminated_status(heli_instance* c, const char* call, int* value);
 double heli_time(const heli_instance* c);
 
 /* -- values ---------------------------------------------------------------------------------- */
@@ -44,6 +46,7 @@ int heli_slot_type(int slot); /* HELI_REAL or HELI_STRING; -1 if no such slot */
 int heli_lookup(heli_instance* c, const char* call, unsigned slot, const char* type);
 int heli_no_values(heli_instance* c, const char* call, size_t n, const void* refs, const void* values);
 int heli_settable_now(heli_instance* c, const char* call);
+int heli_gettable_now(heli_instance* c, const char* call);
 int heli_get_real(heli_instance* c, const char* call, int slot, double* value);
 int heli_set_real(heli_instance* c, const char* call, int slot, double value);
 const char* heli_get_string(heli_instance* c, int slot);
@@ -55,7 +58,10 @@ int heli_refuse(heli_instance* c, const char* call, const char* why); /* HELI_ER
 int heli_do_step(heli_instance* c, const char* call, double t, double dt);
 
 /* -- model exchange: continuous states in the FMI 2.0 order (heli_model.me_state) ------------ */
-int heli_event_mode(heli_instance* c, const char* call);
+int heli_event_mode(heli_instance* c, const char* call);           /* fmiXEnterEventMode */
+int heli_discrete_states(heli_instance* c, const char* call);      /* fmi2NewDiscreteStates, fmi3UpdateDiscreteStates */
+int heli_continuous_time_mode(heli_instance* c, const char* call); /* fmiXEnterContinuousTimeMode */
+int heli_step_mode(heli_instance* c, const char* call);            /* fmi3EnterStepMode */
 int heli_set_time(heli_instance* c, const char* call, double t);
 int heli_set_states(heli_instance* c, const char* call, const double x[], size_t n);
 int heli_get_states(heli_instance* c, const char* call, double x[], size_t n);

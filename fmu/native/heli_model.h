@@ -76,11 +76,12 @@ typedef struct {
   const double* periodic_x0;  /* initial_state = "periodic": the trim's state, NULL when the scene has none */
   const double* periodic_defaults; /* by value reference: the defaults with the trim's controls */
   double periodic_fs_dir[3];  /* level flight in body axes at the trim's attitude */
-  double periodic_fs_default; /* the trim's initial forward speed (m/s) */
+  double trim_speed;          /* the trim's flight speed (m/s): initial_forward_speed that keeps its state */
 } heli_scene;
 
 /* An FMI 3.0 variable: a scalar or an array of slots (FMI 2.0 value references; -1 is time). */
 typedef struct {
+  const char* name;
   int n;
   const int* slots;
 } heli_variable3;
