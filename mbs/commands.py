@@ -89,8 +89,13 @@ def cmd_simulate(args) -> int:
     _check_revs(args.revs, args.steps_per_rev or scene.steps_per_rev)
     settings = dict(_settings(args.set))
     speed = settings.pop("speed", None)
-    run = prepare(scene, args.revs, args.steps_per_rev, args.dtype, args.backend, params=settings, every=args.every,
-                  method=args.method, inputs=args.inputs, speed=speed)
+    start = _start(args, scene)
+    table = set(args.inputs.names) if args.inputs else set()
+    trimmed = {n: v for n, v in start.controls.items() if n not in table}  # the table's columns are its own
+    run = prepare(scene, args.revs, args.steps_per_rev, args.dtype, args.backend, params={**trimmed, **settings},
+                  every=args.every, method=args.method, inputs=args.inputs, speed=speed,
+                  x0=None if args.start == "scene" else start.x0)
+    run.settings["start"] = args.start
     for text in run.warnings:
         warn(text)
     step = run.check_step(args.step_tol)
@@ -115,6 +120,22 @@ def cmd_simulate(args) -> int:
     lines += [f"wrote {p}" for p in paths.values()]
     emit(res, args.json, lines)
     return 0 if sim.traj.ok else 1
+
+
+def _start(args, scene):
+    """The run's start (``--start``): the scene's own, or a periodic trim (:mod:`mbs.starts`)."""
+    from mbs import starts
+
+    if args.start == "scene":
+        return starts.Start("scene", None, {})
+    print(f"heli simulate: trimming {scene.name} for the start {args.start} ...", file=sys.stderr, flush=True)
+    return starts.start(args.start, scene, scene.system("compiled"), args.steps_per_rev or scene.steps_per_rev)
+
+
+def _parse_start(text: str):
+    from mbs import starts
+
+    return starts.parse(text)
 
 
 def _check_revs(revs: float, steps_per_rev: int) -> None:
@@ -541,6 +562,11 @@ def register(sub, bench) -> None:
                    help="input table: a CSV file with a 'time' column (s) and columns named after parameters (the "
                         "FMU demo's and fmpy's format); linear between rows, a time written twice is a jump, each "
                         "step holds the values at its start; written into results.csv as columns")
+    p.add_argument("--start", type=A.checked_by(_parse_start), default="scene", metavar="START",
+                   help="the initial state: scene (the scene's own, the default), periodic (its periodic trim: "
+                        "controls, attitude and every rotor state, as the FMU's initial_state=periodic) or periodic:V "
+                        "(the periodic trim at V m/s, as the starts of 'heli fly'); --set speed=V then sets the "
+                        "initial forward speed at the trim's attitude")
     p.add_argument("--step-tol", type=A.positive, default=0.01, metavar="FRACTION",
                    help="largest step error allowed, as a fraction of each state's range over the first revolution "
                         "(default 0.01): a step-doubling check (three revolutions' worth of steps) warns above it "

@@ -1,0 +1,119 @@
+"""Fly it in the browser: one self-contained HTML page holding a scene's model as WebAssembly (the
+native FMU's generated C and model core, :mod:`fmu.native.wasm`), its meshcat scene and the
+pilot's controls; no server, no network, works from ``file://``.
+
+The model runs in a Web Worker at the fixed RK4 step of ``heli simulate`` (one revolution over the
+scene's steps per revolution), in real time or at a chosen time scale, decoupled from the frames
+(``web/worker.js``); the page draws the poses, charts, the tip-path plane and the readout
+(``web/fly.js``, ``web/charts.js``) and reads the pilot (``web/controls.js``). The inputs flown are
+recorded as ``heli simulate``'s ``--inputs`` table, which replays the flight from the same start
+(``heli simulate SCENE --start ...``).
+
+Modules: :mod:`.model` (what the page knows of the model), :mod:`.starts` (trims at chosen
+speeds), :mod:`.controller` (the hover-hold controller), :mod:`.page` (the HTML),
+:mod:`.commands` (``heli fly``), :mod:`.bench` (``heli bench fly``).
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from viewer import kinematics as kin
+from viewer.fly import controller as hover_hold
+from viewer.fly import model as fm
+from viewer.fly.page import html_page
+from viewer.fly.starts import page_starts
+
+STAND_NOTE = ("{scene}: a rotor on a stand (its fuselage is not free): the pitch controls only; no flight, no "
+              "stability augmentation")
+
+
+@dataclass
+class FlyPage:
+    """What :func:`write_page` wrote: ``path``, ``size`` (bytes), the scene, the starts' labels,
+    whether the controller is in, the WebAssembly model's size and the build's seconds."""
+
+    path: Path
+    size: int
+    scene: str
+    starts: list[str]
+    controller: bool
+    wasm_bytes: int
+    build_s: float
+    free: bool
+    note: str
+
+    def summary(self) -> dict:
+        return {"html": str(self.path), "bytes": self.size, "scene": self.scene, "starts": self.starts,
+                "controller": self.controller, "wasm_bytes": self.wasm_bytes, "build_s": self.build_s,
+                "free_fuselage": self.free, "note": self.note}
+
+
+def _start_view(system, scene, start: dict, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Node transforms (nb, 4, 4) and the world node (4, 4) at the first start."""
+    from viewer.motion import parents_of
+
+    origins, rotations = system.poses(np.array(start["x0"]), 0.0, p)
+    local = kin.relative(kin.homogeneous(origins, rotations), parents_of(system.info))
+    world = np.eye(4)
+    if scene.follow is not None:
+        world[:3, 3] = -origins[scene.body_names.index(scene.follow)]
+    return local, world
+
+
+def _params(system, names: list[str], start: dict) -> np.ndarray:
+    return system.params({n: v for n, v in zip(names, start["controls"])})
+
+
+def write_page(scene_name: str, out, aircraft=None, speeds=None, flat: bool = False, log=None) -> FlyPage:
+    """Write the flight page of ``scene_name`` (of ``aircraft``: a name or file, default the Bo105)
+    to ``out``: starts at the periodic trims at ``speeds`` (m/s; default
+    :data:`viewer.fly.starts.DEFAULT_SPEEDS`) and the scene's own; ``flat``: unlit test colours."""
+    from fmu.native import wasm
+    from mbs import scenes
+    from viewer.export import RecordingWindow
+    from viewer.scene import build_scene, commands
+
+    began = time.perf_counter()
+    sc = scenes.get(scene_name, aircraft)
+    built = wasm.ensure_model([scene_name], aircraft, log)
+    spec, vr = built.spec, fm.value_refs(built.spec)
+    system = sc.system("compiled")
+    info = system.info
+    free = any(b["joint"] == "FreeJoint" for b in info.bodies)
+    names = [v["name"] for v in spec["variables"] if v["causality"] == "input"]
+    starts = page_starts(sc, system, names, speeds, log)
+    h = fm.step(sc, system)
+    p0 = _params(system, names, starts[0])
+    signs = fm.pilot_signs(system, np.array(starts[0]["x0"]), p0, h, sc.steps_per_rev) if free else {}
+    scene = build_scene(info, flat, True, True)
+    controls = fm.inputs(spec, scene_name, signs)
+    ctrl, ctrl_wasm, why = hover_hold.page_controller(sc, vr, names, aircraft, log) if free else (None, None, "")
+    charts, chart_vrs = fm.charts(sc, scene, vr, controls)
+    readout, readout_vrs = fm.readout(vr)
+    note = "" if free else STAND_NOTE.format(scene=scene_name)
+    config = {"scene": scene_name, "aircraft": info.name, "aircraft_arg": None if aircraft is None else str(aircraft),
+              "h": h, "revolution": sc.revolution(system, system.params()), "steps_per_rev": sc.steps_per_rev,
+              "vr": {"scene": vr["scene"], "initial_state": vr.get("initial_state", -1)},
+              "inputs": controls, "hinge": spec["scenes"][scene_name]["hinge_states"],
+              "hinge_names": [info.state_names[i] for i in spec["scenes"][scene_name]["hinge_states"]],
+              "charts": charts, "chart_vrs": chart_vrs, "readout": readout, "readout_vrs": readout_vrs,
+              "chart_every": max(1, round(sc.steps_per_rev / fm.CHART_SAMPLES_PER_REV)),
+              "history_limit": fm.HISTORY_LIMIT, "tpp_stretch": 5,
+              "bodies": fm.bodies(scene), "follow": -1 if scene.follow is None else scene.body_names.index(scene.follow),
+              "world": scene.frame_path("world"), "tips": fm.tips(scene), "starts": starts, "scales": fm.SCALES,
+              "controller": ctrl, "no_controller": why or "no stability augmentation on a stand", "free": free,
+              "note": note, "inputs_file": f"{scene_name}-inputs.csv"}
+    window = RecordingWindow()
+    for command in commands(scene, *_start_view(system, scene, starts[0], p0)):
+        window.send(command)
+    title = f"fly {scene_name} ({info.name})"
+    text = html_page(window.packed(), {"config": config}, built.wasm.read_bytes(), ctrl_wasm, title)
+    path = Path(out)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(text, encoding="utf-8")
+    return FlyPage(path, path.stat().st_size, scene_name, [s["label"] for s in starts], ctrl is not None,
+                   built.wasm.stat().st_size, time.perf_counter() - began, free, note)
