@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from browser_fixtures import browser, count_color, page, pixels  # noqa: F401  (fixtures)
+from browser_fixtures import HELPERS, browser, count_color, page, pixels  # noqa: F401  (fixtures)
 from fmu import hosts
 from mbs import scenes, starts
 from mbs.inputs import read_table, run_held
@@ -73,6 +73,16 @@ def core_run(cfg: dict, table_path: Path, steps: int) -> np.ndarray:
     return traj.x[:, cfg["hinge"]]
 
 
+def _results(folder: Path, names: list[str]) -> np.ndarray:
+    """Columns ``names`` of ``results.csv`` in ``folder`` (heli simulate's)."""
+    import csv
+
+    with open(folder / "results.csv") as f:
+        rows = list(csv.reader(f))
+    index = [rows[0].index(n) for n in names]
+    return np.array([[float(r[i]) for i in index] for r in rows[1:]])
+
+
 def test_page_loads_from_file_offline_with_webgl(page, pages):
     built = pages["default"]
     requests = []
@@ -118,9 +128,250 @@ def test_scripted_flight_equals_the_core_and_its_record_replays_in_heli_simulate
     out = tmp_path / "replay"
     assert main(["simulate", SCENE, "--start", "periodic", "--revs", str(REVS), "--inputs", str(csv), "--out", str(out),
                  "--quiet"]) == 0
-    cols = np.genfromtxt(out / "results.csv", delimiter=",", names=True)
-    replay = np.column_stack([cols[n.replace(".", "")] if n.replace(".", "") in cols.dtype.names else cols[n]
-                              for n in cfg["hinge_names"]])
-    err = np.abs(replay - got).max()
+    err = np.abs(_results(out, cfg["hinge_names"]) - got).max()
     assert err < 1e-9, err
+    assert page.errors == []
+
+
+@pytest.fixture(scope="module")
+def libcosim_hover_hold():
+    """The hover-hold co-simulation of the helicopter and controller FMUs in libcosim (heli cosim's),
+    over its first 10 s: the 1 m/s disturbance's attitude peak comes at 0.5 s, the largest drift at 5 s."""
+    import tempfile
+
+    from fmu import build as pybuild
+    from fmu import controller, cosim
+    from fmu.native.build import ensure_native_fmu
+
+    heli, _ = ensure_native_fmu(pybuild.DEFAULT_SCENES)
+    ctrl, _ = controller.ensure_controller_fmu()
+    with tempfile.TemporaryDirectory() as tmp:
+        ssp = cosim.write(Path(tmp) / "hover_hold.ssp", heli, ctrl, HOLD_S)
+        res = cosim.run_libcosim(ssp, HOLD_S, controller.default_step())
+    return res, controller.read_design(ctrl)["trim_inputs"]
+
+
+HOLD_S = 10.0
+
+
+def test_hover_hold_switch_holds_the_disturbance_as_the_controller_fmu_in_libcosim(page, pages, libcosim_hover_hold,
+                                                                                   tmp_path):
+    """The page's hover trim with a 1 m/s initial forward speed and the SAS switch on hover hold:
+    the same controller C (WebAssembly) on the same model core as the FMUs in libcosim. The peaks
+    of attitude and drift, and of each fuselage output, are libcosim's to 1e-6 (libcosim's step is
+    the revolution's hundredth rounded to whole nanoseconds, the page's the exact one). The flight's
+    record (a row every step: the controller moves the inputs each step) replays in heli simulate
+    to 1e-9 rad."""
+    from fmu import controller, cosim
+
+    built = pages["flat"]
+    cfg = config(built)
+    hover = next(i for i, s in enumerate(cfg["starts"]) if s["speed"] == 0.0)
+    open_page(page, built)
+    page.select_option("#start", str(hover))
+    page.fill("#speed", "1")
+    page.dispatch_event("#speed", "change")
+    page.select_option("#sas", "hover")
+    page.wait_for_function("window.__fly.state.frame.sas === 'hover' && window.__fly.state.frame.k === 0")
+    frame = fly_until(page, round(HOLD_S / cfg["h"]) * cfg["h"])
+    assert not frame["stopped"]
+    flight = page.evaluate("window.__fly.history()")["flight"]
+    assert len(flight) == frame["k"]
+    res = {"time": np.array([r["k"] * cfg["h"] for r in flight])}
+    res.update({n: np.array([r["y"][j] for r in flight]) for j, n in enumerate(controller.INPUTS)})
+    lib, trim = libcosim_hover_hold
+    mine, theirs = cosim.excursions(res, trim), cosim.excursions(lib, trim)
+    assert theirs["max_attitude_deg"] < 2.0 and theirs["max_drift_m"] < 5.0  # it holds the hover
+    for key in ("max_attitude_deg", "max_drift_m", "final_drift_m"):
+        assert abs(mine[key] - theirs[key]) < 1e-6, (key, mine[key], theirs[key])
+    for n in controller.INPUTS:
+        assert abs(res[n].max() - lib[n].max()) < 1e-6 and abs(res[n].min() - lib[n].min()) < 1e-6, n
+    assert page.errors == []
+    # the controller's inputs change every step: the record has a row per step, and replays exactly
+    hinges = np.array(page.evaluate("window.__fly.history()")["values"])
+    csv = tmp_path / "hover-hold.csv"
+    csv.write_text(page.evaluate("window.__fly.inputsCsv()")["csv"])
+    assert len(csv.read_text().splitlines()) > frame["k"]
+    from mbs.cli import main
+
+    out = tmp_path / "replay"
+    assert main(["simulate", SCENE, "--start", "periodic:0", "--set", "speed=1", "--revs", repr(frame["k"] / cfg["steps_per_rev"]),
+                 "--inputs", str(csv), "--out", str(out), "--quiet"]) == 0
+    assert np.abs(_results(out, cfg["hinge_names"]) - hinges).max() < 1e-9
+
+
+def _picture(page) -> np.ndarray:
+    page.evaluate(HELPERS)
+    return pixels(page).astype(int)
+
+
+def _blade_pixels(page, built) -> dict:
+    rgb = _picture(page)
+    cfg = config(built)
+    return {b["name"]: count_color(rgb, int(t["color"][1:], 16)) for b, t in
+            ((cfg["bodies"][t["body"]], t) for t in cfg["tips"])}
+
+
+def _changed(a: np.ndarray, b: np.ndarray) -> int:
+    return int((np.abs(a - b).max(axis=-1) > 30).sum())
+
+
+def _pilot(page) -> dict:
+    return page.evaluate("(() => { const s = window.__pilot.state(); s.values = window.__pilot.values(); "
+                         "s.applied = window.__fly.state.frame.applied; return s; })()")
+
+
+def _reference(page, built, revs: float = 1.0):
+    """Picture and hinge angles after ``revs`` revolutions of the untouched page (start 0)."""
+    cfg = config(built)
+    fly_until(page, revs * cfg["steps_per_rev"] * cfg["h"])
+    return _picture(page), np.array(page.evaluate("window.__fly.history()")["values"][-1])
+
+
+def _restart(page):
+    page.click("#reset")
+    page.wait_for_function("window.__fly.state.frame.k === 0 && !window.__fly.state.frame.running")
+
+
+def test_keyboard_and_sliders_move_the_controls_and_the_blades(page, pages):
+    """Held arrow key: the lateral cyclic deflects by a quarter of its range (then springs back when
+    let go); W raises the collective; a click on a slider sets its input. Flown one revolution, each
+    moves the blades: the hinge angles and the blades' pixels differ from the untouched flight's."""
+    built = pages["flat"]
+    cfg = config(built)
+    names = [q["name"] for q in cfg["inputs"]]
+    lat, col = names.index("lateral_cyclic"), names.index("collective")
+    span = {i: cfg["inputs"][i]["high"] - cfg["inputs"][i]["low"] for i in (lat, col)}
+    open_page(page, built)
+    picture, hinges = _reference(page, built)
+    blades = _blade_pixels(page, built)
+    assert min(blades.values()) > 100, blades  # every blade is drawn
+    _restart(page)
+    trim = _pilot(page)["values"]
+    page.locator("#view").click()  # focus on the page, not on a control
+    page.keyboard.down("ArrowRight")
+    page.wait_for_function(f"Math.abs(window.__pilot.state().deflection[{lat}]) >= {0.25 * span[lat] - 1e-12}")
+    state = _pilot(page)
+    assert state["values"][lat] == pytest.approx(trim[lat] + cfg["inputs"][lat]["sign"] * 0.25 * span[lat], abs=1e-12)
+    page.wait_for_function(f"(() => {{ const f = window.__fly.state.frame; return f.pilot[{lat}] === {state['values'][lat]!r}; }})()")
+    moved, moved_hinges = _reference(page, built)
+    page.keyboard.up("ArrowRight")
+    page.wait_for_function(f"window.__pilot.state().deflection[{lat}] === 0")  # springs back
+    assert _changed(picture, moved) > 300
+    assert np.abs(moved_hinges - hinges).max() > 1e-3
+    _restart(page)
+    page.locator("#view").click()
+    page.keyboard.down("w")
+    page.wait_for_timeout(400)
+    page.keyboard.up("w")
+    assert _pilot(page)["values"][col] > trim[col] + 0.05 * span[col]  # the collective went up and stays
+    _restart(page)
+    box = page.locator("#input-collective").bounding_box()
+    page.mouse.click(box["x"] + 0.9 * box["width"], box["y"] + box["height"] / 2)
+    value = _pilot(page)["values"][col]
+    assert value > cfg["inputs"][col]["low"] + 0.8 * span[col]
+    assert page.evaluate("parseFloat(document.getElementById('input-collective').value)") == pytest.approx(value)
+    raised, raised_hinges = _reference(page, built)
+    assert _changed(picture, raised) > 300 and np.abs(raised_hinges - hinges).max() > 1e-3
+    assert page.errors == []
+
+
+PAD = """
+window.__pad = {id: "synthetic gamepad (standard mapping)", index: 0, connected: true, mapping: "standard",
+  timestamp: 0, axes: [0, 0, 0, 0], buttons: Array.from({length: 17}, () => ({pressed: false, touched: false, value: 0}))};
+navigator.getGamepads = () => [window.__pad, null, null, null];
+"""
+
+
+def test_gamepad_moves_the_cyclic_and_releases_the_trim(page, pages):
+    """A synthetic gamepad (the Gamepad API's navigator.getGamepads): the right stick pushed right
+    deflects the lateral cyclic, held forward the longitudinal, through the page's gamepad path; its
+    button A releases the trim (the deflected cyclic becomes the trim); flown one revolution, the
+    blades answer."""
+    built = pages["flat"]
+    cfg = config(built)
+    names = [q["name"] for q in cfg["inputs"]]
+    lat, lon = names.index("lateral_cyclic"), names.index("longitudinal_cyclic")
+    reach = {i: 0.25 * (cfg["inputs"][i]["high"] - cfg["inputs"][i]["low"]) for i in (lat, lon)}
+    page.add_init_script(PAD)
+    open_page(page, built)
+    page.wait_for_function("document.getElementById('gamepad').textContent.indexOf('synthetic') >= 0")
+    _, hinges = _reference(page, built)
+    _restart(page)
+    trim = _pilot(page)["values"]
+    page.evaluate("window.__pad.axes = [0, 0, 1, -1]")  # right stick right and forward
+    page.wait_for_function(f"window.__pilot.state().stick[{lat}] !== 0 && window.__pilot.state().stick[{lon}] !== 0")
+    got = _pilot(page)["values"]
+    assert got[lat] == pytest.approx(trim[lat] + cfg["inputs"][lat]["sign"] * reach[lat], abs=1e-12)
+    assert got[lon] == pytest.approx(trim[lon] + cfg["inputs"][lon]["sign"] * reach[lon], abs=1e-12)
+    page.evaluate("window.__pad.buttons[0] = {pressed: true, touched: true, value: 1}")
+    page.wait_for_function(f"window.__pilot.state().trim[{lat}] !== {trim[lat]!r}")
+    page.evaluate("window.__pad.axes = [0, 0, 0, 0]; window.__pad.buttons[0] = {pressed: false, touched: false, value: 0}")
+    page.wait_for_function(f"window.__pilot.state().stick[{lat}] === 0")
+    released = _pilot(page)
+    assert released["values"][lat] == pytest.approx(got[lat], abs=1e-12)  # the trim holds the released stick
+    page.wait_for_function(f"window.__fly.state.frame.pilot[{lat}] === {released['values'][lat]!r}")
+    _, moved = _reference(page, built)
+    assert np.abs(moved - hinges).max() > 1e-3
+    assert page.errors == []
+
+
+@pytest.mark.parametrize("scene", ["hover", "ground-run"])
+def test_every_scene_of_the_native_fmu_flies(page, tmp_path, scene):
+    """The native FMU's scenes besides forward flight (covered above): hover flies from its trim;
+    ground-run, whose fuselage is clamped, opens as a rotor on a stand with the four pitch controls
+    only, said on the page, no stability augmentation and no flight charts. Each flies a revolution
+    and its blades move."""
+    built = write_page(scene, tmp_path / f"{scene}.html", speeds=[])
+    cfg = config(built)
+    open_page(page, built)
+    assert [q["name"] for q in cfg["inputs"]] == ["collective", "lateral_cyclic", "longitudinal_cyclic",
+                                                   "tail_collective"]
+    stand = scene == "ground-run"
+    assert built.free is not stand and (cfg["controller"] is None) is stand
+    assert page.evaluate("document.getElementById('sas').disabled") is stand
+    titles = [c["title"] for c in cfg["charts"]]
+    assert ("attitude (deg)" in titles) is not stand and "main-rotor flap (deg)" in titles
+    if stand:
+        assert "a rotor on a stand" in page.text_content("#banner") and "pitch controls only" in page.text_content("#banner")
+    frame = fly_until(page, cfg["steps_per_rev"] * cfg["h"])
+    assert frame["k"] == cfg["steps_per_rev"] and not frame["stopped"]
+    hinges = np.array(page.evaluate("window.__fly.history()")["values"])
+    assert np.ptp(hinges, axis=0).max() > 1e-3
+    assert page.errors == []
+
+
+def test_a_diverging_step_stops_the_flight_with_the_fmus_message(page, pages):
+    """A start whose blade 1 lags at 1e4 rad/s (the page's configuration altered before it loads):
+    the first step diverges, the model core discards it, and the page stops there and shows the
+    FMU's message."""
+    built = pages["flat"]
+    cfg = config(built)
+    rate = scenes.get(SCENE).system("compiled").info.state_names.index("blade1.lag_rate")
+    page.add_init_script(f"""(() => {{ const parse = JSON.parse; JSON.parse = function (text) {{
+        const d = parse.apply(this, arguments);
+        if (d && d.config && d.config.starts) d.config.starts[0].x0[{rate}] = 1e4;
+        return d; }}; }})();""")
+    open_page(page, built)
+    frame = fly_until(page, 10 * cfg["h"])
+    assert frame["stopped"] and frame["k"] == 0 and not frame["running"]
+    assert frame["stopped"].startswith(("the simulation diverged at t = 0.0 s", "the simulation left the hinge range"))
+    assert "the step was discarded (the state stays at t = 0.0 s)" in frame["stopped"]
+    assert frame["stopped"] in page.text_content("#banner")
+    page.click("#run")
+    page.wait_for_timeout(300)
+    assert page.evaluate("window.__fly.state.frame.k") == 0  # it stays stopped until reset
+
+
+def test_a_flight_that_cannot_keep_up_says_so(page, pages):
+    """At a time scale far beyond what the machine can do (x1000), the page says that it cannot keep
+    up and shows the rate it reaches, instead of slowing silently."""
+    built = pages["flat"]
+    open_page(page, built)
+    page.evaluate("window.__fly.scale(1000); window.__fly.run()")
+    page.wait_for_function("window.__fly.state.frame.behind", timeout=20000)
+    frame = page.evaluate("window.__fly.state.frame")
+    assert 0 < frame["factor"] < 0.9 * 1000
+    assert "cannot keep up" in page.text_content("#status")
+    page.evaluate("window.__fly.pause()")
     assert page.errors == []

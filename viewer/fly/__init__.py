@@ -68,10 +68,27 @@ def _params(system, names: list[str], start: dict) -> np.ndarray:
     return system.params({n: v for n, v in zip(names, start["controls"])})
 
 
-def write_page(scene_name: str, out, aircraft=None, speeds=None, flat: bool = False, log=None) -> FlyPage:
-    """Write the flight page of ``scene_name`` (of ``aircraft``: a name or file, default the Bo105)
-    to ``out``: starts at the periodic trims at ``speeds`` (m/s; default
-    :data:`viewer.fly.starts.DEFAULT_SPEEDS`) and the scene's own; ``flat``: unlit test colours."""
+def family(scene_name: str) -> list[str]:
+    """The scenes whose models the page's WebAssembly holds: the native FMU's default family
+    (forward flight, hover and ground run; two models) for one of them, else the scene alone."""
+    from fmu.build import DEFAULT_SCENES
+
+    return list(DEFAULT_SCENES) if scene_name in DEFAULT_SCENES else [scene_name]
+
+
+def aircraft_argument(aircraft) -> str | None:
+    """The ``--aircraft`` that names ``aircraft`` on a command line (None: the Bo105)."""
+    if aircraft is None or isinstance(aircraft, str):
+        return aircraft
+    return aircraft.key if aircraft.packaged else str(aircraft.path)
+
+
+def write_page(scene_name: str, out, aircraft=None, speeds=None, flat: bool = False, log=None,
+               flags=None) -> FlyPage:
+    """Write the flight page of ``scene_name`` (of ``aircraft``: a name, file or loaded aircraft,
+    default the Bo105) to ``out``: starts at the periodic trims at ``speeds`` (m/s; default
+    :data:`viewer.fly.starts.DEFAULT_SPEEDS`) and the scene's own; ``flat``: unlit test colours;
+    ``flags``: the WebAssembly's compiler flags (default :data:`fmu.native.wasm.FLAGS`)."""
     from fmu.native import wasm
     from mbs import scenes
     from viewer.export import RecordingWindow
@@ -79,7 +96,7 @@ def write_page(scene_name: str, out, aircraft=None, speeds=None, flat: bool = Fa
 
     began = time.perf_counter()
     sc = scenes.get(scene_name, aircraft)
-    built = wasm.ensure_model([scene_name], aircraft, log)
+    built = wasm.ensure_model(family(scene_name), aircraft, log, flags or wasm.FLAGS)
     spec, vr = built.spec, fm.value_refs(built.spec)
     system = sc.system("compiled")
     info = system.info
@@ -93,9 +110,9 @@ def write_page(scene_name: str, out, aircraft=None, speeds=None, flat: bool = Fa
     controls = fm.inputs(spec, scene_name, signs)
     ctrl, ctrl_wasm, why = hover_hold.page_controller(sc, vr, names, aircraft, log) if free else (None, None, "")
     charts, chart_vrs = fm.charts(sc, scene, vr, controls)
-    readout, readout_vrs = fm.readout(vr)
+    readout, readout_vrs = fm.readout(vr, fm.modelled(info))
     note = "" if free else STAND_NOTE.format(scene=scene_name)
-    config = {"scene": scene_name, "aircraft": info.name, "aircraft_arg": None if aircraft is None else str(aircraft),
+    config = {"scene": scene_name, "aircraft": info.name, "aircraft_arg": aircraft_argument(aircraft),
               "h": h, "revolution": sc.revolution(system, system.params()), "steps_per_rev": sc.steps_per_rev,
               "vr": {"scene": vr["scene"], "initial_state": vr.get("initial_state", -1)},
               "inputs": controls, "hinge": spec["scenes"][scene_name]["hinge_states"],

@@ -74,11 +74,19 @@ def tips(scene: Scene) -> list[dict]:
 PALETTE = ["#d62728", "#2ca02c", "#1f77b4", "#222222", "#9467bd"]
 
 
+def modelled(info) -> set[str]:
+    """The variables the scene's own model computes (the family's primary scene may have more: an
+    FMU gives 0 for the others): its states and outputs, and a free fuselage's Euler angles."""
+    free = [b["name"] for b in info.bodies if b["joint"] == "FreeJoint"]
+    return {*info.state_names, *info.output_names, *(f"{b}.{a}" for b in free for a in ("roll", "pitch", "yaw"))}
+
+
 def _series(scene: Scene, names: list[str], vr: dict, chart_vrs: list[int]) -> list[dict]:
     """Chart series of the variables ``names`` the model has: a blade's in its colour, others from a palette."""
     out = []
+    known = modelled(scene.info)
     for k, name in enumerate(names):
-        if name not in vr:
+        if name not in vr or name not in known:
             continue
         body, _, what = name.partition(".")
         blade = body in scene.colors and body in scene.traced
@@ -114,7 +122,7 @@ def charts(sc, scene: Scene, vr: dict, controls: list[dict]) -> tuple[list[dict]
     return panels, chart_vrs
 
 
-def readout(vr: dict) -> tuple[list[dict], list[int]]:
+def readout(vr: dict, known: set[str]) -> tuple[list[dict], list[int]]:
     """The readout beside time and revolutions: azimuth, speed, attitude, height (those the model has)."""
     items = [("main_rotor.azimuth", "azimuth", 180 / math.pi, 360, 1, "\u00b0"),
              ("fuselage.u", "u", 1, None, 2, " m/s"),
@@ -123,7 +131,7 @@ def readout(vr: dict) -> tuple[list[dict], list[int]]:
              ("fuselage.yaw", "heading", 180 / math.pi, 360, 1, "\u00b0"),
              ("fuselage.z", "height", -1, None, 2, " m"),
              ("main_rotor.thrust", "thrust", 1e-3, None, 2, " kN")]
-    shown = [i for i in items if i[0] in vr]
+    shown = [i for i in items if i[0] in vr and i[0] in known]
     return ([{"name": n, "label": label, "scale": s, "modulo": m, "digits": d, "unit": u}
              for n, label, s, m, d, u in shown], [vr[i[0]] for i in shown])
 

@@ -14,7 +14,7 @@
   "use strict";
   var data = window.__flyData, C = data.config;
   var el = function (id) { return document.getElementById(id); };
-  var listeners = {}, pending = {}, state = {ready: false, frame: null, error: null};
+  var listeners = {}, pending = {}, state = {ready: false, frame: null, error: null, firstFrameMs: null};
   var THREE = MeshCat.THREE;
 
   function on(type, fn) { (listeners[type] = listeners[type] || []).push(fn); }
@@ -89,6 +89,7 @@
   }
 
   function frame(d) {
+    if (state.firstFrameMs === null) state.firstFrameMs = performance.now(); /* ms since the page's navigation */
     state.frame = d;
     place(d.poses);
     readout(d);
@@ -230,6 +231,7 @@
     start: start, reset: function () { el("reset").click(); },
     table: table,
     inputsCsv: function () { return ask("inputs"); },
+    bench: function (steps) { return ask("bench", {steps: steps}); },
     history: function () { return ask("history"); }
   };
 })();

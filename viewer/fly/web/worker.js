@@ -14,7 +14,7 @@
    The hinge angles after every step are kept (history), and with the controller on also its
    inputs (the helicopter's fuselage outputs) and outputs after every step.
 
-   Messages in: init, start, run, pause, until, scale, pilot, table, sas, inputs, history.
+   Messages in: init, start, run, pause, until, scale, pilot, table, sas, inputs, history, bench.
    Messages out: ready, frame, stopped, inputs, history, error. */
 "use strict";
 
@@ -374,10 +374,17 @@ var handlers = {
   pause: function () { run(false); },
   until: function (d) { S.until = d.t; run(true); },
   scale: function (d) { S.max = d.max; if (!d.max) S.scale = d.scale; S.anchor = null; S.rate = []; },
-  pilot: function (d) { S.pilot = d.values.slice(); },
+  pilot: function (d) { S.pilot = d.values.slice(); if (!S.running) post(true); },
   table: function (d) { S.table = d.table; post(true); },
   sas: function (d) { engage(d.mode); post(true); },
   inputs: function () { self.postMessage({type: "inputs", csv: inputsCsv(), steps: S.k}); },
+  /* The benchmark: `steps` steps of the model core in one call (hw_run), then the flight restarts. */
+  bench: function (d) {
+    run(false);
+    var t0 = performance.now(), status = M.hw_run(d.steps, C.h), ms = performance.now() - t0;
+    start(S.start, S.speed);
+    self.postMessage({type: "bench", us_per_step: ms * 1000 / d.steps, status: status});
+  },
   history: function () {
     self.postMessage({type: "history", h: C.h, steps: S.hinges.length, names: C.hinge_names,
                       values: S.hinges.map(function (r) { return Array.prototype.slice.call(r); }),

@@ -1,0 +1,125 @@
+"""``heli bench fly``: the flight page's model step in WebAssembly (headless Chromium, in the page's
+own Web Worker) against the same C compiled natively, in one run on one machine; the page's size,
+its time to the first frame and the real-time factor the page reaches flying as fast as it can.
+
+Both sides run the same loop of the same entry points (``hw_run`` of ``fmu/native/heli_wasm.c``:
+n co-simulation steps of the model core, each one RK4 step of ``heli simulate``'s size with the
+FMU's checks) from the scene's periodic start. The WebAssembly model is timed as the page ships it
+(``-Os``) and compiled with other flags (``-O2``, ``-O3``, ``-O2 -msimd128``) for comparison.
+"""
+from __future__ import annotations
+
+import ctypes
+import json
+import statistics
+import tempfile
+import time
+from pathlib import Path
+
+VARIANTS = {"-Os (shipped)": None, "-O2": ["-O2"], "-O3": ["-O3"], "-O2 -msimd128": ["-O2", "-msimd128"]}
+
+
+def _native_us(lib_path: Path, spec: dict, scene: str, h: float, steps: int, repeats: int) -> list[float]:
+    """µs per step of ``hw_run`` in the native library, each repeat from the periodic start."""
+    lib = ctypes.CDLL(str(lib_path))
+    lib.hw_run.argtypes, lib.hw_set_real.argtypes = [ctypes.c_int, ctypes.c_double], [ctypes.c_int, ctypes.c_double]
+    lib.hw_text.restype = ctypes.c_void_p
+    vr = {v["name"]: k for k, v in enumerate(spec["variables"])}
+    out = []
+    for _ in range(repeats):
+        assert lib.hw_open() == 0
+        for name, value in (("scene", scene), ("initial_state", "periodic")):
+            text = value.encode() + b"\0"
+            ctypes.memmove(lib.hw_text(), text, len(text))
+            assert lib.hw_set_string(vr[name]) == 0
+        assert lib.hw_start() <= 1
+        start = time.perf_counter()
+        status = lib.hw_run(steps, h)
+        out.append((time.perf_counter() - start) / steps * 1e6)
+        if status > 1:
+            raise RuntimeError(f"the native run stopped (status {status})")
+    lib.hw_free()
+    return out
+
+
+def _browser(pages: dict, steps: int, repeats: int) -> dict:
+    """In headless Chromium: per page, the time to the first frame (ms), µs per step of ``hw_run`` in
+    its worker (``repeats`` runs) and the real-time factor flying as fast as it can."""
+    from playwright.sync_api import sync_playwright
+
+    from viewer.fly.browser import ARGS, chromium
+
+    out = {}
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=chromium(), headless=True, args=ARGS)
+        for name, path in pages.items():
+            page = browser.new_page(viewport={"width": 1000, "height": 640})
+            page.goto(Path(path).as_uri())
+            page.wait_for_function("window.__fly && window.__fly.state.firstFrameMs", timeout=60000)
+            first = page.evaluate("window.__fly.state.firstFrameMs")
+            runs = [page.evaluate(f"window.__fly.bench({steps})") for _ in range(repeats)]
+            page.evaluate("window.__fly.scale('max'); window.__fly.run()")
+            page.wait_for_timeout(3000)
+            factor = page.evaluate("window.__fly.state.frame.factor")
+            page.evaluate("window.__fly.pause()")
+            page.close()
+            out[name] = {"first_frame_ms": first, "us_per_step": [r["us_per_step"] for r in runs], "max_factor": factor}
+        browser.close()
+    return out
+
+
+def run(scene: str = "forward-flight", steps: int = 4000, repeats: int = 3, log=None) -> dict:
+    """The benchmark (see the module docstring); figures by variant, medians of ``repeats``."""
+    import os
+
+    from fmu.native import wasm
+    from mbs import scenes
+    from viewer.fly import family, write_page
+
+    sc = scenes.get(scene)
+    names = family(scene)
+    with tempfile.TemporaryDirectory(prefix="heli-bench-fly-") as tmp:
+        shipped = write_page(scene, Path(tmp) / "fly.html", speeds=[], log=log)
+        pages = {"-Os (shipped)": shipped.path}
+        for label, flags in VARIANTS.items():
+            if flags:
+                pages[label] = write_page(scene, Path(tmp) / f"fly{len(pages)}.html", speeds=[], log=log,
+                                          flags=[*flags, *wasm.FLAGS[1:]]).path
+        spec = wasm.ensure_model(names).spec
+        lib = wasm.native_library(names, Path(tmp) / "native" / "model.so")
+        h = sc.revolution() / sc.steps_per_rev
+        native = _native_us(lib, spec, scene, h, steps, repeats)
+        browser = _browser(pages, steps, repeats)
+        sizes = {label: os.path.getsize(path) for label, path in pages.items()}
+    native_us = statistics.median(native)
+    variants = {}
+    for label, r in browser.items():
+        us = statistics.median(r["us_per_step"])
+        variants[label] = {"us_per_step": us, "over_native": us / native_us, "realtime_factor": h / (us * 1e-6),
+                           "page_bytes": sizes[label], "first_frame_ms": r["first_frame_ms"],
+                           "page_max_factor": r["max_factor"], "runs_us": r["us_per_step"]}
+    best = variants["-Os (shipped)"]
+    return {"scene": scene, "steps": steps, "repeats": repeats, "step_s": h, "native_us_per_step": native_us,
+            "native_runs_us": native, "native_realtime_factor": h / (native_us * 1e-6), "variants": variants,
+            "load_average": list(os.getloadavg()),
+            "meets": {"realtime_x10": best["realtime_factor"] >= 10, "within_2x_native": best["over_native"] <= 2,
+                      "page_under_5MB": best["page_bytes"] <= 5e6}}
+
+
+def lines(res: dict) -> list[str]:
+    """The human-readable report of :func:`run`."""
+    out = [f"{res['scene']}: {res['steps']} RK4 steps of {res['step_s'] * 1e3:.4f} ms (the model core's doStep), median "
+           f"of {res['repeats']}; load average {res['load_average'][0]:.1f}",
+           f"  native (cc -O2, same C):      {res['native_us_per_step']:8.1f} µs/step  "
+           f"{res['native_realtime_factor']:6.1f}x real time",
+           f"  {'WebAssembly in Chromium':30s}{'µs/step':>9s} {'/native':>8s} {'x real time':>12s} {'page MB':>8s} "
+           f"{'1st frame ms':>13s} {'page flying, x':>15s}"]
+    for label, v in res["variants"].items():
+        page = f"{v['page_max_factor']:15.1f}" if v["page_max_factor"] else f"{'-':>15s}"
+        out.append(f"  {label:30s}{v['us_per_step']:9.1f} {v['over_native']:8.2f} {v['realtime_factor']:12.1f} "
+                   f"{v['page_bytes'] / 1e6:8.2f} {v['first_frame_ms']:13.0f} {page}")
+    m = res["meets"]
+    out.append("  goals (shipped page): real time x10 " + ("met" if m["realtime_x10"] else "NOT met") + "; <= 2x native "
+               + ("met" if m["within_2x_native"] else "NOT met") + "; page <= 5 MB " + ("met" if m["page_under_5MB"] else
+                                                                                    "NOT met"))
+    return out
