@@ -125,10 +125,12 @@ def cmd_simulate(args) -> int:
 def _start(args, scene):
     """The run's start (``--start``): the scene's own, or a periodic trim (:mod:`mbs.starts`)."""
     from mbs import starts
+    from mbs.analysis.trim import trimmable
 
     if args.start == "scene":
         return starts.Start("scene", None, {})
-    print(f"heli simulate: trimming {scene.name} for the start {args.start} ...", file=sys.stderr, flush=True)
+    if trimmable(scene):  # else the trim refuses the scene, naming the trimmable ones
+        print(f"heli simulate: trimming {scene.name} for the start {args.start} ...", file=sys.stderr, flush=True)
     return starts.start(args.start, scene, scene.system("compiled"), args.steps_per_rev or scene.steps_per_rev)
 
 

@@ -234,7 +234,7 @@ def _restart(page):
 
 
 def test_keyboard_and_sliders_move_the_controls_and_the_blades(page, pages):
-    """Held arrow key: the lateral cyclic deflects by a quarter of its range (then springs back when
+    """Held arrow key: the lateral cyclic deflects by its reach, a part of its range (then springs back when
     let go); W raises the collective; a click on a slider sets its input. Flown one revolution, each
     moves the blades: the hinge angles and the blades' pixels differ from the untouched flight's."""
     built = pages["flat"]
@@ -250,9 +250,10 @@ def test_keyboard_and_sliders_move_the_controls_and_the_blades(page, pages):
     trim = _pilot(page)["values"]
     page.locator("#view").click()  # focus on the page, not on a control
     page.keyboard.down("ArrowRight")
-    page.wait_for_function(f"Math.abs(window.__pilot.state().deflection[{lat}]) >= {0.25 * span[lat] - 1e-12}")
+    reach = cfg["stick_reach"] * span[lat]
+    page.wait_for_function(f"Math.abs(window.__pilot.state().deflection[{lat}]) >= {reach - 1e-12}")
     state = _pilot(page)
-    assert state["values"][lat] == pytest.approx(trim[lat] + cfg["inputs"][lat]["sign"] * 0.25 * span[lat], abs=1e-12)
+    assert state["values"][lat] == pytest.approx(trim[lat] + cfg["inputs"][lat]["sign"] * reach, abs=1e-12)
     page.wait_for_function(f"(() => {{ const f = window.__fly.state.frame; return f.pilot[{lat}] === {state['values'][lat]!r}; }})()")
     moved, moved_hinges = _reference(page, built)
     page.keyboard.up("ArrowRight")
@@ -292,7 +293,7 @@ def test_gamepad_moves_the_cyclic_and_releases_the_trim(page, pages):
     cfg = config(built)
     names = [q["name"] for q in cfg["inputs"]]
     lat, lon = names.index("lateral_cyclic"), names.index("longitudinal_cyclic")
-    reach = {i: 0.25 * (cfg["inputs"][i]["high"] - cfg["inputs"][i]["low"]) for i in (lat, lon)}
+    reach = {i: cfg["stick_reach"] * (cfg["inputs"][i]["high"] - cfg["inputs"][i]["low"]) for i in (lat, lon)}
     page.add_init_script(PAD)
     open_page(page, built)
     page.wait_for_function("document.getElementById('gamepad').textContent.indexOf('synthetic') >= 0")

@@ -83,12 +83,36 @@ def aircraft_argument(aircraft) -> str | None:
     return aircraft.key if aircraft.packaged else str(aircraft.path)
 
 
+NO_CONTROLLER = ("stability augmentation is not in this page (left out to write it sooner): 'heli fly {scene}' "
+                 "writes the page with the hover-hold controller")
+
+
+def check(sc, speeds=None) -> None:
+    """Refuse, before anything is built, a scene the page cannot fly (no native FMU: not a helicopter
+    scene) and ``speeds`` where there is nothing to trim at them (ValueError naming them)."""
+    from mbs import scenes
+    from mbs.analysis.trim import trimmable
+
+    if sc.aircraft is None:
+        flyable = [n for n, s in scenes.all_scenes().items() if s.aircraft is not None]
+        raise ValueError(f"scene {sc.name!r} cannot be flown: the page runs the native FMU's model, which is built for "
+                         f"the helicopter scenes ({', '.join(flyable)})")
+    model = sc.model()
+    free = any(type(b.joint).__name__ == "FreeJoint" for b in model.bodies.values())
+    if speeds is not None and not (free and trimmable(sc)):
+        why = "its fuselage is not free" if not free else "it cannot be trimmed"
+        raise ValueError(f"--speeds: scene {sc.name!r} starts from one state ({why}), so there is no trim at a speed "
+                         "to choose; leave --speeds out")
+
+
 def write_page(scene_name: str, out, aircraft=None, speeds=None, flat: bool = False, log=None,
-               flags=None) -> FlyPage:
+               flags=None, controller: bool = True) -> FlyPage:
     """Write the flight page of ``scene_name`` (of ``aircraft``: a name, file or loaded aircraft,
     default the Bo105) to ``out``: starts at the periodic trims at ``speeds`` (m/s; default
     :data:`viewer.fly.starts.DEFAULT_SPEEDS`) and the scene's own; ``flat``: unlit test colours;
-    ``flags``: the WebAssembly's compiler flags (default :data:`fmu.native.wasm.FLAGS`)."""
+    ``flags``: the WebAssembly's compiler flags (default :data:`fmu.native.wasm.FLAGS`);
+    ``controller``: with the hover-hold controller where it applies (its design takes minutes the
+    first time)."""
     from fmu.native import wasm
     from mbs import scenes
     from viewer.export import RecordingWindow
@@ -96,6 +120,7 @@ def write_page(scene_name: str, out, aircraft=None, speeds=None, flat: bool = Fa
 
     began = time.perf_counter()
     sc = scenes.get(scene_name, aircraft)
+    check(sc, speeds)
     built = wasm.ensure_model(family(scene_name), aircraft, log, flags or wasm.FLAGS)
     spec, vr = built.spec, fm.value_refs(built.spec)
     system = sc.system("compiled")
@@ -108,7 +133,9 @@ def write_page(scene_name: str, out, aircraft=None, speeds=None, flat: bool = Fa
     signs = fm.pilot_signs(system, np.array(starts[0]["x0"]), p0, h, sc.steps_per_rev) if free else {}
     scene = build_scene(info, flat, True, True)
     controls = fm.inputs(spec, scene_name, signs)
-    ctrl, ctrl_wasm, why = hover_hold.page_controller(sc, vr, names, aircraft, log) if free else (None, None, "")
+    ctrl, ctrl_wasm, why = None, None, "" if controller else NO_CONTROLLER.format(scene=scene_name)
+    if free and controller:
+        ctrl, ctrl_wasm, why = hover_hold.page_controller(sc, vr, names, aircraft, log)
     charts, chart_vrs = fm.charts(sc, scene, vr, controls)
     readout, readout_vrs = fm.readout(vr, fm.modelled(info))
     note = "" if free else STAND_NOTE.format(scene=scene_name)
@@ -119,7 +146,7 @@ def write_page(scene_name: str, out, aircraft=None, speeds=None, flat: bool = Fa
               "hinge_names": [info.state_names[i] for i in spec["scenes"][scene_name]["hinge_states"]],
               "charts": charts, "chart_vrs": chart_vrs, "readout": readout, "readout_vrs": readout_vrs,
               "chart_every": max(1, round(sc.steps_per_rev / fm.CHART_SAMPLES_PER_REV)),
-              "history_limit": fm.HISTORY_LIMIT, "tpp_stretch": 5,
+              "history_limit": fm.HISTORY_LIMIT, "tpp_stretch": 5, "stick_reach": fm.STICK_REACH,
               "bodies": fm.bodies(scene), "follow": -1 if scene.follow is None else scene.body_names.index(scene.follow),
               "world": scene.frame_path("world"), "tips": fm.tips(scene), "starts": starts, "scales": fm.SCALES,
               "controller": ctrl, "no_controller": why or "no stability augmentation on a stand", "free": free,

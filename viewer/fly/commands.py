@@ -31,9 +31,12 @@ def speeds(text: str) -> list[float]:
 
 
 def cmd_fly(args) -> int:
-    from viewer.fly import write_page
+    from mbs import scenes
+    from viewer.fly import check, write_page
 
+    check(scenes.get(args.scene, args.aircraft), args.speeds)
     out = args.html or Path("out") / "fly" / f"{args.scene}.html"
+    A.output_file(".html")(str(out))
     res = write_page(args.scene, out, args.aircraft, args.speeds, log=_log)
     lines = [f"{res.scene}: {len(res.starts)} start{'s' * (len(res.starts) > 1)} ({'; '.join(res.starts)}), "
              f"WebAssembly model {res.wasm_bytes / 1e3:.0f} kB, stability augmentation "

@@ -19,6 +19,9 @@ SCALES = [0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1, 2, 5, 10, "max"]
 HISTORY_LIMIT = 200_000
 """Steps whose hinge angles the page keeps (for the tests and the record; 1.6 MB per 10 000 steps of the Bo105)."""
 CHART_SAMPLES_PER_REV = 36
+STICK_REACH = 0.1
+"""Largest deflection of a cyclic or the pedals from its trim (keys, gamepad, on-screen stick), as a
+part of the input's range: for the Bo105's cyclics 0.017-0.027 rad."""
 ROLES = {"collective": "collective", "longitudinal_cyclic": "longitudinal", "lateral_cyclic": "lateral",
          "tail_collective": "pedals"}
 KEYS = {"collective": "W / S", "longitudinal": "\u2191 / \u2193 (forward / back)", "lateral": "\u2192 / \u2190",

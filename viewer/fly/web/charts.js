@@ -11,7 +11,7 @@
   var D = window.__flyData.config;
   var canvas = document.getElementById("charts"), tppCanvas = document.getElementById("tpp");
   var samples = [], dirty = true, fit = null;
-  var PANEL_H = 92, HEAD = 16, LEFT = 46, RIGHT = 8, DEG = 180 / Math.PI;
+  var PANEL_H = 92, HEAD = 16, LEFT = 46, RIGHT = 8, DEG = 180 / Math.PI, TPP_H = 150;
   var keep = Math.max.apply(null, D.charts.map(function (p) { return spanOf(p); }));
 
   function spanOf(p) { return p.revs ? p.revs * D.revolution : p.seconds; }
@@ -73,7 +73,14 @@
     });
   }
 
+  /* Panels as high as the side bar allows beside the tip-path plane (60 to 92 px). */
+  function panelHeight() {
+    var room = (canvas.parentElement.clientHeight || 700) - TPP_H - 40;
+    return Math.max(60, Math.min(92, Math.floor(room / Math.max(D.charts.length, 1))));
+  }
+
   function drawCharts() {
+    PANEL_H = panelHeight();
     var c = size(canvas, D.charts.length * PANEL_H + 14), t1 = samples.length ? samples[samples.length - 1].t : 0;
     c.g.clearRect(0, 0, c.w, c.h);
     D.charts.forEach(function (p, i) { panel(c, p, i * PANEL_H, t1); });
@@ -98,7 +105,7 @@
   }
 
   function drawTpp() {
-    var c = size(tppCanvas, 150), g = c.g, n = D.tips.length, t1 = samples.length ? samples[samples.length - 1].t : 0;
+    var c = size(tppCanvas, TPP_H), g = c.g, n = D.tips.length, t1 = samples.length ? samples[samples.length - 1].t : 0;
     g.clearRect(0, 0, c.w, c.h);
     var last = samples.filter(function (s) { return s.t > t1 - D.revolution && s.tips.length; });
     var pts = [];

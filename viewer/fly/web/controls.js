@@ -6,7 +6,8 @@
    when let go (keys released, stick or gamepad centred); "trim release" makes the present
    deflection the new trim, as a force-trim release does. The collective stays where it is put.
    A slider sets its input's trim. Keys: W/S collective up/down, arrows cyclic (up: stick
-   forward, nose down), A/D pedals (left/right), T trim release. Gamepad (standard mapping):
+   forward, nose down), A/D pedals (left/right), T trim release. A cyclic or pedal deflects at most
+   config.stick_reach of its input's range from the trim. Gamepad (standard mapping):
    right stick cyclic, left stick sideways pedals and up/down collective, button A trim release.
 
    window.__pilot: values() (rad, in the order of config.inputs), update(dt) once a frame (the
@@ -29,8 +30,8 @@
 
   function clamp(v, lo, hi) { return Math.min(Math.max(v, lo), hi); }
   function span(i) { return inputs[i].high - inputs[i].low; }
-  /* Largest deflection from the trim: a quarter of the input's range. */
-  function reach(i) { return 0.25 * span(i); }
+  /* Largest deflection from the trim: a part of the input's range (config.stick_reach). */
+  function reach(i) { return D.stick_reach * span(i); }
 
   function values() {
     return trim.map(function (v, i) { return clamp(v + deflection[i] + stick[i], inputs[i].low, inputs[i].high); });

@@ -74,7 +74,7 @@
     C.readout.forEach(function (q, i) {
       var v = r[i] * (q.scale || 1);
       if (q.modulo) v = ((v % q.modulo) + q.modulo) % q.modulo;
-      text += "   " + q.label + " " + v.toFixed(q.digits) + q.unit;
+      text += (i === 1 ? "\n" : "   ") + q.label + " " + v.toFixed(q.digits) + q.unit;
     });
     el("readout").textContent = text;
     var s = el("status");
@@ -85,7 +85,7 @@
                     d.scale + " (the flight runs slower than the chosen time scale)" : "");
     el("run").textContent = d.running ? "\u275a\u275a pause" : "\u25b6 fly";
     if (d.stopped) banner("The simulation stopped: " + d.stopped + " (reset to fly again)", "error");
-    el("rows").textContent = d.rows + " input rows";
+    el("rows").textContent = d.rows + (d.rows === 1 ? " input row" : " input rows");
   }
 
   function frame(d) {
