@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from browser_fixtures import HELPERS, browser, count_color, page, pixels  # noqa: F401  (fixtures)
+from browser_fixtures import HELPERS, count_color, pixels
 from fmu import hosts
 from mbs import scenes, starts
 from mbs.inputs import read_table, run_held
@@ -375,4 +375,31 @@ def test_a_flight_that_cannot_keep_up_says_so(page, pages):
     assert 0 < frame["factor"] < 0.9 * 1000
     assert "cannot keep up" in page.text_content("#status")
     page.evaluate("window.__fly.pause()")
+    assert page.errors == []
+
+
+def test_attitude_hold_holds_the_attitude_and_lets_the_aircraft_drift(page, pages):
+    """The switch's middle position: the same controller fed the trim's position and velocity, so
+    that attitude and rates alone feed back. After the 1 m/s disturbance at the hover trim the
+    attitude stays within 0.5 deg of the trim (measured 0.2) while the aircraft drifts away, more
+    than hover hold lets it (2.25 m in 10 s)."""
+    from fmu import controller, cosim
+
+    built = pages["flat"]
+    cfg = config(built)
+    hover = next(i for i, s in enumerate(cfg["starts"]) if s["speed"] == 0.0)
+    open_page(page, built)
+    page.select_option("#start", str(hover))
+    page.fill("#speed", "1")
+    page.dispatch_event("#speed", "change")
+    page.select_option("#sas", "attitude")
+    page.wait_for_function("window.__fly.state.frame.sas === 'attitude' && window.__fly.state.frame.k === 0")
+    frame = fly_until(page, round(HOLD_S / cfg["h"]) * cfg["h"])
+    assert not frame["stopped"]
+    flight = page.evaluate("window.__fly.history()")["flight"]
+    res = {"time": np.array([r["k"] * cfg["h"] for r in flight])}
+    res.update({n: np.array([r["y"][j] for r in flight]) for j, n in enumerate(controller.INPUTS)})
+    trim = dict(zip(controller.INPUTS, cfg["controller"]["trim_in"]))
+    held = cosim.excursions(res, trim)
+    assert held["max_attitude_deg"] < 0.5 and held["max_drift_m"] > 3.0, held
     assert page.errors == []

@@ -99,7 +99,7 @@ def check(sc, speeds=None) -> None:
                          f"the helicopter scenes ({', '.join(flyable)})")
     model = sc.model()
     free = any(type(b.joint).__name__ == "FreeJoint" for b in model.bodies.values())
-    if speeds is not None and not (free and trimmable(sc)):
+    if speeds and not (free and trimmable(sc)):
         why = "its fuselage is not free" if not free else "it cannot be trimmed"
         raise ValueError(f"--speeds: scene {sc.name!r} starts from one state ({why}), so there is no trim at a speed "
                          "to choose; leave --speeds out")

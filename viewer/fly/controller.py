@@ -55,7 +55,7 @@ def page_controller(sc, vr: dict, input_names: list[str], aircraft=None, log=Non
               "trim_out": [design["trim_controls"][c] for c in hh.OUTPUTS],
               "output_of": [hh.OUTPUTS.index(n) if n in hh.OUTPUTS else -1 for n in input_names],
               "offset": [int(n in OFFSET) for n in hh.INPUTS],
-              "velocity_or_position": [int(n in TRANSLATION) for n in hh.INPUTS], "mode": "off",
+              "velocity_or_position": [int(n in TRANSLATION) for n in hh.INPUTS],
               "note": ("stability augmentation: the hover-hold controller (LQR designed at the hover trim, the "
                        "controller FMU's C); attitude hold feeds back attitude and rates, hover hold also velocity, "
                        "position and heading (held where engaged); the pilot's inputs add to its outputs")}

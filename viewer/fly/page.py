@@ -7,11 +7,10 @@ all inline: one file that works from ``file://`` with no network.
 from __future__ import annotations
 
 import base64
-import html
 import json
 from pathlib import Path
 
-from viewer.page import notice, viewer_script
+from viewer.page import head, scene_scripts
 
 WEB = Path(__file__).with_name("web")
 
@@ -40,8 +39,9 @@ speed <input id="speed" type="number" step="any" placeholder="trim"> m/s</label>
 <option value="hover">hover hold</option></select></label>
 <button id="record" type="button" title="download the inputs flown since the start as heli simulate's --inputs table">
 &#11015; inputs CSV</button> <span id="rows"></span>
-<label title="fly the inputs of a table (heli simulate's --inputs CSV) from its times">fly a table
+<label title="fly the inputs of a table (heli simulate's --inputs CSV) from its times; reset flies it again">fly a table
 <input id="table-file" type="file" accept=".csv,text/csv"></label>
+<button id="table-drop" type="button" title="the pilot's controls again instead of the table's">drop the table</button>
 </div>
 <div class="bar" id="pilot">
 <button id="trim" type="button" title="the present stick and pedal positions become the trim (T)">trim release</button>
@@ -53,18 +53,9 @@ speed <input id="speed" type="number" step="any" placeholder="trim"> m/s</label>
 def html_page(packed: list[bytes], data: dict, model: bytes, controller: bytes | None, title: str) -> str:
     """The page: ``packed`` meshcat commands, ``data`` (``window.__flyData``), the WebAssembly
     ``model`` and ``controller`` (None: none)."""
-    cmds = ",\n".join(json.dumps(base64.b64encode(b).decode("ascii")) for b in packed)
     doc = json.dumps(data, separators=(",", ":")).replace("</", "<\\/")
-    return f"""<!DOCTYPE html>
-<html>
-<head>
-<meta charset="utf-8">
-<title>{html.escape(title)}</title>
-<!-- {html.escape(notice()).replace("--", "- -")} -->
-<style>
-{asset("fly.css")}
-</style>
-</head>
+    setup = 'window.__flyData = JSON.parse(document.getElementById("fly-data").textContent);'
+    return f"""{head(title, asset("fly.css"))}
 <body>
 <div id="app">
 <div id="main">
@@ -80,24 +71,7 @@ body axes</div><canvas id="tpp"></canvas></div>
 <script id="model-wasm" type="text/plain">{_b64(model)}</script>
 <script id="controller-wasm" type="text/plain">{_b64(controller)}</script>
 <script id="fly-data" type="application/json">{doc}</script>
-<script>
-{viewer_script()}
-</script>
-<script>
-var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));
-window.__flyData = JSON.parse(document.getElementById("fly-data").textContent);
-(function () {{
-  var commands = [
-{cmds}
-  ];
-  for (var i = 0; i < commands.length; i++) {{
-    var text = atob(commands[i]);
-    var bytes = new Uint8Array(text.length);
-    for (var j = 0; j < text.length; j++) bytes[j] = text.charCodeAt(j);
-    viewer.handle_command_bytearray(bytes);
-  }}
-}})();
-</script>
+{scene_scripts(packed, setup)}
 <script>
 {asset("controls.js")}
 </script>

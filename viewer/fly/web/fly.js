@@ -86,6 +86,7 @@
     el("run").textContent = d.running ? "\u275a\u275a pause" : "\u25b6 fly";
     if (d.stopped) banner("The simulation stopped: " + d.stopped + " (reset to fly again)", "error");
     el("rows").textContent = d.rows + (d.rows === 1 ? " input row" : " input rows");
+    el("table-drop").style.display = d.table ? "" : "none";
   }
 
   function frame(d) {
@@ -124,6 +125,7 @@
     banner(C.note, C.note ? "note" : "");
     send("start", {start: i, speed: speed === undefined || speed === null || isNaN(speed) ? null : speed});
     send("pilot", {values: window.__pilot.values()});
+    if (C.controller && el("sas").value !== "off") send("sas", {mode: el("sas").value}); /* stays as switched */
   }
 
   function setScale(value) {
@@ -195,11 +197,16 @@
     el("record").addEventListener("click", function () {
       ask("inputs").then(function (d) { download(C.inputs_file, d.csv); });
     });
+    el("table-drop").addEventListener("click", function () {
+      send("table", {table: null});
+      el("table-file").value = "";
+      banner("", "");
+    });
     el("table-file").addEventListener("change", function () {
       var f = el("table-file").files[0];
       if (!f) return;
       f.text().then(function (text) {
-        try { table(text, f.name); banner("flying the inputs of " + f.name + " (from t = 0: reset to start over)", "note"); }
+        try { table(text, f.name); banner("flying the inputs of " + f.name + " at their times from t = 0 (reset flies them again)", "note"); }
         catch (e) { banner(String(e.message), "error"); }
       });
     });

@@ -110,12 +110,11 @@ function start(s, speed) {
   if (speed !== null && st.fs) for (var a = 0; a < 3; a++) x[st.fs.v[a]] = st.fs.direction[a] * speed;
   check(M.hw_load(), "loading the start");
   S = {start: s, speed: speed, k: 0, running: false, scale: S ? S.scale : 1, max: S ? S.max : false,
-       until: null, pilot: st.controls.slice(), applied: st.controls.slice(), table: null, sas: "off",
+       until: null, pilot: st.controls.slice(), applied: st.controls.slice(), table: S ? S.table : null, sas: "off",
        sasOut: null, sasOffset: null, rows: [], hinges: [], hingeSteps: 0, stopped: null, samples: [],
        lastPost: 0, anchor: null, rate: [], behind: false, factor: null, engagedAt: null, flight: []};
   record(0, S.applied);
   keepHinges();
-  if (C.controller && C.controller.mode !== "off") engage(C.controller.mode);
 }
 
 function time(k) { return k * C.h; }
@@ -223,8 +222,8 @@ function controllerOutputs() {
 
 function keepHinges() {
   if (S.hinges.length >= C.history_limit) return;
-  var b = new Float64Array(memory.buffer, M.hw_buffer(), M.hw_buffer_size()), n = M.hw_state();
-  var row = new Float64Array(C.hinge.length);
+  M.hw_state();
+  var b = buffer(), row = new Float64Array(C.hinge.length);
   for (var i = 0; i < C.hinge.length; i++) row[i] = b[C.hinge[i]];
   S.hinges.push(row);
 }
