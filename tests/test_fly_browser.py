@@ -317,23 +317,27 @@ def test_gamepad_moves_the_cyclic_and_releases_the_trim(page, pages):
     assert page.errors == []
 
 
-@pytest.mark.parametrize("scene", ["hover", "ground-run"])
+@pytest.mark.parametrize("scene", ["hover", "ground-run", "single-blade"])
 def test_every_scene_of_the_native_fmu_flies(page, tmp_path, scene):
     """The native FMU's scenes besides forward flight (covered above): hover flies from its trim;
     ground-run, whose fuselage is clamped, opens as a rotor on a stand with the four pitch controls
-    only, said on the page, no stability augmentation and no flight charts. Each flies a revolution
-    and its blades move."""
+    only, said on the page, no stability augmentation and no flight charts; single-blade (a native
+    FMU of its own) is a rotor on a stand with no pitch inputs, nothing to pilot, said on the page.
+    Each flies a revolution and its blades move."""
     built = write_page(scene, tmp_path / f"{scene}.html", speeds=[])
     cfg = config(built)
     open_page(page, built)
-    assert [q["name"] for q in cfg["inputs"]] == ["collective", "lateral_cyclic", "longitudinal_cyclic",
-                                                   "tail_collective"]
-    stand = scene == "ground-run"
+    names = [q["name"] for q in cfg["inputs"]]
+    if scene == "single-blade":
+        assert names == [] and "no pitch inputs, so nothing to pilot" in page.text_content("#banner")
+    else:
+        assert names == ["collective", "lateral_cyclic", "longitudinal_cyclic", "tail_collective"]
+    stand = scene != "hover"
     assert built.free is not stand and (cfg["controller"] is None) is stand
     assert page.evaluate("document.getElementById('sas').disabled") is stand
     titles = [c["title"] for c in cfg["charts"]]
     assert ("attitude (deg)" in titles) is not stand and "main-rotor flap (deg)" in titles
-    if stand:
+    if scene == "ground-run":
         assert "a rotor on a stand" in page.text_content("#banner") and "pitch controls only" in page.text_content("#banner")
     frame = fly_until(page, cfg["steps_per_rev"] * cfg["h"])
     assert frame["k"] == cfg["steps_per_rev"] and not frame["stopped"]

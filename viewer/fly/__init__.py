@@ -29,6 +29,15 @@ from viewer.fly.starts import page_starts
 
 STAND_NOTE = ("{scene}: a rotor on a stand (its fuselage is not free): the pitch controls only; no flight, no "
               "stability augmentation")
+NO_INPUTS_NOTE = ("{scene}: {what} with no pitch inputs, so nothing to pilot: watch it run (time scale, pause, reset, "
+                  "+1 rev)")
+
+
+def page_note(scene_name: str, free: bool, inputs: list) -> str:
+    """What the page says first: a rotor on a stand, a scene with nothing to pilot, or nothing."""
+    if not inputs:
+        return NO_INPUTS_NOTE.format(scene=scene_name, what="a free-flying model" if free else "a rotor on a stand")
+    return "" if free else STAND_NOTE.format(scene=scene_name)
 
 
 @dataclass
@@ -138,7 +147,7 @@ def write_page(scene_name: str, out, aircraft=None, speeds=None, flat: bool = Fa
         ctrl, ctrl_wasm, why = hover_hold.page_controller(sc, vr, names, aircraft, log)
     charts, chart_vrs = fm.charts(sc, scene, vr, controls)
     readout, readout_vrs = fm.readout(vr, fm.modelled(info))
-    note = "" if free else STAND_NOTE.format(scene=scene_name)
+    note = page_note(scene_name, free, names)
     config = {"scene": scene_name, "aircraft": info.name, "aircraft_arg": aircraft_argument(aircraft),
               "h": h, "revolution": sc.revolution(system, system.params()), "steps_per_rev": sc.steps_per_rev,
               "vr": {"scene": vr["scene"], "initial_state": vr.get("initial_state", -1)},
