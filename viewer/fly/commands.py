@@ -71,7 +71,7 @@ def register(sub, bench) -> None:
     p = bench.add_parser("fly", help="the flight page's WebAssembly RK4 step in headless Chromium against the same "
                                      "step compiled natively, page size and time to the first frame")
     A.add_scene(p, nargs="?", default="forward-flight", what="scene (default forward-flight)")
-    p.add_argument("--steps", type=A.whole_number(100), default=4000, help="steps timed per run (default 4000)")
+    p.add_argument("--steps", type=A.whole_number(100), default=10000, help="steps timed per run (default 10000)")
     p.add_argument("--repeats", type=A.whole_number(1, 20), default=3, help="runs of each (default 3; the median)")
     add_json(p)
     p.set_defaults(fn=cmd_bench_fly)
