@@ -78,10 +78,10 @@ HW_EXPORT(hw_set_string) int hw_set_string(int vr) {
   return heli_set_string(instance, "fmi2SetString", vr, text);
 }
 
-/* Set up at time 0 and leave initialisation (the values set so far in force). */
+/* Initialise at time 0 (a fresh instance's start time: a flight has no stop time to set up) with
+   the values set so far in force. */
 HW_EXPORT(hw_start) int hw_start(void) {
-  int status = heli_setup(instance, "fmi2SetupExperiment", 0.0);
-  if (status == HELI_OK) status = heli_enter_initialization(instance, "fmi2EnterInitializationMode");
+  int status = heli_enter_initialization(instance, "fmi2EnterInitializationMode");
   if (status == HELI_OK) status = heli_exit_initialization(instance, "fmi2ExitInitializationMode");
   return status;
 }
