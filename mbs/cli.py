@@ -22,7 +22,7 @@ import sys
 
 COMMAND_MODULES = ("mbs.commands", "mbs.aircraft.commands", "mbs.bench.commands", "mbs.bench.stability", "mbs.bench.work_precision",
                    "mbs.bench.scaling", "mbs.sweep.commands", "fmu.commands", "viewer.commands", "mbs.loads.commands",
-                   "mbs.bench.modal", "mbs.bench.loops", "viewer.fly.commands")
+                   "mbs.bench.modal", "mbs.bench.loops", "mbs.validate.commands", "viewer.fly.commands")
 
 
 _json_out = None

@@ -1,0 +1,67 @@
+"""Side by side: each published point against the model's value at the same speed, in the
+published unit: difference (ours - published), ratio (ours / published) and whether the
+difference is within the series' tolerance."""
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+
+from mbs.validate.quantities import converter, derivative_value, trim_value
+
+
+@dataclass
+class Row:
+    """One published point and the model's value (both in ``unit``); ``within`` None when the
+    series has no tolerance, False when the model has no value there (``problem`` says why)."""
+
+    kind: str
+    quantity: str
+    unit: str
+    speed: float
+    ours: float
+    published: float
+    uncertainty: float
+    difference: float
+    ratio: float
+    within: bool | None
+    source: str
+    problem: str = ""
+
+    def summary(self) -> dict:
+        return {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in asdict(self).items()}
+
+
+def rows(series, model) -> list[Row]:
+    """The rows of one :class:`mbs.validate.data.Series` against the model's points."""
+    convert = None
+    out = []
+    for speed, shown, pub, unc in zip(series.speed, series.shown_speed, series.value, series.uncertainty):
+        point = model.at(speed)
+        value, problem = math.nan, point.problem
+        if point.ok:
+            si, si_unit = _value(series, point)
+            convert = convert or converter(si_unit, series.unit, f"{series.kind} {series.quantity}")
+            value = series.ours_factor * convert(si)
+        out.append(_row(series, float(shown), value, float(pub), float(unc), problem))
+    return out
+
+
+def _value(series, point) -> tuple[float, str]:
+    if series.kind == "trim":
+        return trim_value(point.trim, series.quantity)
+    return derivative_value(point.derivatives, series.quantity)
+
+
+def _row(series, speed: float, ours: float, pub: float, unc: float, problem: str) -> Row:
+    diff = ours - pub
+    ratio = ours / pub if pub != 0 else math.nan
+    within = None if series.tolerance is None else (not problem and series.tolerance.within(ours, pub))
+    return Row(series.kind, series.quantity, series.unit, speed, ours, pub, unc, diff, ratio, within, series.source,
+               problem)
+
+
+def counts(all_rows: list[Row]) -> dict[str, int]:
+    """How many rows were checked (have a tolerance), are within it, and have no model value."""
+    checked = [r for r in all_rows if r.within is not None]
+    return {"rows": len(all_rows), "checked": len(checked), "within": sum(bool(r.within) for r in checked),
+            "no_model_value": sum(bool(r.problem) for r in all_rows)}

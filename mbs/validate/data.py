@@ -1,0 +1,313 @@
+"""Published validation data: trims, stability and control derivatives and eigenvalues against
+speed, each series with its unit, source, reading uncertainty and tolerance.
+
+A validation file (TOML) names the aircraft and scene it is for, states the conventions of the
+published data (axes, derivative normalisation, control angles and signs) and lists:
+
+* ``[[trim]]``: a trimmed quantity against speed (``collective``, ``pitch``, ``engine.power`` ...);
+* ``[[derivative]]``: a stability or control derivative against speed (``X_u``, ``L_θ1c`` ...);
+* ``[[eigenvalues]]``: the published eigenvalues at one speed (``[re, im]`` pairs in 1/s, rad/s).
+
+Every series has ``quantity``, ``unit``, ``value`` (a list), ``source`` (a key of ``[sources]``
+or a text) and may have ``speed`` (default the file's ``[validation] speed``), ``uncertainty``
+(the reading or measurement error, in ``unit``), ``tolerance`` (``{ absolute = x }`` in
+``unit`` or ``{ relative = x }``, a fraction; without it the series is shown, not checked),
+``ours_factor`` (the model's value is multiplied by it before the comparison: a sign convention
+that differs, stated in ``note``) and ``note``. Speeds are in ``[validation] speed_unit``.
+The CSV form (:mod:`mbs.validate.csvdata`) carries the same information, one point a row.
+"""
+from __future__ import annotations
+
+import math
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from mbs.aircraft import units
+
+tomllib = __import__("tomllib" if sys.version_info >= (3, 11) else "tomli")
+
+PACKAGED = Path(__file__).resolve().parent / "data"
+KINDS = ("trim", "derivative")
+SPEED_UNITS = {"kn": "kt"}
+"""Speed unit names the aircraft-file unit reader does not know, and the one it does."""
+
+
+class ValidationError(ValueError):
+    """A validation file that cannot be read: the message names the file and the entry."""
+
+
+@dataclass(frozen=True)
+class Tolerance:
+    """``|ours - published| <= absolute`` (in the series' unit) or ``|ours / published - 1| <= relative``."""
+
+    absolute: float | None = None
+    relative: float | None = None
+
+    def within(self, ours: float, published: float) -> bool:
+        if not (math.isfinite(ours) and math.isfinite(published)):
+            return False
+        if self.absolute is not None:
+            return abs(ours - published) <= self.absolute
+        return published != 0.0 and abs(ours / published - 1.0) <= self.relative
+
+    def describe(self, unit: str) -> str:
+        return f"±{self.absolute:g} {unit}" if self.absolute is not None else f"±{100 * self.relative:g} %"
+
+
+@dataclass(frozen=True)
+class Series:
+    """One published quantity against speed. ``speed`` in m/s, ``shown_speed`` in the file's
+    speed unit; ``value`` and ``uncertainty`` (n,) in ``unit``."""
+
+    kind: str
+    quantity: str
+    unit: str
+    speed: np.ndarray
+    shown_speed: np.ndarray
+    value: np.ndarray
+    uncertainty: np.ndarray
+    source: str
+    tolerance: Tolerance | None = None
+    ours_factor: float = 1.0
+    note: str = ""
+
+
+@dataclass(frozen=True)
+class EigenSet:
+    """The published eigenvalues (n,) complex (1/s, rad/s) at one speed (m/s; ``shown_speed`` in
+    the file's unit)."""
+
+    speed: float
+    shown_speed: float
+    value: np.ndarray
+    source: str
+    note: str = ""
+
+
+@dataclass(frozen=True)
+class EigenTolerance:
+    """Modes keep their stability (real parts within ``±neutral`` 1/s count as neutral, which
+    matches either) and oscillatory published modes (``|Im| >= min_frequency`` rad/s) their
+    frequency within the fraction ``frequency``."""
+
+    frequency: float = 0.25
+    neutral: float = 0.02
+    min_frequency: float = 0.05
+
+
+@dataclass
+class Validation:
+    """A validation file, read and checked."""
+
+    path: Path
+    title: str
+    aircraft: str
+    scene: str
+    speed_unit: str
+    conventions: dict[str, str]
+    sources: dict[str, str]
+    series: list[Series] = field(default_factory=list)
+    eigenvalues: list[EigenSet] = field(default_factory=list)
+    eigen_tolerance: EigenTolerance | None = None
+
+    @property
+    def name(self) -> str:
+        return self.path.stem
+
+    def of_kind(self, kind: str) -> list[Series]:
+        return [s for s in self.series if s.kind == kind]
+
+    def speeds(self, *kinds: str) -> list[float]:
+        """The distinct speeds (m/s, ascending) of the series of ``kinds`` (and of the
+        eigenvalues when ``"eigenvalues"`` is one of them)."""
+        found = [v for s in self.series if s.kind in kinds for v in s.speed]
+        found += [e.speed for e in self.eigenvalues] if "eigenvalues" in kinds else []
+        return sorted({round(float(v), 9) for v in found})
+
+
+def packaged() -> list[str]:
+    """Names of the validation files shipped with the package."""
+    return sorted(p.stem for p in PACKAGED.glob("*.toml"))
+
+
+def resolve(text: str) -> Path:
+    """The validation file ``text``: a path, or the name of a packaged one."""
+    path = Path(text).expanduser()
+    if path.is_file():
+        return path
+    if (PACKAGED / f"{text}.toml").is_file():
+        return PACKAGED / f"{text}.toml"
+    if path.exists():
+        raise ValidationError(f"{text!r} is not a file")
+    raise ValidationError(f"no validation file {text!r}: give a .toml or .csv file or one of the packaged "
+                          f"validations ({', '.join(packaged())})")
+
+
+def load(text: str | Path) -> Validation:
+    """Read and check the validation file ``text`` (a path or a packaged name)."""
+    path = resolve(str(text))
+    if path.suffix.lower() == ".csv":
+        from mbs.validate.csvdata import load_csv
+
+        return load_csv(path)
+    try:
+        raw = tomllib.loads(path.read_text())
+    except (ValueError, UnicodeDecodeError) as exc:
+        raise ValidationError(f"{path}: not a TOML file ({exc})") from None
+    return from_dict(raw, path)
+
+
+def from_dict(raw: dict, path: Path) -> Validation:
+    """A :class:`Validation` from the parsed TOML ``raw`` of the file ``path``."""
+    head = _table(raw, "validation", path)
+    speed_unit = _text(head, "speed_unit", path, "[validation]", default="m/s")
+    factor = speed_factor(speed_unit, f"{path}: [validation] speed_unit")
+    out = Validation(path, _text(head, "title", path, "[validation]", default=path.stem),
+                     _text(head, "aircraft", path, "[validation]"), _text(head, "scene", path, "[validation]",
+                                                                          default="forward-flight"),
+                     speed_unit, _strings(raw.get("conventions", {}), path, "[conventions]"),
+                     _strings(raw.get("sources", {}), path, "[sources]"))
+    default_speed = head.get("speed")
+    for kind in KINDS:
+        for k, entry in enumerate(raw.get(kind, [])):
+            out.series.append(series(entry, kind, f"{path}: [[{kind}]] {k + 1}", default_speed, factor))
+    for k, entry in enumerate(raw.get("eigenvalues", [])):
+        out.eigenvalues.append(eigen_set(entry, f"{path}: [[eigenvalues]] {k + 1}", factor))
+    if "eigenvalue_tolerance" in raw:
+        out.eigen_tolerance = eigen_tolerance(raw["eigenvalue_tolerance"], f"{path}: [eigenvalue_tolerance]")
+    unknown = set(raw) - {"validation", "conventions", "sources", "eigenvalue_tolerance", "eigenvalues", *KINDS}
+    if unknown:
+        raise ValidationError(f"{path}: unknown section(s) {', '.join(sorted(unknown))}; the sections are [validation], "
+                              "[conventions], [sources], [eigenvalue_tolerance], [[trim]], [[derivative]], [[eigenvalues]]")
+    if not out.series and not out.eigenvalues:
+        raise ValidationError(f"{path}: no [[trim]], [[derivative]] or [[eigenvalues]] entries: nothing to compare")
+    return out
+
+
+def speed_factor(unit: str, where: str) -> float:
+    """m/s per unit of the speed unit ``unit``; :class:`ValidationError` for a unit that is no speed."""
+    try:
+        u = units.parse(SPEED_UNITS.get(unit.strip(), unit))
+    except units.UnitError as exc:
+        raise ValidationError(f"{where}: {exc}") from None
+    if u.dims != (1, 0, -1, 0):
+        raise ValidationError(f"{where}: {unit!r} is {u.describe()}, not a speed (kn, kt, m/s, km/h)")
+    return u.factor
+
+
+KEYS = {"quantity", "unit", "value", "speed", "uncertainty", "tolerance", "source", "ours_factor", "note"}
+
+
+def series(entry: dict, kind: str, where: str, default_speed, factor: float) -> Series:
+    """One ``[[trim]]`` or ``[[derivative]]`` entry, checked."""
+    unknown = set(entry) - KEYS
+    if unknown:
+        raise ValidationError(f"{where}: unknown key(s) {', '.join(sorted(unknown))}; the keys are {', '.join(sorted(KEYS))}")
+    quantity, unit = _text(entry, "quantity", where), _text(entry, "unit", where)
+    _unit(unit, where)
+    value = _numbers(entry.get("value"), where, "value")
+    speed = _numbers(entry.get("speed", default_speed), where, "speed (or [validation] speed)")
+    if len(speed) != len(value):
+        raise ValidationError(f"{where} ({quantity}): {len(value)} values for {len(speed)} speeds")
+    if (speed < 0).any():
+        raise ValidationError(f"{where} ({quantity}): speed {speed[speed < 0][0]:g} is negative")
+    unc = entry.get("uncertainty", 0.0)
+    unc = np.full(len(value), float(unc)) if _is_number(unc) else _numbers(unc, where, "uncertainty")
+    if len(unc) != len(value) or (unc < 0).any():
+        raise ValidationError(f"{where} ({quantity}): uncertainty must be one number >= 0 or one per value")
+    ours_factor = entry.get("ours_factor", 1.0)
+    if not _is_number(ours_factor) or ours_factor == 0:
+        raise ValidationError(f"{where} ({quantity}): ours_factor = {ours_factor!r} must be a non-zero number")
+    if ours_factor != 1.0 and not entry.get("note"):
+        raise ValidationError(f"{where} ({quantity}): ours_factor = {ours_factor:g} needs a note saying why")
+    tol = tolerance(entry.get("tolerance"), f"{where} ({quantity})")
+    if tol is not None and tol.relative is not None and (value == 0).any():
+        raise ValidationError(f"{where} ({quantity}): a relative tolerance cannot judge the published value 0 at "
+                              f"{speed[value == 0][0]:g}; give {{ absolute = x }} in {unit}")
+    return Series(kind, quantity, unit, speed * factor, speed, value, unc, _text(entry, "source", where), tol,
+                  float(ours_factor), str(entry.get("note", "")))
+
+
+def tolerance(raw, where: str) -> Tolerance | None:
+    """``{ absolute = x }`` or ``{ relative = x }`` (x > 0), or None."""
+    if raw is None:
+        return None
+    if not isinstance(raw, dict) or len(raw) != 1 or set(raw) - {"absolute", "relative"}:
+        raise ValidationError(f"{where}: tolerance must be {{ absolute = x }} (in the unit) or {{ relative = x }} "
+                              f"(a fraction), not {raw!r}")
+    (key, value), = raw.items()
+    if not _is_number(value) or not value > 0:
+        raise ValidationError(f"{where}: tolerance {key} = {value!r} must be a positive number")
+    return Tolerance(**{key: float(value)})
+
+
+def eigen_set(entry: dict, where: str, factor: float) -> EigenSet:
+    """One ``[[eigenvalues]]`` entry: ``speed``, ``value`` = list of ``[re, im]``, ``source``."""
+    unknown = set(entry) - {"speed", "value", "source", "note"}
+    if unknown:
+        raise ValidationError(f"{where}: unknown key(s) {', '.join(sorted(unknown))}; the keys are speed, value, source, note")
+    speed = entry.get("speed")
+    if not _is_number(speed) or speed < 0:
+        raise ValidationError(f"{where}: speed = {speed!r} must be a number >= 0")
+    pairs = entry.get("value")
+    if not isinstance(pairs, list) or not pairs or not all(
+            isinstance(p, list) and len(p) == 2 and all(_is_number(x) for x in p) for p in pairs):
+        raise ValidationError(f"{where}: value must be a list of [real, imaginary] pairs (1/s, rad/s)")
+    return EigenSet(float(speed) * factor, float(speed), np.array([complex(*p) for p in pairs]),
+                    _text(entry, "source", where), str(entry.get("note", "")))
+
+
+def eigen_tolerance(raw: dict, where: str) -> EigenTolerance:
+    unknown = set(raw) - {"frequency", "neutral", "min_frequency"}
+    if unknown:
+        raise ValidationError(f"{where}: unknown key(s) {', '.join(sorted(unknown))}; the keys are frequency, "
+                              "neutral, min_frequency")
+    for k, v in raw.items():
+        if not _is_number(v) or v < 0:
+            raise ValidationError(f"{where}: {k} = {v!r} must be a number >= 0")
+    return EigenTolerance(**{k: float(v) for k, v in raw.items()})
+
+
+def _table(raw: dict, key: str, path: Path) -> dict:
+    if not isinstance(raw.get(key), dict):
+        raise ValidationError(f"{path}: no [{key}] section (title, aircraft, scene, speed_unit)")
+    return raw[key]
+
+
+def _text(d: dict, key: str, where, section: str = "", default: str | None = None) -> str:
+    value = d.get(key, default)
+    if not isinstance(value, str) or not value.strip():
+        raise ValidationError(f"{where}{' ' + section if section else ''}: {key} must be a non-empty text"
+                              + ("" if key not in d else f", not {value!r}"))
+    return value
+
+
+def _strings(d, path: Path, section: str) -> dict[str, str]:
+    if not isinstance(d, dict) or not all(isinstance(v, str) for v in d.values()):
+        raise ValidationError(f"{path}: {section} must hold texts only (key = \"text\")")
+    return dict(d)
+
+
+def _unit(text: str, where: str) -> None:
+    try:
+        units.parse(_plain(text))
+    except units.UnitError as exc:
+        raise ValidationError(f"{where}: {exc}") from None
+
+
+def _plain(unit: str) -> str:
+    """``"m/(s rad)"`` -> ``"m/s rad"``: the unit reader takes one '/' and no parentheses."""
+    return unit.replace("(", "").replace(")", "")
+
+
+def _is_number(x) -> bool:
+    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
+
+
+def _numbers(raw, where: str, key: str) -> np.ndarray:
+    if not isinstance(raw, list) or not raw or not all(_is_number(x) for x in raw):
+        raise ValidationError(f"{where}: {key} must be a non-empty list of finite numbers")
+    return np.array(raw, dtype=float)

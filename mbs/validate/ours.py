@@ -1,0 +1,99 @@
+"""The model's side of a validation: periodic trims, and stability and control derivatives with
+their eigenvalues, at the published speeds, from one build of the scene.
+
+Each speed is trimmed from the closed-form estimate (with the trim's own continuation in speed
+when Newton from it fails); the derivatives follow from the trim by the quasi-static rotor
+(:func:`mbs.analysis.derivatives.linearise`). A speed that does not trim is kept, with the
+reason, and its comparisons read "no trim".
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from mbs.analysis.derivatives import Derivatives, linearise
+
+
+@dataclass
+class Point:
+    """The model at one speed (m/s): its trim, and its derivatives when they were asked for
+    (None when the trim failed or they were not)."""
+
+    speed: float
+    trim: object
+    derivatives: Derivatives | None = None
+    problem: str = ""
+
+    @property
+    def ok(self) -> bool:
+        return not self.problem
+
+
+@dataclass
+class Model:
+    """The model's points by speed (m/s) and the work done."""
+
+    scene: str
+    aircraft: str
+    points: dict[float, Point] = field(default_factory=dict)
+    wall_s: float = 0.0
+
+    def at(self, speed: float) -> Point:
+        return self.points[round(float(speed), 9)]
+
+
+def scene_of(validation, aircraft=None, aero: str | None = None):
+    """The scene of ``validation`` built with ``aircraft`` (an :class:`mbs.aircraft.Aircraft`;
+    default the aircraft the file names, packaged or a path relative to the file)."""
+    from mbs import aircraft as craft
+    from mbs import scenes
+
+    if aircraft is None:
+        name = validation.aircraft
+        near = validation.path.parent / name
+        aircraft = craft.load(str(near) if near.suffix == ".toml" and near.is_file() else name)
+    scene = scenes.get(validation.scene, aircraft=aircraft)
+    if aero is not None:
+        from mbs.models.helicopter import with_aero
+
+        try:
+            scene = with_aero(scene, aero)
+        except ValueError as exc:
+            raise ValueError(f"--aero {aero!r}: {exc}") from None
+    return scene
+
+
+def run(scene, trim_speeds: list[float], derivative_speeds: list[float], method: str = "rk4",
+        steps_per_rev: int | None = None, backend: str = "compiled", progress=None, check=None) -> Model:
+    """Trims at ``trim_speeds`` and derivatives at ``derivative_speeds`` (m/s) of ``scene``;
+    ``check(info)`` is called with the built system's description before the first trim."""
+    import time
+
+    from mbs.analysis.held import HeldStepper
+    from mbs.analysis.trim import evaluators, periodic_solution
+
+    start = time.perf_counter()
+    system, stepper = evaluators(scene, method, backend)
+    if check is not None:
+        check(system.info)
+    held = HeldStepper(scene.model(), method, backend) if derivative_speeds else None
+    speeds = sorted(set(trim_speeds) | set(derivative_speeds))
+    out = Model(scene.name, scene.aircraft.name if scene.aircraft else "")
+    for k, v in enumerate(speeds):
+        sol = periodic_solution(scene, v, method=method, steps_per_rev=steps_per_rev, backend=backend,
+                                system=system, stepper=stepper)
+        out.points[round(v, 9)] = _point(v, sol, system, held, v in derivative_speeds)
+        if progress:
+            progress(k + 1, len(speeds))
+    out.wall_s = time.perf_counter() - start
+    return out
+
+
+def _point(speed: float, sol, system, held, with_derivatives: bool) -> Point:
+    if not sol.converged:
+        return Point(speed, sol, problem=f"no trim: {sol.reason}")
+    if not with_derivatives:
+        return Point(speed, sol)
+    try:
+        return Point(speed, sol, linearise(sol, system, held, sol.radius))
+    except RuntimeError as exc:
+        return Point(speed, sol, problem=f"no derivatives: {exc}")

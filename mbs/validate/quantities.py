@@ -1,0 +1,144 @@
+"""What a published quantity is in the model: its value (SI) and SI unit at a trim or at the
+derivatives there, and its conversion to the published unit.
+
+Trim quantities: the controls by name (``collective``, ``longitudinal_cyclic``,
+``lateral_cyclic``, ``tail_collective``, rad), ``pitch`` and ``roll`` (rad), the main-rotor
+flapping ``beta0``, ``beta1c``, ``beta1s`` (rad) and every period-mean output of the trim
+(``engine.power``, ``main_rotor.power`` ...). Derivative quantities: the names of
+:attr:`mbs.analysis.derivatives.Derivatives.table` (``X_u``, ``M_q``, ``L_θ1c``, ``N_θ0T`` ...;
+``theta0``, ``theta1s``, ``theta1c``, ``theta0T`` may be written for the Greek symbols), and the
+entries of the state matrix ``A[row,column]`` with Padfield's states ``u w q θ v p φ r``
+(``theta``, ``phi`` may be written): the derivatives with the kinematic and gravity terms of
+the linearised equations (``A[w,q] = Z_q + U_e``), as some publications chart them.
+"""
+from __future__ import annotations
+
+import math
+import re
+
+from mbs.aircraft import units
+from mbs.validate.data import ValidationError, _plain
+
+ANGLES = ("pitch", "roll")
+ASCII = (("theta0T", "θ0T"), ("theta1s", "θ1s"), ("theta1c", "θ1c"), ("theta0", "θ0"))
+
+
+def canonical(quantity: str) -> str:
+    """``"L_theta1c"`` -> ``"L_θ1c"``."""
+    for a, g in ASCII:
+        quantity = quantity.replace(a, g)
+    return quantity
+
+
+def trim_value(trim, quantity: str) -> tuple[float, str]:
+    """``(value, SI unit)`` of the trim quantity ``quantity`` at the converged ``trim``."""
+    if quantity in trim.controls:
+        return trim.controls[quantity], "rad"
+    if quantity in ANGLES:
+        return getattr(trim, quantity), "rad"
+    if quantity in trim.flapping:
+        return trim.flapping[quantity], "rad"
+    if quantity in trim.output_means:
+        return trim.output_means[quantity], trim.output_units.get(quantity, "-")
+    known = [*trim.controls, *ANGLES, *trim.flapping, *trim.output_means]
+    raise ValidationError(f"trim quantity {quantity!r} is not one of the model's: {', '.join(known)}")
+
+
+ENTRY = re.compile(r"^A\[\s*(\w+)\s*,\s*(\w+)\s*\]$")
+GREEK = {"θ": "theta", "φ": "phi"}
+LINEAR = ("u", "w", "v")
+ANGULAR = ("q", "p", "r")
+
+
+def entry(quantity: str) -> tuple[int, int] | None:
+    """Row and column of ``A[row,column]`` in Padfield's state order, None for another name."""
+    from mbs.analysis.flight_modes import STATES
+
+    m = ENTRY.match(quantity.strip())
+    if not m:
+        return None
+    row, col = (GREEK.get(s, s) for s in m.groups())
+    if row not in STATES or col not in STATES:
+        raise ValidationError(f"{quantity!r}: the states of A are {', '.join(STATES)} (θ, φ for theta, phi)")
+    return STATES.index(row), STATES.index(col)
+
+
+def entry_unit(row: str, col: str) -> str:
+    """SI unit of the entry ``A[row,col]``: (rate of the row's state) per (the column's state)."""
+    num = {**{s: "m/s^2" for s in LINEAR}, **{s: "rad/s^2" for s in ANGULAR}}.get(row, "rad/s")
+    den = {**{s: "m/s" for s in LINEAR}, **{s: "rad/s" for s in ANGULAR}}.get(col, "rad")
+    return _divide(num, den)
+
+
+def _divide(num: str, den: str) -> str:
+    pairs = {("m/s^2", "m/s"): "1/s", ("rad/s^2", "rad/s"): "1/s", ("rad/s", "rad"): "1/s",
+             ("m/s^2", "rad/s"): "m/s rad", ("rad/s^2", "m/s"): "rad/m s", ("rad/s", "m/s"): "rad/m",
+             ("m/s^2", "rad"): "m/s^2 rad", ("rad/s^2", "rad"): "1/s^2", ("rad/s", "rad/s"): "-"}
+    return pairs[(num, den)]
+
+
+def derivative_value(derivatives, quantity: str) -> tuple[float, str]:
+    """``(value, SI unit)`` of the derivative ``quantity`` (Padfield's name, or an entry
+    ``A[row,column]``) of ``derivatives``."""
+    at = entry(quantity)
+    if at is not None:
+        from mbs.analysis.flight_modes import STATES
+
+        return float(derivatives.A[at]), entry_unit(STATES[at[0]], STATES[at[1]])
+    name = canonical(quantity)
+    if name not in derivatives.table:
+        raise ValidationError(f"derivative {quantity!r} is not one of the model's: {', '.join(derivatives.table)}")
+    return derivatives.table[name], derivatives.units[name]
+
+
+def converter(si_unit: str, unit: str, where: str):
+    """``f(value_in_si) -> value in unit``; :class:`ValidationError` when the dimensions differ."""
+    try:
+        ours, theirs = units.parse(_plain(si_unit)), units.parse(_plain(unit))
+    except units.UnitError as exc:
+        raise ValidationError(f"{where}: {exc}") from None
+    if ours.dims != theirs.dims:
+        raise ValidationError(f"{where}: unit {unit!r} is {theirs.describe()}, but the model's quantity is in "
+                              f"{si_unit!r} ({ours.describe()})")
+    return lambda v: v / theirs.factor if math.isfinite(v) else math.nan
+
+
+FLAPPING = ("beta0", "beta1c", "beta1s")
+
+
+def model_units(info) -> dict[str, dict[str, str]]:
+    """The model's quantities and their SI units before any trim: ``{"trim": {...}, "derivative":
+    {...}}`` from the system's description ``info`` (controls, attitude, flapping, outputs; the
+    derivative table's names)."""
+    from mbs.analysis.derivatives import CONTROL_SYMBOLS, FORCES, VELOCITIES, _unit
+    from mbs.analysis.shooting import TrimLayout
+
+    controls = TrimLayout.of(info).control_names
+    trim = {**{c: "rad" for c in [*controls, *ANGLES, *FLAPPING]},
+            **{o["name"]: o["unit"] for o in info.outputs if not o["name"].endswith(".azimuth")}}
+    deriv = {f"{f}_{v}": _unit(f, v) for f in FORCES for v in VELOCITIES}
+    deriv.update({f"{f}_{CONTROL_SYMBOLS.get(c, c)}": _unit(f, "control") for f in FORCES for c in controls})
+    return {"trim": trim, "derivative": deriv}
+
+
+def _known_unit(known: dict, kind: str, quantity: str) -> str | None:
+    """The model's SI unit of ``quantity`` of ``kind``, None when the model has no such quantity."""
+    from mbs.analysis.flight_modes import STATES
+
+    if kind == "derivative" and entry(quantity) is not None:
+        row, col = entry(quantity)
+        return entry_unit(STATES[row], STATES[col])
+    return known[kind].get(canonical(quantity) if kind == "derivative" else quantity)
+
+
+def check(validation, info) -> None:
+    """Every series of ``validation`` names a quantity of the model in a unit of its dimension
+    (:class:`ValidationError` naming the first that does not), before any trim is run."""
+    known = model_units(info)
+    for s in validation.series:
+        unit = _known_unit(known, s.kind, s.quantity)
+        if unit is None:
+            extra = " and A[row,column]" if s.kind == "derivative" else ""
+            raise ValidationError(f"{validation.path}: {s.kind} {s.quantity!r} is not one of the model's "
+                                  f"{s.kind} quantities: {', '.join(known[s.kind])}{extra}")
+        converter(unit, s.unit, f"{validation.path}: {s.kind} {s.quantity}")

@@ -1,0 +1,114 @@
+"""The validation as text (a table per published series, the eigenvalue pairs, the verdict) and
+as plain data (JSON)."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from mbs.validate.data import EigenTolerance
+
+MARK = {True: "ok", False: "OUT", None: ""}
+
+
+def lines(res) -> list[str]:
+    """The human-readable report of :func:`mbs.validate.runner.validate`."""
+    v = res.validation
+    out = [f"{v.title}", f"  data: {v.path}", f"  model: {res.model.aircraft or 'default aircraft'}, scene {v.scene}; "
+           f"{len(res.model.points)} speeds in {res.model.wall_s:.1f} s",
+           *[f"  convention, {k}: {t}" for k, t in v.conventions.items()],
+           *[f"  source {k}: {t}" for k, t in v.sources.items()]]
+    problems = [p for p in res.model.points.values() if not p.ok]
+    out += [f"  at {p.speed:g} m/s: {p.problem}" for p in problems]
+    for s, rows in res.blocks:
+        out += series_lines(s, rows, v)
+    if res.pairs:
+        out += eigen_lines(res.pairs, v.eigen_tolerance or EigenTolerance(), v.speed_unit)
+    return out + verdict_lines(res)
+
+
+def series_lines(s, rows, v) -> list[str]:
+    tol = f"tolerance {s.tolerance.describe(s.unit)}" if s.tolerance else "no tolerance (shown, not checked)"
+    head = [f"{s.kind} {s.quantity} [{s.unit}]: {tol}; source {s.source}"]
+    if s.ours_factor != 1.0:
+        head.append(f"  model's value times {s.ours_factor:g}: {s.note}")
+    elif s.note:
+        head.append(f"  note: {s.note}")
+    head.append(f"  {'speed ' + v.speed_unit:>10s} {'ours':>11s} {'published':>11s} {'±':>8s} {'ours-pub':>11s} "
+                f"{'ours/pub':>9s}")
+    return head + [_row_line(r) for r in rows]
+
+
+def _row_line(r) -> str:
+    if r.problem:
+        return f"  {r.speed:10.4g} {'—':>11s} {r.published:+11.4g} {r.uncertainty:8.2g}  {r.problem}"
+    ratio = f"{r.ratio:9.3f}" if math.isfinite(r.ratio) else " " * 9
+    return (f"  {r.speed:10.4g} {r.ours:+11.4g} {r.published:+11.4g} {r.uncertainty:8.2g} {r.difference:+11.4g} "
+            f"{ratio} {MARK[r.within]}")
+
+
+def eigen_lines(pairs, tol: EigenTolerance, speed_unit: str) -> list[str]:
+    out = [f"eigenvalues (1/s, rad/s), each published one paired with the nearest of the model's: same stability "
+           f"(|Re| <= {tol.neutral:g} 1/s neutral) and within {100 * tol.frequency:g} % the frequency |Im| of a "
+           f"published oscillation (|Im| >= {tol.min_frequency:g} rad/s) or the rate |λ| of a published subsidence",
+           f"  {'speed ' + speed_unit:>10s} {'published':>20s} {'ours':>20s} {'mode (ours)':22s} {'ratio':>7s} measure"]
+    for p in pairs:
+        ratio = f"{p.ratio:7.3f}" if p.ratio is not None else " " * 7
+        verdict = "ok" if p.within else ("OUT: stability" if not p.same_stability else f"OUT: {p.measure}")
+        out.append(f"  {p.speed:10.4g} {_z(p.published):>20s} {_z(p.ours):>20s} {p.mode:22s} {ratio} {p.measure:9s} "
+                   f"{verdict}")
+    return out
+
+
+def _z(z: complex) -> str:
+    return f"{z.real:+.4f}{z.imag:+.4f}i" if z.imag else f"{z.real:+.4f}"
+
+
+def verdict_lines(res) -> list[str]:
+    c = res.counts()
+    out = []
+    for kind in ("trim", "derivative"):
+        k = c[kind]
+        if k["rows"]:
+            out.append(f"{kind}s: {k['within']} of {k['checked']} checked points within tolerance "
+                       f"({k['rows']} points, {k['no_model_value']} without a model value)")
+    if res.pairs:
+        e = c["eigenvalues"]
+        out.append(f"eigenvalues: {e['within']} of {e['pairs']} within tolerance, {e['same_stability']} of the same "
+                   "stability")
+    out.append("all within tolerance" if res.all_within else "NOT all within tolerance")
+    return out
+
+
+def worst(rows, relative: bool) -> dict[str, float]:
+    """For each quantity the largest |difference| (or |ratio - 1|) of its rows with a model value."""
+    out: dict[str, float] = {}
+    for r in rows:
+        if r.problem:
+            continue
+        err = abs(r.ratio - 1.0) if relative else abs(r.difference)
+        if math.isfinite(err):
+            out[r.quantity] = max(out.get(r.quantity, 0.0), err)
+    return out
+
+
+def summary(res) -> dict:
+    """Plain-data form (JSON)."""
+    v = res.validation
+    return {"title": v.title, "data": str(v.path), "aircraft": res.model.aircraft, "scene": v.scene,
+            "speed_unit": v.speed_unit, "conventions": v.conventions, "sources": v.sources,
+            "series": [{"kind": s.kind, "quantity": s.quantity, "unit": s.unit, "source": s.source, "note": s.note,
+                        "ours_factor": s.ours_factor,
+                        "tolerance": None if s.tolerance is None else vars(s.tolerance)} for s in v.series],
+            "rows": [r.summary() for r in res.rows], "eigenvalues": [p.summary() for p in res.pairs],
+            "model": {"speeds_m_s": sorted(res.model.points), "wall_s": res.model.wall_s,
+                      "problems": {str(p.speed): p.problem for p in res.model.points.values() if not p.ok}},
+            "counts": res.counts(), "all_within": res.all_within,
+            "worst": {"trim_abs": worst([r for r in res.rows if r.kind == "trim"], False),
+                      "derivative_rel": worst([r for r in res.rows if r.kind == "derivative"], True),
+                      "eigen_size_rel": _eigen_worst(res.pairs)}}
+
+
+def _eigen_worst(pairs) -> float | None:
+    errs = [abs(p.ratio - 1.0) for p in pairs if p.ratio is not None]
+    return float(np.max(errs)) if errs else None

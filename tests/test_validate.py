@@ -1,0 +1,207 @@
+"""``heli validate``: published data read with units, sources and tolerances; the model compared
+point by point (units converted, conventions applied), eigenvalues paired; tables, JSON, charts,
+exit status; every bad file refused with one line naming the entry.
+
+The packaged validations (the Puma against Padfield's Helisim, the Bo105 against Helisim and
+against its flight test) run in ``test_validate_published.py``.
+"""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from mbs.analysis.flight_modes import FlightMode
+from mbs.validate import compare, eigen
+from mbs.validate.data import EigenTolerance, ValidationError, from_dict, load, packaged
+from mbs.validate.ours import Model, Point
+from test_cli_errors import assert_one_line_error, run_main
+
+HEAD = '[validation]\ntitle = "t"\naircraft = "bo105"\nspeed_unit = "kt"\n'
+
+
+def toml(text: str, tmp_path: Path) -> Path:
+    path = tmp_path / "data.toml"
+    path.write_text(HEAD + text)
+    return path
+
+
+TRIM = '[[trim]]\nquantity = "collective"\nunit = "deg"\nspeed = [0, 40]\nvalue = [14.0, 12.0]\nsource = "P1"\n'
+
+
+@pytest.mark.parametrize("name", packaged())
+def test_packaged_files_read_and_every_source_is_named(name):
+    v = load(name)
+    assert v.series or v.eigenvalues
+    for s in v.series:
+        assert s.source.split()[0] in v.sources, f"{s.quantity}: source {s.source!r} not in [sources]"
+        assert len(s.value) == len(s.speed) and (s.uncertainty >= 0).all()
+    for e in v.eigenvalues:
+        assert e.source.split()[0] in v.sources
+    assert {"axes", "controls"} <= set(v.conventions)
+
+
+def test_the_sign_off_tolerances_are_the_packaged_ones():
+    """Puma: every main derivative within 25 %; Bo105: collective 1 deg, cyclic 1.5, tail
+    collective 2.5, pitch attitude 1 deg."""
+    puma = {s.quantity: s.tolerance for s in load("puma_helisim").series if s.tolerance}
+    assert set(puma) == {"X_u", "Z_w", "M_u", "M_q", "L_p", "N_r", "L_v", "N_v", "Z_θ0", "M_θ1s", "L_θ1c", "N_θ0T"}
+    assert {t.relative for t in puma.values()} == {0.25}
+    ft = {s.quantity: s.tolerance.absolute for s in load("bo105_flight_test").series if s.tolerance}
+    assert ft == {"collective": 1.0, "longitudinal_cyclic": 1.5, "lateral_cyclic": 1.5, "tail_collective": 2.5,
+                  "pitch": 1.0}
+
+
+def test_speeds_convert_and_merge(tmp_path):
+    v = load(toml(TRIM + TRIM.replace("[0, 40]", "[40, 100]"), tmp_path))
+    assert v.speeds("trim") == pytest.approx([0.0, 40 * 1852 / 3600, 100 * 1852 / 3600])
+    assert v.speeds("derivative") == []
+
+
+def fake_point(speed: float, problem: str = "") -> Point:
+    trim = SimpleNamespace(controls={"collective": math.radians(13.0), "tail_collective": 0.1}, pitch=0.05, roll=-0.02,
+                           flapping={"beta0": 0.03}, output_means={"engine.power": 300e3},
+                           output_units={"engine.power": "W"})
+    modes = [FlightMode(complex(-3.0, 0.0), {}, "pitch subsidence"), FlightMode(complex(0.1, 0.5), {}, "phugoid")]
+    a = np.arange(64.0).reshape(8, 8)
+    der = SimpleNamespace(table={"M_q": -3.0, "N_θ0T": 9.0}, units={"M_q": "1/s", "N_θ0T": "1/s^2"}, modes=modes, A=a)
+    return Point(speed, trim, der, problem)
+
+
+def fake_model(speeds, bad=()) -> Model:
+    m = Model("forward-flight", "fake")
+    for v in speeds:
+        m.points[round(v, 9)] = fake_point(v, "no trim: Newton failed" if v in bad else "")
+    return m
+
+
+def test_rows_convert_units_and_judge_tolerances(tmp_path):
+    """13 deg collective against 14 and 12 published with 1 deg tolerance: the first at the edge
+    (within), the second out; kW from W; a relative tolerance; a speed without trim reads
+    'no trim' and is not within."""
+    v = load(toml(TRIM + '[trim.tolerance]\nabsolute = 1.0\n'
+                  '[[trim]]\nquantity = "engine.power"\nunit = "kW"\nspeed = [0]\nvalue = [280.0]\nsource = "P1"\n'
+                  'tolerance = { relative = 0.1 }\n', tmp_path))
+    speeds = v.speeds("trim")
+    model = fake_model(speeds, bad={speeds[1]})
+    col, power = (compare.rows(s, model) for s in v.series)
+    assert col[0].ours == pytest.approx(13.0) and col[0].difference == pytest.approx(-1.0) and col[0].within
+    assert col[1].problem.startswith("no trim") and col[1].within is False and math.isnan(col[1].ours)
+    assert power[0].ours == pytest.approx(300.0) and power[0].ratio == pytest.approx(300 / 280) and power[0].within
+    assert compare.counts(col + power) == {"rows": 3, "checked": 3, "within": 2, "no_model_value": 1}
+
+
+def test_ours_factor_flips_a_sign_convention_and_needs_a_note(tmp_path):
+    body = ('[[derivative]]\nquantity = "N_theta0T"\nunit = "1/s^2"\nspeed = [0]\nvalue = [-9.0]\nsource = "P1"\n'
+            'tolerance = { relative = 0.25 }\nours_factor = -1\n')
+    with pytest.raises(ValidationError, match="needs a note saying why"):
+        load(toml(body, tmp_path))
+    v = load(toml(body + 'note = "the published tail-rotor pitch is positive the other way"\n', tmp_path))
+    row, = compare.rows(v.series[0], fake_model([0.0]))
+    assert row.ours == pytest.approx(-9.0) and row.ratio == pytest.approx(1.0) and row.within
+
+
+def test_entries_of_a_compare_with_their_units(tmp_path):
+    """``A[w,q]`` is row w, column q of A (Z_q + U_e, m/(s rad)); ``A[φ,p]`` is dimensionless;
+    a unit of another dimension is refused."""
+    from mbs.validate.quantities import derivative_value, entry_unit
+
+    point = fake_point(0.0)
+    assert derivative_value(point.derivatives, "A[w,q]") == (10.0, "m/s rad")
+    assert derivative_value(point.derivatives, "A[φ,p]") == (53.0, "-")
+    assert entry_unit("q", "u") == "rad/m s" and entry_unit("v", "phi") == "m/s^2 rad"
+    body = '[[derivative]]\nquantity = "A[w,q]"\nunit = "UNIT"\nspeed = [0]\nvalue = [10.0]\nsource = "P1"\n'
+    row, = compare.rows(load(toml(body.replace("UNIT", "m/s deg"), tmp_path)).series[0], fake_model([0.0]))
+    assert row.ours == pytest.approx(10.0 * math.pi / 180)
+    with pytest.raises(ValidationError, match="the states of A are u, w, q"):
+        derivative_value(point.derivatives, "A[w,x]")
+
+
+def test_eigenvalues_pair_by_least_distance_and_judge_stability_and_size():
+    tol = EigenTolerance(frequency=0.25, neutral=0.02, min_frequency=0.05)
+    published = np.array([-14.2, 0.28 + 0.49j, 0.28 - 0.49j, 0.01])
+    ours = np.array([-8.0 + 1.8j, -8.0 - 1.8j, 0.12 + 0.495j, 0.12 - 0.495j, -0.015, 0.3])
+    pairs = eigen.pair(published, ours, list("aabbcd"), 0.0, tol)
+    by_pub = {p.published: p for p in pairs}
+    roll = by_pub[-14.2]
+    assert roll.measure == "rate" and roll.ratio == pytest.approx(abs(-8 + 1.8j) / 14.2) and not roll.within
+    phugoid = by_pub[0.28 + 0.49j]
+    assert phugoid.ours == 0.12 + 0.495j and phugoid.measure == "frequency" and phugoid.within
+    near_zero = by_pub[0.01]
+    assert near_zero.ours == -0.015 and near_zero.measure == "stability only" and near_zero.within
+    flipped = eigen.pair(np.array([0.13 + 0.79j]), np.array([-0.83 + 2.52j]), ["Dutch roll"], 140.0, tol)[0]
+    assert not flipped.same_stability and not flipped.within
+
+
+def test_model_eigenvalues_include_both_of_a_pair():
+    values, names = eigen.model_eigenvalues(fake_point(0.0).derivatives)
+    assert sorted(values, key=lambda z: (z.real, z.imag)) == [-3.0, 0.1 - 0.5j, 0.1 + 0.5j]
+    assert names.count("phugoid") == 2
+
+
+def test_csv_carries_the_same_as_toml(tmp_path):
+    csv = tmp_path / "d.csv"
+    csv.write_text("# title: t\n# aircraft: bo105\n# speed_unit: kt\n# convention axes: body\n# source P1: Padfield\n"
+                   "kind,quantity,unit,speed,value,imaginary,uncertainty,tolerance,source,note\n"
+                   "trim,collective,deg,0,14.0,,0.1,absolute 1.0,P1,\ntrim,collective,deg,40,12.0,,0.1,absolute 1.0,P1,\n"
+                   "eigenvalue,,1/s,0,0.28,0.49,,,P1,\neigenvalue,,1/s,0,0.28,-0.49,,,P1,\n")
+    v = load(csv)
+    s, = v.series
+    assert (s.quantity, s.unit, list(s.shown_speed), list(s.value), s.tolerance.absolute) == (
+        "collective", "deg", [0.0, 40.0], [14.0, 12.0], 1.0)
+    assert v.sources == {"P1": "Padfield"} and v.conventions == {"axes": "body"}
+    assert list(v.eigenvalues[0].value) == [0.28 + 0.49j, 0.28 - 0.49j]
+
+
+BAD = [
+    ("", "nothing to compare"),
+    (TRIM.replace('unit = "deg"', 'unit = "furlong"'), "furlong"),
+    (TRIM.replace("[0, 40]", "[0]"), "2 values for 1 speeds"),
+    (TRIM.replace("[0, 40]", "[0, -40]"), "speed -40 is negative"),
+    (TRIM.replace("[14.0, 12.0]", '[14.0, "x"]'), "value must be a non-empty list of finite numbers"),
+    (TRIM + "tolerance = 1.0\n", "tolerance must be { absolute = x }"),
+    (TRIM + "tolerance = { relative = -0.1 }\n", "tolerance relative = -0.1 must be a positive number"),
+    (TRIM + "colour = 3\n", "unknown key(s) colour"),
+    (TRIM.replace("14.0, 12.0", "0.0, 12.0") + "tolerance = { relative = 0.1 }\n", "cannot judge the published value 0"),
+    (TRIM.replace('source = "P1"\n', ""), "source must be a non-empty text"),
+    ("[[eigenvalues]]\nspeed = 0\nvalue = [[1.0]]\nsource = \"P1\"\n", "list of [real, imaginary] pairs"),
+    ("[eigenvalue_tolerance]\nfrequency = -1\n" + TRIM, "frequency = -1 must be a number >= 0"),
+    ("[extras]\nx = 1\n" + TRIM, "unknown section(s) extras"),
+]
+
+
+@pytest.mark.parametrize("body,words", BAD)
+def test_bad_file_is_refused_naming_the_entry(body, words, tmp_path):
+    with pytest.raises(ValidationError, match=None) as exc:
+        load(toml(body, tmp_path))
+    assert words in str(exc.value) and str(tmp_path / "data.toml") in str(exc.value)
+
+
+def test_bad_speed_unit_and_missing_section(tmp_path):
+    with pytest.raises(ValidationError, match="not a speed"):
+        from_dict({"validation": {"aircraft": "bo105", "speed_unit": "kg"}}, tmp_path / "x.toml")
+    with pytest.raises(ValidationError, match=r"no \[validation\] section"):
+        from_dict({}, tmp_path / "x.toml")
+
+
+@pytest.mark.parametrize("line,words", [
+    ("validate nosuch", ["DATA", "no validation file 'nosuch'", "puma_helisim"]),
+    ("validate BAD", ["DATA", "unknown key(s) colour"]),
+    ("validate puma_helisim --method rk5", ["--method", "'rk5'"]),
+    ("validate puma_helisim --out /dev/null/x", ["--out", "/dev/null is a file, not a folder"]),
+    ("validate puma_helisim --aircraft nosuch.toml", ["--aircraft", "nosuch.toml"]),
+])
+def test_bad_invocation_is_one_line_and_exit_2(line, words, capsys, tmp_path):
+    bad = toml(TRIM + "colour = 3\n", tmp_path)
+    code, err = run_main(line.replace("BAD", str(bad)).split(), capsys)
+    assert_one_line_error(code, err, words)
+    assert err.startswith("heli validate: error:")
+
+
+def test_a_quantity_the_model_lacks_is_refused_before_any_trim(tmp_path, capsys):
+    path = toml(TRIM.replace("collective", "rotor_colour"), tmp_path)
+    code, err = run_main(["validate", str(path), "--no-charts", "--quiet"], capsys)
+    assert_one_line_error(code, err, ["trim 'rotor_colour' is not one of the model's trim quantities", "collective"])

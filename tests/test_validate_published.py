@@ -1,0 +1,154 @@
+"""The packaged validations: the Puma against Padfield's Helisim derivatives and eigenvalues
+(0-140 kn), the Bo105 against its DLR flight-test trims (0-105 kt) and against Helisim.
+
+Each criterion of the flight model's sign-off is one test over every published speed, with the
+tolerance the data file carries (Puma: main derivatives within 25 %, modes of the same stability,
+frequencies within 25 %; Bo105: collective within 1 deg, cyclic 1.5 deg, tail collective 2.5 deg,
+pitch attitude 1 deg). The criteria today's aircraft files miss are marked ``xfail(strict=True)``
+with the measured figure: they turn into failures the day they pass, to be unmarked then.
+A run takes about 100 s (Puma, Bo105 Helisim) and 100-600 s (Bo105 flight test, 57 trims)
+depending on the load of the machine.
+"""
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from mbs.validate import charts, load, report, validate
+from test_cli_errors import run_main
+
+
+@pytest.fixture(scope="module")
+def puma():
+    return validate(load("puma_helisim"))
+
+
+@pytest.fixture(scope="module")
+def flight_test():
+    return validate(load("bo105_flight_test"))
+
+
+@pytest.fixture(scope="module")
+def bo105_helisim():
+    return validate(load("bo105_helisim"))
+
+
+def rows_of(res, quantity: str):
+    rows = [r for r in res.rows if r.quantity == quantity and r.within is not None]
+    show = (lambda r: f"{r.difference:+.2f} {r.unit}") if rows and rows[0].kind == "trim" else (lambda r: f"x{r.ratio:.2f}")
+    print(f"{quantity}: " + ", ".join(f"{r.speed:g}: {r.ours:+.4g} vs {r.published:+.4g} ({show(r)})"
+                                      + ("" if r.within else " OUT") for r in rows))
+    return rows
+
+
+def out_of(rows) -> list[str]:
+    return [f"{r.speed:g}: ours {r.ours:+.4g}, published {r.published:+.4g}" for r in rows if not r.within]
+
+
+MISSED = "today's Puma file misses it"
+PUMA = {
+    "Z_w": None, "M_θ1s": None,
+    "X_u": "x1.40-1.68 from 60 kn", "M_u": "x2.2 in hover, x0.27-0.61 at 40, 80, 100 kn",
+    "M_q": "x1.37, 1.30 at 0, 20 kn", "L_p": "x0.63 at 40 kn falling to x0.37 at 140 kn",
+    "N_r": "x1.39-2.33, growing with speed", "L_v": "opposite sign (the published curve's sign is uncertain)",
+    "N_v": "x0.64 in hover, x1.31-3.52 from 60 kn", "Z_θ0": "x1.26 in hover",
+    "L_θ1c": "x0.60-0.62 at every speed", "N_θ0T": "x1.29-1.50 from 80 kn",
+}
+
+
+@pytest.mark.parametrize("quantity", [pytest.param(q, marks=pytest.mark.xfail(strict=True, reason=f"{MISSED}: {why}"))
+                                      if why else q for q, why in PUMA.items()])
+def test_puma_main_derivative_within_25_percent_of_helisim_at_every_speed(puma, quantity):
+    rows = rows_of(puma, quantity)
+    assert len(rows) == 8 and not [r for r in rows if r.problem]
+    assert not out_of(rows), f"{quantity} outside 25 %: {out_of(rows)}"
+
+
+@pytest.mark.xfail(strict=True, reason=f"{MISSED}: the phugoid at 40 kn and the spiral at 20, 60-120 kn differ "
+                                       "(the published spiral comes from P1's L_v, whose sign is uncertain)")
+def test_puma_modes_have_helisims_stability_at_every_speed(puma):
+    bad = [f"{p.speed:g} kn: {p.published:.3f} vs {p.ours:.3f} ({p.mode})" for p in puma.pairs if not p.same_stability]
+    assert len({p.speed for p in puma.pairs}) == 8
+    assert not bad, bad
+
+
+@pytest.mark.xfail(strict=True, reason=f"{MISSED}: phugoid x0.37-0.67 from 60 kn, short period x1.4-1.9, "
+                                       "Dutch roll x1.37-1.77 from 100 kn")
+def test_puma_frequencies_within_25_percent_of_helisim(puma):
+    bad = [f"{p.speed:g} kn {p.mode}: x{p.ratio:.2f}" for p in puma.pairs if p.ratio is not None
+           and p.measure == "frequency" and abs(p.ratio - 1) > 0.25]
+    assert not bad, bad
+
+
+FLIGHT = {"collective": "-1.03 deg at 100 kt", "lateral_cyclic": None, "longitudinal_cyclic": None,
+          "tail_collective": "+2.6, +2.5 deg at 22, 31 kt; -2.6 deg at 101 kt",
+          "pitch": "-1.1 to +1.9 deg at 27-67 kt"}
+
+
+@pytest.mark.parametrize("quantity", [
+    pytest.param(q, marks=pytest.mark.xfail(strict=True, reason=f"today's Bo105 file misses it: {why}")) if why else q
+    for q, why in FLIGHT.items()])
+def test_bo105_trim_within_tolerance_of_the_flight_test(flight_test, quantity):
+    rows = rows_of(flight_test, quantity)
+    assert rows and not [r for r in rows if r.problem]
+    assert not out_of(rows), f"{quantity} outside {rows[0].unit} tolerance: {out_of(rows)}"
+
+
+def test_every_published_speed_trims_and_linearises(puma, flight_test, bo105_helisim):
+    for res in (puma, flight_test, bo105_helisim):
+        assert all(p.ok for p in res.model.points.values()), [p.problem for p in res.model.points.values()]
+        assert len(res.rows) == sum(len(s.value) for s in res.validation.series)
+    assert len(bo105_helisim.pairs) == 64 and len(puma.pairs) == 64
+    print("\n".join(report.verdict_lines(puma) + report.verdict_lines(flight_test) + report.verdict_lines(bo105_helisim)))
+
+
+def test_bo105_helisim_figures_recorded(bo105_helisim, tmp_path):
+    """Not a criterion of the sign-off (the Bo105's is its flight test): the comparison runs,
+    Z_w and Z_θ0 (the rotor's thrust response, which the derivative charts read best) are within
+    25 % at every speed, and the charts are written."""
+    for q in ("Z_w", "Z_θ0"):
+        assert not out_of(rows_of(bo105_helisim, q))
+    files = charts.write_all(bo105_helisim, tmp_path)
+    assert sorted(p.name for p in files) == ["derivatives.png", "root_locus.png"]
+    assert all(p.stat().st_size > 20_000 for p in files)
+
+
+CSV = """# title: two trims and a hover linearisation
+# aircraft: bo105
+# speed_unit: kt
+# convention controls: blade angles, deg
+# source P1: Padfield (1996), Fig. 4.10(c); a hover subsidence of the Bo105 root locus
+kind,quantity,unit,speed,value,imaginary,uncertainty,tolerance,source,note
+trim,collective,deg,0,14.26,,0.06,absolute TOL,P1,
+trim,collective,deg,50.09,12.09,,0.06,absolute TOL,P1,
+derivative,Z_w,1/s,0,-0.3164,,0.007,relative 0.25,P1,
+eigenvalue,,1/s,0,-0.30,0,,,P1,
+"""
+
+
+@pytest.mark.parametrize("tol,code", [(0.01, 1), (2.0, 0)])
+def test_check_sets_the_exit_status(tol, code, tmp_path, capsys):
+    """``--check``: exit status 1 when a point is outside its tolerance (the model's hover
+    collective is 0.4 deg above the flight test's), 0 when every point and pair is within."""
+    data = tmp_path / "two.csv"
+    data.write_text(CSV.replace("TOL", str(tol)))
+    status, err = run_main(["validate", str(data), "--check", "--no-charts", "--quiet"], capsys)
+    assert status == code, err
+
+
+def test_command_json_is_one_object(tmp_path, capfd):
+    from mbs import cli
+
+    data = tmp_path / "two.csv"
+    data.write_text(CSV.replace("TOL", "2.0"))
+    assert cli.main(["validate", str(data), "--json", "--quiet", "--out", str(tmp_path / "o")]) == 0
+    captured = capfd.readouterr()
+    res = json.loads(captured.out)
+    assert res["counts"]["trim"] == {"rows": 2, "checked": 2, "within": 2, "no_model_value": 0}
+    assert res["counts"]["derivative"]["within"] == 1 and res["all_within"] is True
+    pair, = res["eigenvalues"]
+    assert pair["published"] == [-0.3, 0.0] and pair["measure"] == "rate" and pair["within"]
+    assert sorted(p.split("/")[-1] for p in res["files"]) == ["derivatives.png", "root_locus.png", "trims.png"]
+    assert res["conventions"] == {"controls": "blade angles, deg"}
+    assert "collective [deg]: tolerance ±2 deg" in captured.err
