@@ -50,6 +50,8 @@ ELSEWHERE = {  # command -> the test that parses its whole stdout as one JSON ob
                         "test_a_command_that_prints_stays_pipe_clean",
     "heli bench loops": "five forward-flight models compiled (slow); pipe-clean by "
                         "test_a_command_that_prints_stays_pipe_clean",
+    "heli validate": "trims and derivatives of three aircraft (slow); pipe-clean by "
+                     "test_a_command_that_prints_stays_pipe_clean",
     "heli fly": "tests/test_fly.py::test_heli_fly_writes_a_self_contained_page",
     "heli bench fly": "Chromium runs of four WebAssembly builds (slow); pipe-clean by "
                       "test_a_command_that_prints_stays_pipe_clean",
