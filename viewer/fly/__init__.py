@@ -114,6 +114,57 @@ def check(sc, speeds=None) -> None:
                          "to choose; leave --speeds out")
 
 
+def _model_config(sc, system, scene, spec: dict, controls: list[dict]) -> dict:
+    """The page's configuration of the model (:mod:`viewer.fly.model`): step, value references, charts,
+    readout, bodies and blade tips."""
+    info, vr, name = system.info, fm.value_refs(spec), sc.name
+    charts, chart_vrs = fm.charts(sc, scene, vr, controls)
+    readout, readout_vrs = fm.readout(vr, fm.modelled(info))
+    hinge = spec["scenes"][name]["hinge_states"]
+    return {"scene": name, "aircraft": info.name, "h": fm.step(sc, system),
+            "revolution": sc.revolution(system, system.params()), "steps_per_rev": sc.steps_per_rev,
+            "vr": {"scene": vr["scene"], "initial_state": vr.get("initial_state", -1)}, "inputs": controls,
+            "hinge": hinge, "hinge_names": [info.state_names[i] for i in hinge], "charts": charts,
+            "chart_vrs": chart_vrs, "readout": readout, "readout_vrs": readout_vrs,
+            "chart_every": max(1, round(sc.steps_per_rev / fm.CHART_SAMPLES_PER_REV)),
+            "history_limit": fm.HISTORY_LIMIT, "tpp_stretch": 5, "stick_reach": fm.STICK_REACH,
+            "bodies": fm.bodies(scene), "follow": -1 if scene.follow is None else scene.body_names.index(scene.follow),
+            "world": scene.frame_path("world"), "tips": fm.tips(scene), "scales": fm.SCALES,
+            "inputs_file": f"{name}-inputs.csv"}
+
+
+def _pilot(sc, system, spec: dict, speeds, log) -> tuple[list[dict], list[dict]]:
+    """The starts and the pilot's inputs (each with the sign that moves the control forward or right,
+    measured on the model from the first start)."""
+    names = [v["name"] for v in spec["variables"] if v["causality"] == "input"]
+    starts = page_starts(sc, system, names, speeds, log)
+    free = any(b["joint"] == "FreeJoint" for b in system.info.bodies)
+    signs = fm.pilot_signs(system, np.array(starts[0]["x0"]), _params(system, names, starts[0]), fm.step(sc, system),
+                           sc.steps_per_rev) if free else {}
+    return starts, fm.inputs(spec, sc.name, signs)
+
+
+def _stability(sc, spec: dict, free: bool, wanted: bool, aircraft, log) -> tuple[dict | None, bytes | None, str]:
+    """The hover-hold controller's configuration and WebAssembly, or (None, None, why not)."""
+    if not free:
+        return None, None, "no stability augmentation on a stand"
+    if not wanted:
+        return None, None, NO_CONTROLLER.format(scene=sc.name)
+    names = [v["name"] for v in spec["variables"] if v["causality"] == "input"]
+    return hover_hold.page_controller(sc, fm.value_refs(spec), names, aircraft, log)
+
+
+def _scene_commands(system, scene, start: dict, names: list[str]) -> list[bytes]:
+    """The meshcat commands drawing the scene at the first start."""
+    from viewer.export import RecordingWindow
+    from viewer.scene import commands
+
+    window = RecordingWindow()
+    for command in commands(scene, *_start_view(system, scene, start, _params(system, names, start))):
+        window.send(command)
+    return window.packed()
+
+
 def write_page(scene_name: str, out, aircraft=None, speeds=None, flat: bool = False, log=None,
                flags=None, controller: bool = True) -> FlyPage:
     """Write the flight page of ``scene_name`` (of ``aircraft``: a name, file or loaded aircraft,
@@ -124,47 +175,23 @@ def write_page(scene_name: str, out, aircraft=None, speeds=None, flat: bool = Fa
     first time)."""
     from fmu.native import wasm
     from mbs import scenes
-    from viewer.export import RecordingWindow
-    from viewer.scene import build_scene, commands
+    from viewer.scene import build_scene
 
     began = time.perf_counter()
     sc = scenes.get(scene_name, aircraft)
     check(sc, speeds)
     built = wasm.ensure_model(family(scene_name), aircraft, log, flags or wasm.FLAGS)
-    spec, vr = built.spec, fm.value_refs(built.spec)
     system = sc.system("compiled")
-    info = system.info
-    free = any(b["joint"] == "FreeJoint" for b in info.bodies)
-    names = [v["name"] for v in spec["variables"] if v["causality"] == "input"]
-    starts = page_starts(sc, system, names, speeds, log)
-    h = fm.step(sc, system)
-    p0 = _params(system, names, starts[0])
-    signs = fm.pilot_signs(system, np.array(starts[0]["x0"]), p0, h, sc.steps_per_rev) if free else {}
-    scene = build_scene(info, flat, True, True)
-    controls = fm.inputs(spec, scene_name, signs)
-    ctrl, ctrl_wasm, why = None, None, "" if controller else NO_CONTROLLER.format(scene=scene_name)
-    if free and controller:
-        ctrl, ctrl_wasm, why = hover_hold.page_controller(sc, vr, names, aircraft, log)
-    charts, chart_vrs = fm.charts(sc, scene, vr, controls)
-    readout, readout_vrs = fm.readout(vr, fm.modelled(info))
-    note = page_note(scene_name, free, names)
-    config = {"scene": scene_name, "aircraft": info.name, "aircraft_arg": aircraft_argument(aircraft),
-              "h": h, "revolution": sc.revolution(system, system.params()), "steps_per_rev": sc.steps_per_rev,
-              "vr": {"scene": vr["scene"], "initial_state": vr.get("initial_state", -1)},
-              "inputs": controls, "hinge": spec["scenes"][scene_name]["hinge_states"],
-              "hinge_names": [info.state_names[i] for i in spec["scenes"][scene_name]["hinge_states"]],
-              "charts": charts, "chart_vrs": chart_vrs, "readout": readout, "readout_vrs": readout_vrs,
-              "chart_every": max(1, round(sc.steps_per_rev / fm.CHART_SAMPLES_PER_REV)),
-              "history_limit": fm.HISTORY_LIMIT, "tpp_stretch": 5, "stick_reach": fm.STICK_REACH,
-              "bodies": fm.bodies(scene), "follow": -1 if scene.follow is None else scene.body_names.index(scene.follow),
-              "world": scene.frame_path("world"), "tips": fm.tips(scene), "starts": starts, "scales": fm.SCALES,
-              "controller": ctrl, "no_controller": why or "no stability augmentation on a stand", "free": free,
-              "note": note, "inputs_file": f"{scene_name}-inputs.csv"}
-    window = RecordingWindow()
-    for command in commands(scene, *_start_view(system, scene, starts[0], p0)):
-        window.send(command)
-    title = f"fly {scene_name} ({info.name})"
-    text = html_page(window.packed(), {"config": config}, built.wasm.read_bytes(), ctrl_wasm, title)
+    free = any(b["joint"] == "FreeJoint" for b in system.info.bodies)
+    scene = build_scene(system.info, flat, True, True)
+    starts, controls = _pilot(sc, system, built.spec, speeds, log)
+    ctrl, ctrl_wasm, why = _stability(sc, built.spec, free, controller, aircraft, log)
+    note = page_note(scene_name, free, [q["name"] for q in controls])
+    config = {**_model_config(sc, system, scene, built.spec, controls), "starts": starts, "controller": ctrl,
+              "no_controller": why, "free": free, "note": note, "aircraft_arg": aircraft_argument(aircraft)}
+    packed = _scene_commands(system, scene, starts[0], [q["name"] for q in controls])
+    text = html_page(packed, {"config": config}, built.wasm.read_bytes(), ctrl_wasm,
+                     f"fly {scene_name} ({system.info.name})")
     path = Path(out)
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(text, encoding="utf-8")

@@ -111,8 +111,8 @@ function start(s, speed) {
   check(M.hw_load(), "loading the start");
   S = {start: s, speed: speed, k: 0, running: false, scale: S ? S.scale : 1, max: S ? S.max : false,
        until: null, pilot: st.controls.slice(), applied: st.controls.slice(), table: S ? S.table : null, sas: "off",
-       sasOut: null, sasOffset: null, rows: [], hinges: [], hingeSteps: 0, stopped: null, samples: [],
-       lastPost: 0, anchor: null, rate: [], behind: false, factor: null, engagedAt: null, flight: []};
+       sasOut: null, sasOffset: null, rows: [], hinges: [], stopped: null, samples: [],
+       lastPost: 0, anchor: null, rate: [], behind: false, factor: null, flight: []};
   record(0, S.applied);
   keepHinges();
 }
@@ -199,7 +199,6 @@ function engage(mode) {
   if (H.hh_open(1.0) !== 0) throw new Error("the hover-hold controller: " + cString(hmemory, H.hh_message()));
   var y = values(C.controller.input_vrs);
   S.sasOffset = y.map(function (v, i) { return C.controller.offset[i] ? v - C.controller.trim_in[i] : 0; });
-  S.engagedAt = S.k;
   feedController(y);
   S.sasOut = controllerOutputs();
 }
