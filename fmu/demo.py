@@ -13,7 +13,10 @@ a longitudinal cyclic doublet) and writes, into one folder:
   timings, final parameters (so that the folder can be reopened, e.g. by the viewer);
 - ``hinge_angles.png``: the pitch inputs and the hinge angles against time (s and revolutions);
 - the ``.fmu`` that ran (a copy of the cached one), for other importers;
-- ``viewer.html``: the browser animation (when the ``viewer`` package is present).
+- ``viewer.html``: the browser animation (when the ``viewer`` package is present);
+- ``fly.html``: the scene to fly in the browser (``heli fly``: the model as WebAssembly, starting
+  from the periodic trims at :data:`FLY_SPEEDS` and the scene's own; without the hover-hold
+  controller, whose design would double the demo's first run: ``heli fly`` adds it).
 """
 from __future__ import annotations
 
@@ -29,6 +32,7 @@ from fmu import build, hosts
 
 SCENE = "forward-flight"
 START = "periodic"
+FLY_SPEEDS = (0.0, 20.0, 40.0)  # m/s: the trims fly.html starts from, besides the scene's own
 
 
 def fmu_facts(path: Path) -> dict:
@@ -81,6 +85,9 @@ def run(out: Path, revs: float = 10.0, log=print, aircraft=None) -> dict:
     viewer = _viewer(out)
     if viewer:
         summary["files"]["viewer"] = str(viewer)
+    fly = _fly(out, craft, log)
+    if fly:
+        summary["files"]["fly"] = str(fly)
     summary["total_s"] = time.perf_counter() - start
     atomic.write_text(out / "run.json", json.dumps(summary, indent=1))
     return summary
@@ -143,3 +150,13 @@ def _viewer(out: Path) -> Path | None:
         print("note: the viewer package is not available; viewer.html not written")
         return None
     return export_html(out, out / "viewer.html", revs=None).path  # the whole run (thinned to fit 5 MB)
+
+
+def _fly(out: Path, aircraft, log) -> Path | None:
+    """``fly.html`` of the demo's scene (:func:`viewer.fly.write_page`) if the viewer package exists."""
+    try:
+        from viewer.fly import write_page
+    except ImportError:
+        print("note: the viewer package is not available; fly.html not written")
+        return None
+    return write_page(SCENE, out / "fly.html", aircraft, FLY_SPEEDS, log=log, controller=False).path

@@ -23,7 +23,7 @@ import sys
 COMMAND_MODULES = ("mbs.commands", "mbs.aircraft.commands", "mbs.bench.commands", "mbs.bench.stability", "mbs.bench.work_precision",
                    "mbs.bench.scaling", "mbs.sweep.commands", "fmu.commands", "viewer.commands", "mbs.loads.commands",
                    "mbs.bench.modal", "mbs.bench.loops", "mbs.validate.commands", "mbs.drivetrain.commands",
-                   "mbs.performance.commands", "mbs.bench.drivetrain")
+                   "mbs.performance.commands", "mbs.bench.drivetrain", "viewer.fly.commands")
 
 
 _json_out = None

@@ -99,10 +99,8 @@ def _in_air(scene, args):
 
 def cmd_simulate(args) -> int:
     from mbs._progress import Progress
-    from mbs.cli import warn
     from mbs.run_cost import check_size
-    from mbs.simulate import prepare, write
-
+    from mbs.simulate import prepare
     from mbs.trims import start as begin
 
     scene = _scene(args)
@@ -112,6 +110,8 @@ def cmd_simulate(args) -> int:
     settings = dict(_settings(args.set))
     speed = settings.pop("speed", None)
     start = args.start or begin.default_start(scene)
+    if start.startswith("periodic"):
+        return _simulate_from(_periodic_start(args, scene), args, scene, settings, speed)
     begin.check(start, scene)
     if speed is not None and start == begin.TRIM:
         from mbs.inputs import check_settings
@@ -127,6 +127,15 @@ def cmd_simulate(args) -> int:
     else:
         run.start = begin.scene_record(run)
         run.warnings += [w for w in [begin.untrimmed_warning(run)] if w]
+    return _execute(run, args, scene, cost)
+
+
+def _execute(run, args, scene, cost) -> int:
+    """Check the step of the prepared ``run``, run it, write its files and report."""
+    from mbs._progress import Progress
+    from mbs.cli import warn
+    from mbs.simulate import write
+
     for text in run.warnings:
         warn(text)
     step = run.check_step(args.step_tol)
@@ -163,6 +172,50 @@ def start_words(start: dict) -> str:
         return f"the periodic trim at {start['speed']:g} m/s ({where}; roll {start['roll_deg']:+.3f} deg, pitch " \
                f"{start['pitch_deg']:+.3f} deg)"
     return start.get("what", "the scene's initial state")
+
+
+def _periodic_start(args, scene):
+    """The start ``--start periodic[:V]``: the periodic trim computed now (:mod:`mbs.starts`), as
+    ``heli fly``'s page starts."""
+    from mbs import starts
+    from mbs.analysis.trim import trimmable
+
+    if trimmable(scene):  # else the trim refuses the scene, naming the trimmable ones
+        say(f"heli simulate: trimming {scene.name} for the start {args.start} ...")
+    return starts.start(args.start, scene, scene.system("compiled"), args.steps_per_rev or scene.steps_per_rev)
+
+
+def _parse_start(text: str) -> str:
+    """``trim``, ``scene``, ``periodic`` or ``periodic:V``; ValueError naming them otherwise."""
+    from mbs import starts
+
+    if text == "trim":
+        return text
+    try:
+        starts.parse(text)
+    except ValueError as exc:
+        raise ValueError(f"{exc}; or trim (the stored periodic trim)") from None
+    return text
+
+
+def _simulate_from(fixed, args, scene, settings: dict, speed) -> int:
+    """``heli simulate`` from the start ``fixed`` (:class:`mbs.starts.Start`): its controls held
+    (but those the input table gives), its state."""
+    from mbs.run_cost import check_size
+    from mbs.simulate import prepare
+
+    table = set(args.inputs.names) if args.inputs else set()
+    trimmed = {n: v for n, v in fixed.controls.items() if n not in table}  # the table's columns are its own
+    run = prepare(scene, args.revs, args.steps_per_rev, args.dtype, args.backend, params={**trimmed, **settings},
+                  every=args.every, method=args.method, inputs=args.inputs, speed=speed, x0=fixed.x0)
+
+    run.settings["start"] = args.start
+    run.start = {"from": args.start, "speed": fixed.speed, "residual": fixed.residual,
+                 "what": f"the periodic trim at {fixed.speed:g} m/s computed now (--start {args.start}; max scaled "
+                         f"residual {fixed.residual:.1e})"}
+    cost = run.cost()
+    check_size(cost, args.max_gb)
+    return _execute(run, args, scene, cost)
 
 
 def _check_revs(revs: float, steps_per_rev: int, every: int = 1) -> None:
@@ -735,11 +788,13 @@ def register(sub, bench) -> None:
                    help="input table: a CSV file with a 'time' column (s) and columns named after parameters (the "
                         "FMU demo's and fmpy's format); linear between rows, a time written twice is a jump, each "
                         "step holds the values at its start; written into results.csv as columns")
-    p.add_argument("--start", choices=("trim", "scene"), default=None,
+    p.add_argument("--start", type=A.checked_by(_parse_start), default=None, metavar="START",
                    help="initial state: trim, the scene's periodic trim at the run's speed and parameters (stored for "
                         "the aircraft file, or trimmed on first use and stored; the default for the scenes that fly: "
-                        "forward-flight, hover and the swashplate scenes), or scene, the scene's own initial state "
-                        "(the default for the others); run.json records it")
+                        "forward-flight, hover and the swashplate scenes); scene, the scene's own initial state (the "
+                        "default for the others); periodic or periodic:V, the periodic trim at the scene's speed or "
+                        "at V m/s computed now at the run's steps per revolution (as 'heli fly' starts its page, so "
+                        "that a flight replays from the same state); run.json records it")
     p.add_argument("--step-tol", type=A.fraction, default=0.01, metavar="FRACTION",
                    help="largest step error allowed, as a fraction of each state's range over the first revolution "
                         "(default 0.01): a step-doubling check (three revolutions' worth of steps) warns above it "

@@ -1,6 +1,7 @@
 """Headless Chromium (Debian's package, never a downloaded browser) driven by Playwright.
 
-Import the fixtures into a test module: ``from browser_fixtures import browser, page``.
+The fixtures ``browser`` (one for the session) and ``page`` are registered for every test module by
+``tests/conftest.py`` (``pytest_plugins``); import the helpers (``open_viewer``, ``pixels``, ...).
 Without Chromium or Playwright the tests skip with the reason, except when
 ``MBS_REQUIRE_BROWSER=1`` (set by ``.ci/run``): then they fail.
 """

@@ -7,6 +7,7 @@ from pathlib import Path
 import pytest
 
 sys.path.insert(0, str(Path(__file__).parent))
+pytest_plugins = ["browser_fixtures"]  # one browser for the session, shared by every browser test module
 
 import mbs  # noqa: E402
 from mbs.models.demo import spinning_rotor  # noqa: E402

@@ -393,6 +393,8 @@ def test_heli_demo_writes_its_files_from_a_fresh_cache(tmp_path):
     assert str(out / "results.csv") in proc.stdout
     if "viewer" in res["files"]:
         assert (out / "viewer.html").stat().st_size > 100_000
+        page = (out / "fly.html").read_text()  # the scene to fly, the model inlined as WebAssembly
+        assert res["files"]["fly"] == str(out / "fly.html") and 'id="model-wasm"' in page and len(page) > 500_000
 
 
 # -- the plan, in-process (no FMU runs here) --------------------------------------------------

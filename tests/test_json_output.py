@@ -59,6 +59,9 @@ ELSEWHERE = {  # command -> the test that parses its whole stdout as one JSON ob
     "heli validate": "tests/test_validate_published.py::test_command_json_is_one_object",
     "heli bench drivetrain": "five forward-flight models compiled (slow); pipe-clean by "
                              "test_a_command_that_prints_stays_pipe_clean",
+    "heli fly": "tests/test_fly.py::test_heli_fly_writes_a_self_contained_page",
+    "heli bench fly": "Chromium runs of four WebAssembly builds (slow); pipe-clean by "
+                      "test_a_command_that_prints_stays_pipe_clean",
 }
 
 

@@ -8,7 +8,7 @@ import re
 import numpy as np
 import pytest
 
-from browser_fixtures import browser, count_color, open_viewer, page, pixels  # noqa: F401  (fixtures)
+from browser_fixtures import count_color, open_viewer, pixels
 from mbs import scenes
 from mbs.simulate import simulate
 from viewer import animation as anim

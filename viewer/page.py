@@ -54,11 +54,8 @@ CONTROLS = """<div id="controls">
 </div>"""
 
 
-def html_page(packed: list[bytes], info: dict, doc: dict, title: str, label: str) -> str:
-    """The page: ``packed`` meshcat commands, ``info`` (``window.__viewerInfo``), ``doc`` the
-    data document (``window.__viewerData``, see :mod:`viewer.pack`)."""
-    cmds = ",\n".join(json.dumps(base64.b64encode(b).decode("ascii")) for b in packed)
-    data = json.dumps(doc, separators=(",", ":")).replace("</", "<\\/")
+def head(title: str, style: str) -> str:
+    """The page's start up to its body: the title, the inlined code's notice, the ``style`` sheet."""
     return f"""<!DOCTYPE html>
 <html>
 <head>
@@ -66,25 +63,21 @@ def html_page(packed: list[bytes], info: dict, doc: dict, title: str, label: str
 <title>{html.escape(title)}</title>
 <!-- {html.escape(notice()).replace("--", "- -")} -->
 <style>
-{asset("page.css")}
+{style}
 </style>
-</head>
-<body>
-<div id="app">
-<div id="main">
-<div id="view"><div id="meshcat-pane"></div><div id="viewer-label">{html.escape(label)}</div></div>
-<div id="side"><svg id="plot" role="img" aria-label="hinge angles and inputs against time"></svg></div>
-</div>
-{CONTROLS}
-</div>
-<script id="viewer-data" type="application/json">{data}</script>
-<script>
+</head>"""
+
+
+def scene_scripts(packed: list[bytes], setup: str) -> str:
+    """meshcat's viewer script, then the script that makes ``viewer`` in ``#meshcat-pane``, runs
+    ``setup`` (JavaScript) and the ``packed`` scene commands, synchronously."""
+    cmds = ",\n".join(json.dumps(base64.b64encode(b).decode("ascii")) for b in packed)
+    return f"""<script>
 {viewer_script()}
 </script>
 <script>
 var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));
-window.__viewerInfo = {json.dumps(info)};
-window.__viewerData = JSON.parse(document.getElementById("viewer-data").textContent);
+{setup}
 (function () {{
   var commands = [
 {cmds}
@@ -96,7 +89,26 @@ window.__viewerData = JSON.parse(document.getElementById("viewer-data").textCont
     viewer.handle_command_bytearray(bytes);
   }}
 }})();
-</script>
+</script>"""
+
+
+def html_page(packed: list[bytes], info: dict, doc: dict, title: str, label: str) -> str:
+    """The page: ``packed`` meshcat commands, ``info`` (``window.__viewerInfo``), ``doc`` the
+    data document (``window.__viewerData``, see :mod:`viewer.pack`)."""
+    data = json.dumps(doc, separators=(",", ":")).replace("</", "<\\/")
+    setup = (f"window.__viewerInfo = {json.dumps(info)};\n"
+             'window.__viewerData = JSON.parse(document.getElementById("viewer-data").textContent);')
+    return f"""{head(title, asset("page.css"))}
+<body>
+<div id="app">
+<div id="main">
+<div id="view"><div id="meshcat-pane"></div><div id="viewer-label">{html.escape(label)}</div></div>
+<div id="side"><svg id="plot" role="img" aria-label="hinge angles and inputs against time"></svg></div>
+</div>
+{CONTROLS}
+</div>
+<script id="viewer-data" type="application/json">{data}</script>
+{scene_scripts(packed, setup)}
 <script>
 {asset("player.js")}
 </script>

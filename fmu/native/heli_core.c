@@ -1014,17 +1014,18 @@ static void divergence(heli_instance* c, const heli_group* g, double t, double h
 }
 
 /* 0 if the state c->trial reached at t1 is sound (hinge angles within range, finite
-   energy), else 1 with a message. */
+   energy), else 1 with a message (formatted only then: the numbers' shortest repr costs more than
+   the step's model evaluations). */
 static int unsound(heli_instance* c, const heli_group* g, double t, double t1) {
   char a[32], b[32], d[32], rest[MSG_LEN], buf[TEXT_LEN];
   unsigned ref;
   double total;
   int vr;
-  tail(c, t, rest);
   for (vr = 0; vr < M->n_variables; ++vr) {
     const heli_variable* v = var(vr);
     double value = g->state_of[vr] >= 0 ? c->trial[g->state_of[vr]] : 0.0;
     if (v->hinge && !(fabs(value) <= M->hinge_angle)) {
+      tail(c, t, rest);
       report(c, HELI_DISCARD, "the simulation left the hinge range at t = %s s: state '%s' = %s rad is outside "
              "[-%s, %s] rad; %s", repr(t1, a), slot_label(c, vr, buf, &ref), repr(value, b), repr(M->hinge_angle, d),
              repr(M->hinge_angle, d), rest);
@@ -1032,11 +1033,13 @@ static int unsound(heli_instance* c, const heli_group* g, double t, double t1) {
     }
   }
   if (eval_energy(c, g, c->trial, t1, c->p)) {
+    tail(c, t, rest);
     report(c, HELI_DISCARD, "the generated function energy reported an error at t = %s s; %s", repr(t1, a), rest);
     return 1;
   }
   total = c->energy[g->n_energy - 1];
   if (!isfinite(total)) {
+    tail(c, t, rest);
     report(c, HELI_DISCARD, "the simulation diverged at t = %s s: the total energy 'total_energy' = %s J is not "
            "finite; %s", repr(t1, a), repr(total, b), rest);
     return 1;
