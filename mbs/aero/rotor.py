@@ -14,6 +14,7 @@ import numpy as np
 from mbs.aero import inflow as inf
 from mbs.aero.compressibility import Compressibility
 from mbs.aero.sections import Airfoil, section_force, turn
+from mbs.aero.tables.airfoil import BladeAirfoils, table_section_loads
 from mbs.aero.tiploss import lift_factors
 from mbs.aero.wake import Wake, WakeGeometry
 from mbs.forces import ForceElement, Loads, State
@@ -26,7 +27,10 @@ class Rotor:
     ``shaft_body``/``shaft_frame``: the body carrying the hub joint (``None``: the world) and
     the rotor's azimuth frame in its axes (3, 3): x at ψ = 0, y at ψ = 90° (ψ in the sense of
     rotation), z the thrust axis; left-handed for a rotor turning against its thrust axis
-    (:attr:`sense`); ``speed_ratio``: rotor speed per ``omega``.
+    (:attr:`sense`); ``speed_ratio``: rotor speed per ``omega``. ``chord_table``/``twist_table``:
+    rows (r/R, chord m) and (r/R, twist rad) replacing the constant chord and the linear twist
+    (None: those); ``sweep_angle`` (rad): the quarter-chord line swept aft beyond ``sweep_start``
+    (r/R), the tip at ``radius`` along the blade's x axis.
     """
 
     name: str
@@ -42,6 +46,32 @@ class Rotor:
     shaft_frame: np.ndarray = field(default_factory=lambda: np.eye(3))
     speed_ratio: float = 1.0
     pieces: dict = field(default_factory=dict)
+    chord_table: tuple | None = None
+    twist_table: tuple | None = None
+    sweep_start: float = 1.0
+    sweep_angle: float = 0.0
+
+    def swept(self, r: float) -> bool:
+        """Whether the element at radius ``r`` (m) lies on the swept tip."""
+        return self.sweep_angle != 0.0 and r > self.sweep_start * self.radius
+
+    def sweep_offset(self, r: float) -> float:
+        """How far aft (m) of the blade's x axis the quarter chord lies at radius ``r`` (m)."""
+        return max(r - self.sweep_start * self.radius, 0.0) * float(np.tan(self.sweep_angle))
+
+    def sweep_chord(self) -> tuple[float, float]:
+        """The swept section's chord direction (towards the leading edge) in blade x and in the
+        unswept chord direction: ``(sin Λ, cos Λ)``."""
+        return float(np.sin(self.sweep_angle)), float(np.cos(self.sweep_angle))
+
+    def chord_at(self, r: float) -> float:
+        """Chord (m) at radius ``r`` (m): ``chord``, or ``chord_table`` (rows r/R, m) interpolated."""
+        return self.chord if self.chord_table is None else _interp(self.chord_table, r / self.radius)
+
+    def twist_at(self, r: float) -> float:
+        """Twist (rad) added to the root pitch at radius ``r`` (m): linear, or ``twist_table``
+        (rows r/R, rad) interpolated."""
+        return self.twist * r / self.radius if self.twist_table is None else _interp(self.twist_table, r / self.radius)
 
     @property
     def sense(self) -> int:
@@ -63,6 +93,12 @@ class Rotor:
         radii, ends = self.stations()[0], [r for _, r in parts[1:]] + [np.inf]
         return [(body, r, (radii >= (r if k else -np.inf)) & (radii < end))
                 for k, ((body, r), end) in enumerate(zip(parts, ends))]
+
+
+def _interp(rows, x: float) -> float:
+    """Linear interpolation of the rows ``(x_k, y_k)`` at ``x``, held beyond the ends."""
+    rows = np.asarray(rows, float)
+    return float(np.interp(x, rows[:, 0], rows[:, 1]))
 
 
 @dataclass(frozen=True)
@@ -116,8 +152,10 @@ class RotorAero(ForceElement):
     ``<name>.wake`` (:class:`mbs.aero.wake.Wake`).
     """
 
-    def __init__(self, rotor: Rotor, airfoil: Airfoil, rho: float, kappa: float, model: RotorModel = RotorModel()):
+    def __init__(self, rotor: Rotor, airfoil: Airfoil, rho: float, kappa: float, model: RotorModel = RotorModel(),
+                 tables: BladeAirfoils | None = None):
         self.rotor, self.airfoil, self.rho, self.kappa, self.model = rotor, airfoil, rho, kappa, model
+        self.tables = tables
         self.name = f"{rotor.name} aerodynamics"
         self.inflow = f"{rotor.name}.inflow"
         self.states = model.inflow_states(rotor.name)
@@ -169,11 +207,21 @@ class RotorAero(ForceElement):
         per_radius = 1.0 / self.rotor.radius
         for r, lift in zip(radii[keep], np.array(self.lift)[keep]):
             arm = r - root
+            if self.rotor.swept(r):
+                f, moment, disc = self._swept_element(m, origin, hinge, axis_b, shaft_b, v, arm, r, dr, lift)
+                force, torque, out = force + f, torque + moment, out + disc
+                continue
             lever = hinge + ca.DM([arm, 0, 0])
             disc_point = (ca.dot(lever, shaft_b[:, 0]) * per_radius, ca.dot(lever, shaft_b[:, 1]) * per_radius)
             velocity = origin + arm * ca.vertcat(0, m.omega[2], -m.omega[1])  # + ω × (arm, 0, 0)
-            f = self._element_force(self._air(disc_point, axis_b, v) - velocity, r, dr, lift)
-            force, torque = force + f, torque + arm * ca.vertcat(0, -f[2], f[1])  # + (arm, 0, 0) × f
+            w = self._air(disc_point, axis_b, v) - velocity
+            if self.tables is None:
+                f = self._element_force(w, r, dr, lift)
+                torque = torque + arm * ca.vertcat(0, -f[2], f[1])  # + (arm, 0, 0) × f
+            else:
+                f, pitching = self._table_element(w, r, dr, lift)
+                torque = torque + ca.vertcat(pitching, -arm * f[2], arm * f[1])
+            force = force + f
             out = out + self._element_loads(f, lever, axis_b, disc_point, self.rotor.sense)
         loads.add_force(blade, force, point=[0.0, 0.0, 0.0], frame="body", rotation=m.rotation)
         loads.add_torque(blade, torque)
@@ -181,12 +229,49 @@ class RotorAero(ForceElement):
 
     def _element_force(self, w, r: float, dr: float, lift: float):
         """Element force (3,) (N, blade axes) from the air velocity ``w`` (3,) (m/s, blade axes)."""
-        twist = self.rotor.twist * r / self.rotor.radius
+        twist = self.rotor.twist_at(r)
         sense = self.rotor.sense  # blade y along the leading edge (+1) or the trailing edge (-1)
-        f_c, f_n = section_force(*turn(sense * w[1], w[2], twist), self.airfoil, self.rho, self.rotor.chord * dr,
+        f_c, f_n = section_force(*turn(sense * w[1], w[2], twist), self.airfoil, self.rho, self.rotor.chord_at(r) * dr,
                                  lift, self.coefficients)
         f_y, f_z = turn(f_c, f_n, -twist)
         return ca.vertcat(0, sense * f_y, f_z)
+
+    def _swept_element(self, m, origin, hinge, axis_b, shaft_b, v, arm: float, r: float, dr: float, lift: float):
+        """An element of the swept tip (simple sweep theory): its quarter chord lies aft of the
+        blade's x axis (:meth:`Rotor.sweep_offset`), its chord turned by the sweep angle; the air
+        velocity is resolved normal to the swept quarter-chord line (the component along it
+        carries no load). Returns its force and torque (blade axes) and its disc loads."""
+        sense, (c_x, c_y) = self.rotor.sense, self.rotor.sweep_chord()
+        offset = -sense * self.rotor.sweep_offset(r)  # blade y of the quarter chord: aft of the axis
+        point = ca.DM([arm, offset, 0])
+        lever = hinge + point
+        per_radius = 1.0 / self.rotor.radius
+        disc_point = (ca.dot(lever, shaft_b[:, 0]) * per_radius, ca.dot(lever, shaft_b[:, 1]) * per_radius)
+        velocity = origin + ca.cross(m.omega, point)
+        w = self._air(disc_point, axis_b, v) - velocity
+        twist, chord = self.rotor.twist_at(r), self.rotor.chord_at(r)
+        w_c = c_x * w[0] + c_y * sense * w[1]  # along the swept chord, towards the leading edge
+        if self.tables is None:
+            f_c, f_n = section_force(*turn(w_c, w[2], twist), self.airfoil, self.rho, chord * dr, lift,
+                                     self.coefficients)
+            moment = 0.0
+        else:
+            f_c, f_n, moment = table_section_loads(*turn(w_c, w[2], twist), self.tables.at(r / self.rotor.radius),
+                                                   self.tables.mach, self.rho, chord * dr, chord * c_y, lift)
+        f_y, f_z = turn(f_c, f_n, -twist)
+        f = ca.vertcat(c_x * f_y, c_y * sense * f_y, f_z)
+        span = ca.DM([c_y, -sense * c_x, 0])  # outward along the swept quarter chord
+        return f, ca.cross(point, f) + sense * moment * span, self._element_loads(f, lever, axis_b, disc_point, sense)
+
+    def _table_element(self, w, r: float, dr: float, lift: float):
+        """Element force (3,) (N, blade axes) and pitching moment about the blade's x axis (N m)
+        from the air velocity ``w`` (3,) (m/s, blade axes), with the segment's airfoil tables."""
+        twist, sense, chord = self.rotor.twist_at(r), self.rotor.sense, self.rotor.chord_at(r)
+        airfoil = self.tables.at(r / self.rotor.radius)
+        f_c, f_n, moment = table_section_loads(*turn(sense * w[1], w[2], twist), airfoil, self.tables.mach, self.rho,
+                                               chord * dr, chord, lift)
+        f_y, f_z = turn(f_c, f_n, -twist)
+        return ca.vertcat(0, sense * f_y, f_z), sense * moment
 
     @staticmethod
     def _element_loads(force, lever, axis, disc_point, sense: int) -> DiscLoads:

@@ -10,7 +10,7 @@ from pathlib import Path
 
 from mbs.aircraft import checks, derived
 from mbs.aircraft.reader import read
-from mbs.aircraft.schema import DERIVED
+from mbs.aircraft.schema import DERIVED, FROM_TABLES
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -40,7 +40,8 @@ class AircraftError(ValueError):
 @dataclass(frozen=True, eq=False)
 class Aircraft:
     """A loaded aircraft. ``key``: identifier of its models (the file's stem); ``data``: every
-    value in SI (:class:`Data`); ``digest``: SHA-256 of the file's text."""
+    value in SI (:class:`Data`); ``digest``: SHA-256 of the file's text (and of the table files it
+    names)."""
 
     key: str
     name: str
@@ -91,12 +92,32 @@ def load(source: str | Path = DEFAULT) -> Aircraft:
     path = resolve(source)
     text = _text(path)
     key = (str(path.resolve()), hashlib.sha256(text.encode()).hexdigest())
-    if key not in _CACHE:
-        data, problems = evaluate(text)
+    if key not in _CACHE or _CACHE[key].digest != _digest(text, _CACHE[key].data):
+        data, problems = evaluate(text, path.parent)
         if problems:
             raise AircraftError(path, problems)
-        _CACHE[key] = Aircraft(_key(path), data["aircraft"]["name"], path, data, key[1])
+        _CACHE[key] = Aircraft(_key(path), data["aircraft"]["name"], path, data, _digest(text, data))
     return _CACHE[key]
+
+
+def table_files(data: Data) -> list[Path]:
+    """The files the aircraft file names (C81 airfoil tables), in the order it names them."""
+    return [seg.c81.path for section in ("main_rotor", "tail_rotor") for seg in data.get(section, {}).get("airfoils", ())]
+
+
+def _digest(text: str, data: Data) -> str:
+    """SHA-256 of the file's text, and of the table files it names when it names any (so that a
+    changed table file changes the aircraft)."""
+    from mbs.aero.tables.airfoil import file_digest
+
+    files = table_files(data)
+    if not files:
+        return hashlib.sha256(text.encode()).hexdigest()
+    try:
+        parts = [file_digest(p) for p in files]
+    except OSError:
+        parts = ["missing"]
+    return hashlib.sha256("\n".join([text, *parts]).encode()).hexdigest()
 
 
 def _text(path: Path) -> str:
@@ -110,9 +131,10 @@ def _key(path: Path) -> str:
     return re.sub(r"\W", "_", path.stem.lower()) or "aircraft"
 
 
-def evaluate(text: str) -> tuple[Data, list[str]]:
-    """Read, complete and check the file ``text``: ``(data, problems)``."""
-    reading = read(text)
+def evaluate(text: str, base: Path | None = None) -> tuple[Data, list[str]]:
+    """Read, complete and check the file ``text`` (files it names found from the folder
+    ``base``): ``(data, problems)``."""
+    reading = read(text, base)
     data = Data(reading.values)
     data.meta = reading.meta
     if reading.problems:
@@ -122,7 +144,7 @@ def evaluate(text: str) -> tuple[Data, list[str]]:
     problems = derived.complete(data)
     for section, entries in data.items():
         for k in set(entries) - before.get(section, set()):
-            spec = DERIVED[section][k]
+            spec = DERIVED.get(section, {}).get(k) or FROM_TABLES[section][k]
             data.meta.setdefault(section, {})[k] = {"unit": spec.unit, "source": "DER", "origin": "derived",
                                                     "note": spec.text}
     return data, problems or checks.problems(data)

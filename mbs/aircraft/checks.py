@@ -16,7 +16,8 @@ MAX_PERIOD_REVS = 12
 def problems(values: dict) -> list[str]:
     """Every physical problem of the completed ``values`` (defaults and derived values in)."""
     out = []
-    for check in (_inertia, _blades, _controls, _rotor_speed, _tail_hub, _airframe_mass, _tip_mach):
+    for check in (_inertia, _blades, _controls, _rotor_speed, _tail_hub, _airframe_mass, _tip_mach, _airfoils,
+                  _distributions):
         out += check(values)
     return out
 
@@ -80,6 +81,51 @@ def _tail_hub(v: dict) -> list[str]:
         return [f"tail_rotor.hub_x: {tr['hub_x']:g} m puts the tail-rotor disc inside the main rotor's "
                 f"({-clearance:.3g} m overlap)"]
     return []
+
+
+def _airfoils(v: dict) -> list[str]:
+    out = []
+    for name in ("main_rotor", "tail_rotor"):
+        segments, cutout = v[name].get("airfoils", ()), v[name]["root_cutout"]
+        if segments and segments[0].start > cutout + 1e-12:
+            out.append(f"{name}.airfoils: the first segment starts at r/R = {segments[0].start:g}, outboard of the "
+                       f"root cut-out {cutout:g}: the blade elements between have no airfoil")
+    return out
+
+
+SPAN_TABLES = {"main_rotor": ("chord_table", "twist_table", "mass_table", "section_inertia_table"),
+               "tail_rotor": ("chord_table", "twist_table")}
+POSITIVE_COLUMNS = {"chord_table": "the chord", "mass_table": "the mass per length"}
+
+
+def _distributions(v: dict) -> list[str]:
+    """Stations r/R within [0, 1] and increasing; chords and masses positive; a mass table that
+    reaches the tip; section inertias only with a mass table."""
+    out = []
+    for name, keys in SPAN_TABLES.items():
+        for key in keys:
+            rows = np.asarray(v[name].get(key) or np.zeros((0, 2)), float)
+            if not len(rows):
+                continue
+            r = rows[:, 0]
+            if len(r) < 2 or r.min() < 0 or r.max() > 1 or np.any(np.diff(r) <= 0):
+                out.append(f"{name}.{key}: the stations r/R ({', '.join(f'{x:g}' for x in r)}) must be at least two, "
+                           "increasing, within 0..1")
+            elif key in POSITIVE_COLUMNS and rows[:, 1].min() <= 0:
+                out.append(f"{name}.{key}: {POSITIVE_COLUMNS[key]} {rows[:, 1].min():g} at r/R = "
+                           f"{r[np.argmin(rows[:, 1])]:g} is not positive")
+            elif key == "mass_table" and r[-1] != 1.0:
+                out.append(f"{name}.mass_table: the last station is r/R = {r[-1]:g}; give the mass up to the tip, "
+                           "r/R = 1")
+    for name in SPAN_TABLES:
+        if v[name]["sweep_start"] != 1.0 and not v[name]["tip_sweep"]:
+            out.append(f"{name}.sweep_start: {v[name]['sweep_start']:g} starts a tip sweep of 0 deg; give "
+                       f"{name}.tip_sweep or leave sweep_start out")
+    mr = v["main_rotor"]
+    if mr.get("section_inertia_table") and not mr.get("mass_table"):
+        out.append("main_rotor.section_inertia_table: applies with main_rotor.mass_table only (the blade without a "
+                   "mass table is the uniform box of I_flap)")
+    return out
 
 
 def rotor_masses(v: dict) -> tuple[float, float]:

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import math
 
+from mbs.aircraft.blade import Distribution, equivalent_chord, equivalent_twist
 from mbs.aircraft.schema import DERIVED, ENTRIES
 
 BO105_RADIUS = 4.91  # m: the display geometry of an aircraft that gives none is the Bo105's scaled by R
@@ -43,16 +44,18 @@ def blade_mass(mr: dict) -> float:
 
 
 def lag_inertia(mr: dict) -> float:
-    """kg m²: the model's blade (a uniform box of the blade's chord) about its lag hinge."""
+    """kg m²: the model's blade (a uniform box of the blade's chord, or integrated from its mass
+    table) about its lag hinge."""
+    if mr.get("mass_table"):
+        return Distribution(mr).lag_inertia
     return mr["I_flap"] + mr["blade_mass"] * mr["chord"] ** 2 / 12
 
 
 def lag_stiffness(mr: dict) -> float:
     """N m/rad: the lag spring that gives ``lag_frequency`` with the hinge offset's own
     stiffening, ``ν² = K / (I Ω²) + e S / I`` (S the blade's first moment about the hinge)."""
-    e, span, inertia = mr["flap_hinge_offset"], mr["radius"] - mr["flap_hinge_offset"], lag_inertia(mr)
-    first_moment = mr["blade_mass"] * span / 2
-    return (mr["lag_frequency"] ** 2 - e * first_moment / inertia) * inertia * mr["omega"] ** 2
+    e, inertia = mr["flap_hinge_offset"], lag_inertia(mr)
+    return (mr["lag_frequency"] ** 2 - e * mr["first_moment"] / inertia) * inertia * mr["omega"] ** 2
 
 
 def flap_frequency(mr: dict) -> float:
@@ -72,7 +75,9 @@ def complete(values: dict) -> list[str]:
     from mbs.aircraft import performance
 
     mr, tr = values["main_rotor"], values["tail_rotor"]
+    _distributions(values)
     _set(mr, "blade_mass", lambda: blade_mass(mr))
+    _set(mr, "first_moment", lambda: mr["blade_mass"] * (mr["radius"] - mr["flap_hinge_offset"]) / 2)
     _set(mr, "lag_stiffness", lambda: lag_stiffness(mr))
     hover = performance.hover(values)
     _set(mr, "tip_loss", lambda: tip_loss(hover.main.thrust_coefficient, mr["n_blades"]))
@@ -83,6 +88,23 @@ def complete(values: dict) -> list[str]:
     if values.get("swashplate"):
         _swashplate(values["swashplate"], mr["flap_hinge_offset"])
     return _problems(values)
+
+
+def _distributions(values: dict) -> None:
+    """The numbers that distributions along the span replace (:data:`mbs.aircraft.schema.FROM_TABLES`)
+    and, from a mass table, the blade's mass and first moment."""
+    for name in ("main_rotor", "tail_rotor"):
+        sec = values[name]
+        if sec.get("chord_table"):
+            _set(sec, "chord", lambda: equivalent_chord(sec["chord_table"], sec["root_cutout"]))
+        if sec.get("twist_table"):
+            _set(sec, "twist", lambda: equivalent_twist(sec["twist_table"], sec["root_cutout"]))
+    mr = values["main_rotor"]
+    if mr.get("mass_table"):
+        blade = Distribution(mr)
+        _set(mr, "I_flap", lambda: blade.flap_inertia)
+        _set(mr, "blade_mass", lambda: blade.mass)
+        _set(mr, "first_moment", lambda: blade.first_moment)
 
 
 def _set(section: dict, key: str, compute) -> None:

@@ -11,9 +11,11 @@ Rules, in the order they are checked (each problem is one line, ``section.key: w
    angle for a twist): it is converted to SI (``ft``, ``lb``, ``slug ft^2``, ``deg``,
    ``rpm`` ...).
 5. The value has the entry's kind (number, whole number, one of the choices, a vector of
-   its length, a table of its columns) and lies within its bounds.
+   its length, a table of its columns, airfoil segments with their C81 files) and lies
+   within its bounds.
 6. Required entries are present; an entry that applies only with another's value (the
-   seesaw of a teetering tail rotor) is absent otherwise.
+   seesaw of a teetering tail rotor) is absent otherwise; an entry that a distribution
+   replaces (``chord`` by ``chord_table``) is absent when the distribution is given.
 7. A derived entry (:data:`mbs.aircraft.schema.DERIVED`) appears only with
    ``override = true``; ``override`` appears only on derived entries.
 """
@@ -23,6 +25,7 @@ import difflib
 import math
 import sys
 from dataclasses import dataclass, field
+from pathlib import Path
 
 from mbs.aircraft import units
 from mbs.aircraft.schema import DERIVED, ENTRIES, OPTIONAL_SECTIONS, Entry
@@ -49,8 +52,9 @@ class Reading:
         self.meta.setdefault(section, {})[key] = meta
 
 
-def read(text: str) -> Reading:
-    """Parse the TOML ``text`` of an aircraft file (rules 1–7 of this module)."""
+def read(text: str, base: Path | None = None) -> Reading:
+    """Parse the TOML ``text`` of an aircraft file (rules 1–7 of this module); files it names
+    (C81 airfoil tables) are found from the folder ``base`` (None: the working directory)."""
     out = Reading()
     try:
         raw = tomllib.loads(text)
@@ -64,7 +68,7 @@ def read(text: str) -> Reading:
             out.problems.append(f"{section}: must be a section [{section}] of entries")
         else:
             for key, entry in entries.items():
-                _entry(out, section, key, entry)
+                _entry(out, section, key, entry, base)
     _missing(out, raw)
     return out
 
@@ -74,7 +78,7 @@ def _suggest(name: str, known) -> str:
     return f" (did you mean {close[0]!r}?)" if close else f"; known: {', '.join(known)}"
 
 
-def _entry(out: Reading, section: str, key: str, entry) -> None:
+def _entry(out: Reading, section: str, key: str, entry, base: Path | None = None) -> None:
     where = f"{section}.{key}"
     spec, derived = ENTRIES.get(section, {}).get(key), DERIVED.get(section, {}).get(key)
     if spec is None and derived is None:
@@ -90,7 +94,8 @@ def _entry(out: Reading, section: str, key: str, entry) -> None:
         return
     spec = spec or Entry(derived.unit, derived.text)
     try:
-        value = convert(entry["value"], entry.get("unit"), spec)
+        value = (airfoil_segments(entry["value"], entry.get("unit"), base) if spec.kind == "airfoils"
+                 else convert(entry["value"], entry.get("unit"), spec))
     except ValueError as exc:
         out.problems.append(f"{where}: {exc}")
         return
@@ -190,14 +195,37 @@ def _table(value, unit: str, spec: Entry) -> list:
     return [[_number(v) * f for v, f in zip(row, factors)] for row in value]
 
 
+def airfoil_segments(value, unit, base: Path | None) -> tuple:
+    """Rows ``[r/R, "file.c81"]`` as :class:`mbs.aero.tables.AirfoilSegment` (each file read
+    and its interpolant built); ValueError naming the row or the file's line."""
+    from mbs.aero.tables import AirfoilSegment
+
+    if unit is None or units.parse(str(unit)).dims != (0, 0, 0, 0) or units.parse(str(unit)).factor != 1.0:
+        raise ValueError(f"unit {unit!r}: give unit = \"-\" (each segment's start is a fraction r/R of the radius)")
+    rows = value if isinstance(value, list) and value else None
+    if rows is None or not all(isinstance(r, list) and len(r) == 2 and isinstance(r[1], str) for r in rows):
+        raise ValueError("must be a list of rows [r/R, \"file.c81\"], e.g. [[0.0, \"naca0012.c81\"]]")
+    starts = [_number(r[0]) for r in rows]
+    bad = [s for s in starts if not 0.0 <= s < 1.0]
+    if bad:
+        raise ValueError(f"segment start r/R = {bad[0]:g} outside [0, 1)")
+    if any(b <= a for a, b in zip(starts, starts[1:])):
+        raise ValueError(f"segment starts {', '.join(f'{s:g}' for s in starts)} must increase")
+    return tuple(AirfoilSegment.read(s, (base or Path.cwd()) / name, name) for s, (_, name) in zip(starts, rows))
+
+
 def _missing(out: Reading, raw: dict) -> None:
     for section, entries in ENTRIES.items():
         if section not in raw and section in OPTIONAL_SECTIONS:
             continue
         given = raw.get(section, {}) if isinstance(raw.get(section), dict) else {}
+        replaced = {spec.replaces: key for key, spec in entries.items() if spec.replaces and key in given}
         for key, spec in entries.items():
             applies = _applies(spec, out.values.get(section, {}))
-            if key not in given and spec.default is None and applies:
+            if key in replaced and key in given:
+                out.problems.append(f"{section}.{replaced[key]}: replaces {section}.{key}, which is computed from "
+                                    f"it; leave {key} out")
+            elif key not in given and spec.default is None and applies and key not in replaced:
                 out.problems.append(f"{section}.{key}: missing ({spec.text}, in {spec.unit})")
             elif key in given and not applies:
                 other, wanted = spec.only_if

@@ -7,7 +7,7 @@ from pathlib import Path
 
 from mbs.aircraft import checks, derived, performance
 from mbs.aircraft._aircraft import AircraftError, Data, _text, evaluate, resolve
-from mbs.aircraft.schema import DERIVED
+from mbs.aircraft.schema import DERIVED, FROM_TABLES
 
 TEMPLATE_SOURCE = "TEMPLATE"
 OVERRIDE_TOLERANCE = 0.01  # relative difference of an override from its derived value that is worth a warning
@@ -45,7 +45,7 @@ def check(source) -> Report:
         text = _text(path)
     except AircraftError as exc:
         return Report(exc.path, problems=exc.problems)
-    data, problems = evaluate(text)
+    data, problems = evaluate(text, path.parent)
     report = Report(path, str(data.get("aircraft", {}).get("name", "")), problems)
     if not problems:
         report.derived = _derived_rows(data)
@@ -56,7 +56,9 @@ def check(source) -> Report:
 
 def _derived_rows(data: Data) -> list[tuple]:
     rows = []
-    for section, entries in DERIVED.items():
+    for section in [*DERIVED, *(s for s in FROM_TABLES if s not in DERIVED)]:
+        entries = {**DERIVED.get(section, {}), **{k: v for k, v in FROM_TABLES.get(section, {}).items()
+                                                  if data.meta.get(section, {}).get(k, {}).get("origin") == "derived"}}
         for key, spec in entries.items():
             if key not in data.get(section, {}):
                 continue
@@ -85,11 +87,20 @@ def _warnings(data: Data, rows: list[tuple]) -> list[str]:
     if template:
         out.append(f"{len(template)} entries still carry the template's Bo105 values (source {TEMPLATE_SOURCE}), "
                    f"e.g. {', '.join(template[:3])}: replace them with your aircraft's data and sources")
+    out += _unused_with_tables(data)
     tr = data["tail_rotor"]
     period = checks.period_problem(tr["gear_ratio"], checks.tail_blade_symmetry(tr))
     if period:
         out.append(period + " (simulations run; trim, Floquet and derivatives refuse it)")
     return out
+
+
+def _unused_with_tables(data: Data) -> list[str]:
+    """The analytic-section entries that a rotor with airfoil tables keeps only for estimates."""
+    return [f"{section}.airfoils: the blade elements use the tables; lift_slope, cd0, cd2, alpha_stall and "
+            f"cd_stalled serve the trim estimate, Lock number and performance figures only, and mach_dd and "
+            f"mach_limit nothing (the tables carry the Mach dependence)"
+            for section in ("main_rotor", "tail_rotor") if data[section].get("airfoils")]
 
 
 def figures(data: Data) -> list[tuple]:
@@ -99,7 +110,7 @@ def figures(data: Data) -> list[tuple]:
     hov = performance.hover(data)
     main_mass, tail_mass = checks.rotor_masses(data)
     revs = checks.rotor_period(tr["gear_ratio"], checks.tail_blade_symmetry(tr))[0]
-    return [
+    return [*airfoil_rows(data),
         ("main-rotor solidity", hov.main.solidity, "-"), ("tail-rotor solidity", hov.tail.solidity, "-"),
         ("Lock number", performance.lock_number(mr, env["rho"]), "-"),
         ("flap frequency", derived.flap_frequency(mr), "1/rev"), ("lag frequency", mr["lag_frequency"], "1/rev"),
@@ -119,6 +130,12 @@ def figures(data: Data) -> list[tuple]:
         ("rotor period (both rotors back in place)", revs, "rev"),
         ("main-rotor revolution", 2 * math.pi / mr["omega"], "s"),
     ]
+
+
+def airfoil_rows(data: Data) -> list[tuple]:
+    """One figure per airfoil segment: where it starts and what its C81 file holds."""
+    return [(f"{section.replace('_', '-')} airfoil from r/R = {seg.start:g}", seg.describe(), "-")
+            for section in ("main_rotor", "tail_rotor") for seg in data[section].get("airfoils", ())]
 
 
 def lines(report: Report) -> list[str]:

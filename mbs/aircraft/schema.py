@@ -17,7 +17,7 @@ DEG = math.pi / 180
 @dataclass(frozen=True)
 class Entry:
     """One entry: SI ``unit`` ("-" a pure number, "1/rev" per revolution), ``kind`` (number,
-    integer, choice, text, vector, table), ``low``/``high`` bounds (inclusive unless
+    integer, choice, text, vector, table, airfoils: rows of r/R and a C81 file), ``low``/``high`` bounds (inclusive unless
     ``open_low``/``open_high``), ``choices``, ``length`` of a vector, ``columns`` (units) of
     a table, ``default`` (None: required) and the meaning ``text``."""
 
@@ -33,6 +33,7 @@ class Entry:
     length: int = 0
     columns: tuple = ()
     only_if: tuple = ()  # (key, value): the entry applies only when that entry of the section has that value
+    replaces: str = ""  # the entry of the section this one gives instead (a distribution instead of a number)
 
 
 def num(unit, text, low=-math.inf, high=math.inf, **kw) -> Entry:
@@ -83,6 +84,21 @@ def _rotor(what: str) -> dict[str, Entry]:
         "mach_dd": ratio(f"{what} drag-divergence Mach number of the section (with compressibility)", 0.3, 1.0),
         "mach_limit": ratio(f"{what} bound of the Mach number in the Prandtl-Glauert factor", 0.3, 0.95, default=0.8),
         **_airfoil(what),
+        "chord_table": Entry("-, m", f"{what} chord along the span: rows r/R, chord (linear between stations, held "
+                             "beyond); replaces chord, which becomes the thrust-weighted chord", "table",
+                             columns=("-", "m"), default=(), replaces="chord"),
+        "twist_table": Entry("-, rad", f"{what} twist along the span: rows r/R, twist angle added to the collective "
+                             "(the collective is the pitch where the table reads 0; linear between stations, held "
+                             "beyond); replaces twist, which becomes the r^2-weighted straight line through it",
+                             "table", columns=("-", "rad"), default=(), replaces="twist"),
+        "tip_sweep": angle(f"{what} sweep of the blade tip: the quarter-chord line swept aft by this angle beyond "
+                           "sweep_start (simple sweep theory: the air velocity normal to the swept line loads the "
+                           "sections)", 45, default=0.0),
+        "sweep_start": ratio(f"{what} where the tip sweep begins, fraction of R", 0.5, 1.0, default=1.0),
+        "airfoils": Entry("-", f"{what} airfoil tables per radial segment: rows [r/R where the segment begins, C81 "
+                          "file (path from this file)], the first at or inboard of root_cutout; each segment's "
+                          "c_L, c_D, c_M against alpha (-180..180 deg) and Mach replace the analytic section above "
+                          "(which the estimates still use)", "airfoils", default=()),
     }
 
 
@@ -122,6 +138,14 @@ ENTRIES: dict[str, dict[str, Entry]] = {
         "hub_z": num("m", "hub position z (down) from the CG; negative above it"),
         "shaft_tilt": angle("forward tilt of the shaft", 30),
         "I_flap": positive("kg m^2", "blade moment of inertia about the flap hinge"),
+        "mass_table": Entry("-, kg/m", "blade mass per length along the span: rows r/R, mass per length (linear "
+                            "between stations, zero beyond), the last at r/R = 1; replaces I_flap: the blade's mass, "
+                            "first moment and flap inertia are integrated from it (outboard of the flap hinge)",
+                            "table", columns=("-", "kg/m"), default=(), replaces="I_flap"),
+        "section_inertia_table": Entry("-, kg m, kg m, kg m", "section mass moments of inertia per length along the "
+                                       "span (with mass_table): rows r/R, flap (about the chord), lag (about the "
+                                       "normal), torsion (about the span); default: a box of the chord and "
+                                       "blade_thickness", "table", columns=("-", "kg m", "kg m", "kg m"), default=()),
         "flap_hinge_offset": num("m", "flap hinge (or equivalent hinge) distance from the rotor axis", 0.0),
         "flap_stiffness": num("N m/rad", "flap spring (centre-spring equivalent of a hingeless rotor)", 0.0),
         "lag_frequency": positive("1/rev", "first rotating lag frequency"),
@@ -224,10 +248,13 @@ class Derived:
 
 DERIVED: dict[str, dict[str, Derived]] = {
     "main_rotor": {
-        "blade_mass": Derived("kg", "uniform blade from the flap hinge: 3 I_flap / (R - e)^2"),
+        "blade_mass": Derived("kg", "uniform blade from the flap hinge: 3 I_flap / (R - e)^2; with mass_table its "
+                              "integral outboard of the flap hinge"),
+        "first_moment": Derived("kg m", "blade's first moment about the flap hinge: blade_mass (R - e) / 2 for the "
+                                "uniform blade; with mass_table the integral of mass per length times (r - e)"),
         "lag_stiffness": Derived("N m/rad", "lag spring giving lag_frequency: (nu^2 - e S / I) I Omega^2, "
-                                 "S = m (R - e) / 2 the blade's first moment about the hinge, I = I_flap + m c^2 / 12 "
-                                 "its lag inertia (a box of the chord c)"),
+                                 "S the blade's first moment about the hinge, I = I_flap + m c^2 / 12 "
+                                 "its lag inertia (a box of the chord c; with mass_table the integrated lag inertia)"),
         "tip_loss": Derived("-", "Prandtl's effective-radius factor B = 1 - sqrt(2 C_T) / N_b at the hover C_T "
                             "(Johnson, Helicopter Theory 3.5)"),
     },
@@ -255,3 +282,16 @@ DERIVED: dict[str, dict[str, Derived]] = {
         "torsion_stiffness": Derived("N m^2", "uniform GJ whose continuous rotating blade has torsion_frequency"),
     },
 }
+
+
+FROM_TABLES: dict[str, dict[str, Derived]] = {
+    section: {"chord": Derived("m", "thrust-weighted chord of chord_table, int c r^2 dr / int r^2 dr over the "
+                               "aerodynamic blade (solidity, Lock number, estimates)"),
+              "twist": Derived("rad", "slope of the r^2-weighted straight line through twist_table over the "
+                               "aerodynamic blade (estimates, wake geometry)"),
+              **({"I_flap": Derived("kg m^2", "integral of mass per length times (r - e)^2 plus the sections' flap "
+                                    "inertia, outboard of the flap hinge, from mass_table")}
+                 if section == "main_rotor" else {})}
+    for section in ("main_rotor", "tail_rotor")
+}
+"""Plain entries that a distribution replaces, computed from it (:data:`Entry.replaces`)."""

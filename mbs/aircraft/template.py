@@ -22,6 +22,12 @@ HEADER = """\
 """
 
 COMMENTED = ("elastic_blade", "swashplate")
+EXAMPLES = {"airfoils": [[0.0, "root_airfoil.c81"], [0.85, "tip_airfoil.c81"]],
+            "chord_table": [[0.2, 0.27], [0.9, 0.27], [1.0, 0.2]],
+            "twist_table": [[0.0, 0.07], [0.7, 0.0], [1.0, -0.03]],
+            "mass_table": [[0.05, 30.0], [0.2, 8.0], [1.0, 5.5]],
+            "section_inertia_table": [[0.05, 0.005, 0.2, 0.2], [1.0, 0.0005, 0.03, 0.03]]}
+"""What an optional entry without a value of the Bo105's looks like (written commented out)."""
 """Optional sections written commented out (their entries are required once the section is there)."""
 
 
@@ -37,11 +43,14 @@ def template(name: str, source: str = "TEMPLATE") -> str:
                    + ("  # optional: leave the section out for the defaults" if optional else ""))
         for key, spec in entries.items():
             value = name if key == "name" else base.get(section, {}).get(key, spec.default)
+            if key in EXAMPLES:
+                value = EXAMPLES[key]
             line = f"{key} = {{ value = {_toml(value)}, unit = \"{spec.unit}\", source = \"{source}\" }}"
             commented = section in COMMENTED or spec.default is not None
             if spec.only_if:
                 line += f"  # only with {spec.only_if[0]} = \"{spec.only_if[1]}\""
-            out += [f"# {spec.text} ({spec.unit}" + (f"; default {spec.default})" if spec.default is not None else ")"),
+            shown = {"airfoils": "none: the analytic section", "table": "none"}.get(spec.kind, spec.default)
+            out += [f"# {spec.text} ({spec.unit}" + (f"; default {shown})" if spec.default is not None else ")"),
                     ("# " if commented else "") + line]
         out += _derived_comment(section) + [""]
     return "\n".join(out)

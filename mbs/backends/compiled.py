@@ -16,6 +16,7 @@ import functools
 import hashlib
 import logging
 import os
+import re
 import shutil
 import subprocess
 import tempfile
@@ -112,12 +113,22 @@ logger (level INFO; the ``heli`` command shows it on stderr), so a first run doe
 in silence."""
 
 
+CONSTANT_ARRAY = re.compile(r"static const casadi_real casadi_c\d+\[\d+\] = \n?\s*\{[^}]*\};")
+"""A constant array of the generated code (an airfoil table's coefficients): its size costs the
+compiler next to nothing, so it does not count towards :data:`LARGE_SOURCE_BYTES`."""
+
+
 def compile_flags(source: str) -> list[str]:
     """The compiler flags for ``source`` (one translation unit): :data:`CFLAGS`, with ``-O1``
-    above :data:`LARGE_SOURCE_BYTES`."""
-    if len(source) <= LARGE_SOURCE_BYTES:
+    above :data:`LARGE_SOURCE_BYTES` of code (constant arrays not counted)."""
+    if len(source) <= LARGE_SOURCE_BYTES or code_bytes(source) <= LARGE_SOURCE_BYTES:
         return list(CFLAGS)
     return ["-O1" if f == "-O2" else f for f in CFLAGS]
+
+
+def code_bytes(source: str) -> int:
+    """The size of ``source`` without its constant arrays (:data:`CONSTANT_ARRAY`)."""
+    return len(source) - sum(len(m.group(0)) for m in CONSTANT_ARRAY.finditer(source))
 
 
 NOT_GENERATED = ("parts",)
@@ -129,10 +140,16 @@ UNIT_SEPARATOR = "\n/* ---- next translation unit ---- */\n"
 """Between the translation units of one generated source (each compiled on its own, in parallel)."""
 
 
+COPIED_SUFFIX = "_lookup"
+"""Functions named so (an airfoil table's data reads) are small: each unit that calls one gets
+its own copy, so that they do not tie the right-hand side and the outputs into one unit."""
+
+
 def translation_units(functions: dict, methods) -> list[list[str]]:
     """The names of ``functions`` grouped into translation units: functions that call one
-    another or a common function share a unit, so that each generated function is compiled
-    once; the unit of the fixed-step drivers' functions (``incr_<method>``, ``project``) first."""
+    another or a common function share a unit (unless it is one of the small functions each
+    unit copies, :data:`COPIED_SUFFIX`), so that each generated function is compiled once; the
+    unit of the fixed-step drivers' functions (``incr_<method>``, ``project``) first."""
     root = {n: n for n in functions}
 
     def find(n: str) -> str:
@@ -141,7 +158,7 @@ def translation_units(functions: dict, methods) -> list[list[str]]:
         return n
     owner: dict[str, str] = {}
     for name, f in functions.items():
-        for callee in [name, *(g.name() for g in f.find_functions())]:
+        for callee in [name, *(g.name() for g in f.find_functions() if not g.name().endswith(COPIED_SUFFIX))]:
             root[find(owner.setdefault(callee, name))] = find(name)
     driven = [n for n in [*(f"incr_{m}" for m in methods), "project"] if n in functions and methods]
     for n in driven[1:]:

@@ -13,6 +13,11 @@ def _scene_lines(res: dict) -> list[str]:
                      f"{r['rk4_step_in_run_us']:13.2f} {r['real_time_factor']:11.1f}")
     lines.append("  (rhs and RK4: one raw call from Python; in run: per step inside a 200-step C loop, "
                  "which sets the real-time factor)")
+    t = res.get("tables")
+    if t:
+        lines.append(f"  {t['scene']}: the rotors' sections as C81 tables, {t['real_time_factor_cpu']:.1f}x real time "
+                     f"in CPU time against {t['analytic_real_time_factor_cpu']:.1f}x analytic: RK4 step "
+                     f"x{t['ratio_rk4_step_to_analytic']:.2f}")
     return lines
 
 

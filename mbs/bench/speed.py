@@ -8,6 +8,7 @@ RK4 step); each reference is timed only after its accelerations were checked aga
 """
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Callable
 
 import time
@@ -186,14 +187,15 @@ def deep_tree_speed(name: str) -> dict:
     return {"row": name, **conservative_tree_speed(chain(DEEP_TREES[name]), h=CHAIN_STEP)}
 
 
-def scene_speed(name: str, steps_per_rev: int = STEPS_PER_REV, run_steps: int = 200) -> dict:
-    """One Bo105 scene, compiled, float64: DOF, rhs and RK4 step medians (µs) and the
-    real-time factor (simulated time / wall time) at ``steps_per_rev`` steps per revolution,
-    from the step time inside a C run of ``run_steps`` steps; ``_cpu``: the same from the
-    CPU time of the run (other jobs on the machine do not count)."""
+def scene_speed(name, steps_per_rev: int = STEPS_PER_REV, run_steps: int = 200) -> dict:
+    """One Bo105 scene (a name or a :class:`mbs.scenes.Scene`), compiled, float64: DOF, rhs and
+    RK4 step medians (µs) and the real-time factor (simulated time / wall time) at
+    ``steps_per_rev`` steps per revolution, from the step time inside a C run of ``run_steps``
+    steps; ``_cpu``: the same from the CPU time of the run (other jobs on the machine do not count)."""
     from mbs import scenes
 
-    scene = scenes.get(name)
+    scene = scenes.get(name) if isinstance(name, str) else name
+    name = scene.name
     system = scene.system("compiled")
     x, p, t = system.x0(), system.params(), np.zeros(1)
     h = scene.revolution(system, p) / steps_per_rev
@@ -209,6 +211,26 @@ def scene_speed(name: str, steps_per_rev: int = STEPS_PER_REV, run_steps: int = 
             "rk4_step_us": 1e6 * median_time(lambda: rk4_raw(x, t, h, p)),
             "rk4_step_in_run_us": 1e6 * in_run, "real_time_factor": h / in_run,
             "rk4_step_in_run_cpu_us": 1e6 * in_run_cpu, "real_time_factor_cpu": h / in_run_cpu}
+
+
+def tables_speed() -> dict:
+    """Row ``forward-flight-tables``: the forward-flight scene of a Bo105 whose rotors' sections
+    are C81 tables (91 angles x 12 Mach numbers, sampled from its analytic sections with their
+    compressibility corrections; :func:`mbs.aero.tables.sample.with_sampled_tables`), with its
+    RK4 step and real-time factor over the analytic scene's, both measured here."""
+    import tempfile
+    from pathlib import Path
+
+    from mbs import aircraft, scenes
+    from mbs.aero.tables.sample import with_sampled_tables
+
+    base = scenes.get("forward-flight")
+    with tempfile.TemporaryDirectory() as folder:
+        craft = with_sampled_tables(aircraft.load(), Path(folder))
+        tables = scene_speed(replace(base.with_aircraft(craft), name="forward-flight-tables"))
+    analytic = scene_speed(base)
+    return {**tables, "ratio_rk4_step_to_analytic": tables["rk4_step_in_run_cpu_us"] / analytic["rk4_step_in_run_cpu_us"],
+            "analytic_real_time_factor_cpu": analytic["real_time_factor_cpu"]}
 
 
 def toolchain() -> dict:
@@ -236,7 +258,7 @@ def run(progress: Callable[[int, int], None] | None = None) -> dict:
     """Every measurement of ``heli bench speed`` in one run; ``progress(done, total)``."""
     jobs = [*((lambda n=n: scene_speed(n)) for n in BO105_SCENES), conservative_tree_speed,
             lambda: conservative_tree_speed(bo105_tree(), _bo105_omega()),
-            *((lambda n=n: deep_tree_speed(n)) for n in DEEP_TREES), elastic_rotor_speed]
+            *((lambda n=n: deep_tree_speed(n)) for n in DEEP_TREES), elastic_rotor_speed, tables_speed]
     done = []
     for job in jobs:
         done.append(job())
@@ -244,7 +266,8 @@ def run(progress: Callable[[int, int], None] | None = None) -> dict:
             progress(len(done), len(jobs))
     n = len(BO105_SCENES)
     return {"benchmark": "speed", "machine": {**machine(), **toolchain()}, "steps_per_rev": STEPS_PER_REV,
-            "bo105": done[:n], "conservative_tree": done[n], "bo105_tree": done[n + 1], "trees": done[n + 2:]}
+            "bo105": done[:n], "conservative_tree": done[n], "bo105_tree": done[n + 1], "trees": done[n + 2:-1],
+            "tables": done[-1]}
 
 
 def _bo105_omega() -> float:

@@ -6,6 +6,7 @@ import numpy as np
 
 from mbs.aero import (Airfoil, Compressibility, Download, FuselageAero, HubDrag, LiftingSurface, Rotor, RotorAero,
                       RotorModel, WakeGeometry)
+from mbs.aero.tables import BladeAirfoils
 from mbs.models.modal_blade import rotor_pieces
 from mbs.models.helicopter import frames as fr
 from mbs.tree import Model
@@ -50,7 +51,8 @@ def main_rotor(d, cfg, parent: str) -> Rotor:
     blades = [f"blade{k + 1}" for k in range(cfg.blade_count(mr["n_blades"]))]
     return Rotor("main_rotor", "main_hub", blades, mr["radius"], mr["chord"], mr["twist"], mr["root_cutout"],
                  int(cfg.elements or mr["elements"]), mr["flap_hinge_offset"], None if parent == "world" else parent,
-                 fr.azimuth_frame(fr.shaft_frame(tilt), fr.main_sense(d)), pieces=rotor_pieces(d, cfg))
+                 fr.azimuth_frame(fr.shaft_frame(tilt), fr.main_sense(d)), pieces=rotor_pieces(d, cfg),
+                 **_distributions(mr))
 
 
 def tail_rotor(d, parent: str) -> Rotor:
@@ -59,7 +61,16 @@ def tail_rotor(d, parent: str) -> Rotor:
     return Rotor("tail_rotor", "tail_hub", [f"tail_blade{k + 1}" for k in range(int(tr["n_blades"]))], tr["radius"],
                  tr["chord"], tr["twist"], tr["root_cutout"], int(tr["elements"]), 0.0,
                  None if parent == "world" else parent, fr.azimuth_frame(fr.tail_frame(d), fr.tail_sense(d)),
-                 tr["gear_ratio"])
+                 tr["gear_ratio"], **_distributions(tr))
+
+
+def _distributions(sec: dict) -> dict:
+    """The chord and twist tables and the tip sweep of a rotor section that gives them (none:
+    constant chord, linear twist, a straight blade)."""
+    out = {k: tuple(map(tuple, sec[k])) for k in ("chord_table", "twist_table") if sec.get(k)}
+    if sec.get("tip_sweep"):
+        out.update(sweep_angle=sec["tip_sweep"], sweep_start=sec["sweep_start"])
+    return out
 
 
 def add_rotor_aero(m: Model, d, cfg, trim, parent: str) -> None:
@@ -68,12 +79,23 @@ def add_rotor_aero(m: Model, d, cfg, trim, parent: str) -> None:
     main_model = rotor_model(d, cfg, "main_rotor")
     _add_inflow_states(m, "main_rotor", main_model, trim.inflow_main)
     m.add_force(RotorAero(main_rotor(d, cfg, parent), airfoil(d["main_rotor"]), rho, d["main_rotor"]["kappa"],
-                          main_model))
+                          main_model, blade_airfoils(d, cfg, "main_rotor")))
     if cfg.tail_rotor:
         tail_model = rotor_model(d, cfg, "tail_rotor")
         _add_inflow_states(m, "tail_rotor", tail_model, trim.inflow_tail)
         m.add_force(RotorAero(tail_rotor(d, parent), airfoil(d["tail_rotor"]), rho, d["tail_rotor"]["kappa"],
-                              tail_model))
+                              tail_model, blade_airfoils(d, cfg, "tail_rotor")))
+
+
+def blade_airfoils(d, cfg, section: str) -> BladeAirfoils | None:
+    """The airfoil tables of the rotor ``section`` per radial segment (None: the analytic
+    section); the tables' Mach dependence with the compressibility switch, their lowest Mach
+    number without."""
+    segments = d[section].get("airfoils", ())
+    if not segments:
+        return None
+    return BladeAirfoils(tuple(s.start for s in segments), tuple(s.airfoil for s in segments),
+                         d["environment"]["speed_of_sound"], cfg.compressibility)
 
 
 def airfoil(sec: dict) -> Airfoil:

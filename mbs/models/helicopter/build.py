@@ -29,6 +29,7 @@ def build(cfg: Config = Config(), aircraft=None, name: str | None = None) -> Mod
 
     aircraft = ac.load() if aircraft is None else aircraft
     d = getattr(aircraft, "data", aircraft)
+    _check_distributions(d, cfg)
     stored = stored_trim(aircraft, cfg.trim, cfg.speed)
     trim = estimate_trim(d, cfg.speed)
     m = Model(name or f"{getattr(aircraft, 'key', 'aircraft')}-model", gravity=(0.0, 0.0, d["environment"]["g"]))
@@ -50,6 +51,16 @@ def build(cfg: Config = Config(), aircraft=None, name: str | None = None) -> Mod
     if cfg.pitch_link == "elastic":
         add_elastic_links(m, d, cfg)
     return m
+
+
+def _check_distributions(d, cfg: Config) -> None:
+    """The elastic and modal blades are uniform beams: refuse a mass distribution they would ignore."""
+    given = [k for k in ("mass_table", "section_inertia_table") if d["main_rotor"].get(k)]
+    if given and (cfg.blade_segments or cfg.blade_modes):
+        kind = "segmented elastic" if cfg.blade_segments else "modal"
+        raise ValueError(f"main_rotor.{given[0]}: the {kind} blade is a uniform beam of main_rotor.blade_mass; it "
+                         "does not take a mass distribution yet: fly rigid blades, or leave the table out for this "
+                         "scene")
 
 
 def stored_trim(aircraft, key: str | None, speed: float) -> dict | None:

@@ -13,6 +13,7 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
+from mbs.aircraft.blade import Distribution
 from mbs.aircraft.checks import rotor_masses
 from mbs.joints import DrivenHinge, Fixed, FreeJoint, Hinge, Serial
 from mbs.models.elastic_blade import add_elastic_blade
@@ -88,6 +89,16 @@ def _azimuth_joint(cfg, speed_ratio: float, sense: int):
     return DrivenHinge((0, 0, 1), lambda t, p: sense * speed_ratio * p["omega"] * t, name="azimuth")
 
 
+def blade_body(mr: dict) -> tuple:
+    """Mass (kg), centre of mass and inertia (blade axes from the flap hinge) of a rigid main-rotor
+    blade: integrated from the mass table (:class:`mbs.aircraft.blade.Distribution`), else the
+    uniform box of the blade's mass, span, chord and thickness."""
+    if mr.get("mass_table"):
+        return Distribution(mr).body()
+    span = mr["radius"] - mr["flap_hinge_offset"]
+    return mr["blade_mass"], (span / 2, 0, 0), box_inertia(mr["blade_mass"], span, mr["chord"], mr["blade_thickness"])
+
+
 def add_main_rotor(m: Model, d, cfg, parent: str) -> None:
     mr, sense = d["main_rotor"], fr.main_sense(d)
     tilt = mr["shaft_tilt"] if cfg.shaft_tilt else 0.0
@@ -106,8 +117,8 @@ def add_main_rotor(m: Model, d, cfg, parent: str) -> None:
             add(m, d, cfg, k, frame, _blade_joint(d, cfg, psi0, sense).parts[2:], sense)
             continue
         joint = blade_joint(d, cfg, k + 1, psi0, sense) if cfg.swashplate else _blade_joint(d, cfg, psi0, sense)
-        m.add_body(f"blade{k + 1}", "main_hub", joint, mass=mr["blade_mass"],
-                   com=((big_r - e) / 2, 0, 0), inertia=box_inertia(mr["blade_mass"], big_r - e, c, t),
+        mass, com, inertia = blade_body(mr)
+        m.add_body(f"blade{k + 1}", "main_hub", joint, mass=mass, com=com, inertia=inertia,
                    at=e * frame[:, 0], frame=frame,
                    shape={"kind": "box", "size": [big_r - e, c, t], "offset": [(big_r - e) / 2, 0, 0],
                           "color": BLADE_COLORS[k % 4]})
