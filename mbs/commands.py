@@ -52,7 +52,7 @@ def _extra(row: dict) -> str:
 
 
 def scene_table(rows: list[dict]) -> str:
-    """The README's scene table (Markdown) from the rows of :func:`scene_row`."""
+    """The docs' scene table (docs/method/helicopter-model.md, Markdown) from the rows of :func:`scene_row`."""
     lines = ["| scene | what it models | degrees of freedom |", "|---|---|---|"]
     for r in rows:
         extra = f" + {_extra(r)}" if r["extra_states"] else ""
@@ -763,7 +763,7 @@ def register(sub, bench) -> None:
     p.set_defaults(fn=cmd_derivatives)
 
     p = sub.add_parser("scenes", help="list the scenes: bodies, degrees of freedom, force elements")
-    p.add_argument("--markdown", action="store_true", help="print the README's scene table instead")
+    p.add_argument("--markdown", action="store_true", help="print the scene table of docs/method/helicopter-model.md instead")
     add_json(p)
     p.set_defaults(fn=cmd_scenes)
 

@@ -54,3 +54,11 @@ def python_spec(python_fmu) -> dict:
     """The ``spec.json`` shipped in :func:`python_fmu` (variables, scenes, limits)."""
     with zipfile.ZipFile(python_fmu) as z:
         return json.loads(z.read("resources/heli_models/spec.json"))
+
+
+@pytest.fixture(scope="session")
+def user_shell(tmp_path_factory):
+    """A user's folder after set-up command 1, shared by the README's and the docs' blocks."""
+    from user_shell import UserShell
+
+    return UserShell(tmp_path_factory.mktemp("user"))

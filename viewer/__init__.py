@@ -7,7 +7,7 @@ Public API::
     with LiveViewer(system) as live:                            # meshcat server on 127.0.0.1
         live.show(x, t)                                         # stream a pose
 
-See ``viewer/README.md``.
+See ``docs/viewer.md``.
 """
 from __future__ import annotations
 

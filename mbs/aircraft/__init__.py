@@ -1,9 +1,9 @@
 """Aircraft as data: a TOML file of values with units and sources defines a single-main-rotor
 helicopter; ``load(path)`` validates it, converts it to SI and computes what it derives.
 
->>> from mbs import aircraft
->>> lynx = aircraft.load("lynx")              # a packaged aircraft, or a path to your file
->>> lynx.data["main_rotor"]["radius"]         # m
+    >>> from mbs import aircraft
+    >>> lynx = aircraft.load("lynx")              # a packaged aircraft, or a path to your file
+    >>> lynx.data["main_rotor"]["radius"]         # m
 
 ``check(path)`` returns the problems and the derived figures without raising; ``heli aircraft
 check FILE`` prints them and ``heli aircraft new NAME`` writes a commented template.
