@@ -24,15 +24,16 @@ def run_main(argv: list[str], capsys) -> tuple[int, str, str]:
 # -- the step ---------------------------------------------------------------------------------------------
 
 def test_a_coarse_step_is_said_with_the_step_that_would_do(tmp_path, capsys):
-    """forward-flight at 10 steps/rev (the tail rotor's teeter goes wild) reported success
-    before; now a warning names the state, the estimate and the step that would do."""
+    """forward-flight at 10 steps/rev (the tail rotor's teeter and inflow go wild) reported
+    success before; now a warning names the state, the estimate and the step that would do."""
     code, out, err = run_main(["simulate", "forward-flight", "--steps-per-rev", "10", "--out", str(tmp_path),
                                "--quiet", "--start", "scene"], capsys)
     assert code == 0
     warning = [line for line in err.splitlines() if "warning" in line]
     assert len(warning) == 1 and warning[0].startswith(
         "heli simulate: warning: 10 rk4 steps per revolution are too coarse: estimated step error")
-    assert "seesaw.teeter" in warning[0] and "use --steps-per-rev 80 or more" in warning[0]
+    named = re.search(r"of the range of (\S+) over", warning[0]).group(1)
+    assert named in ("seesaw.teeter", "tail_rotor.inflow") and "use --steps-per-rev 80 or more" in warning[0]
     assert "result: the run reached its end time (but the step is too coarse: see the warning)" in out
     step = json.loads((tmp_path / "run.json").read_text())["step_error"]
     assert not step["ok"] and step["suggested_steps_per_rev"] == 80 and step["ratio"] > 1
@@ -169,7 +170,7 @@ def test_view_opens_the_model_the_run_was_made_with(extra, tmp_path, capsys):
 
 
 def test_view_refuses_a_diverged_run_before_building_anything(tmp_path, capsys, monkeypatch):
-    code, out, err = run_main(["simulate", "forward-flight", "--steps-per-rev", "8", "--revs", "3",
+    code, out, err = run_main(["simulate", "forward-flight", "--steps-per-rev", "7", "--revs", "3",
                                "--out", str(tmp_path), "--quiet", "--start", "scene"], capsys)
     assert code == 1 and "non-finite" in out
 
