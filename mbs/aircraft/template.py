@@ -54,11 +54,19 @@ def template(name: str, source: str = "TEMPLATE") -> str:
                 line += f"  # only with {spec.only_if[0]} = \"{spec.only_if[1]}\""
             shown = {"airfoils": "none: the analytic section", "table": "none"}.get(spec.kind, spec.default)
             lines += [f"# {spec.text} ({spec.unit}" + (f"; default {shown})" if spec.default is not None else ")"),
-                      ("# " if spec.default is not None or not _applies(spec, values, entries) else "") + line]
+                      ("# " if _commented(spec, values, entries) else "") + line]
         lines += _derived_comment(section)
         out += [f"# {line}" for line in lines] if section in COMMENTED else lines  # uncommented: one '# ' less
         out.append("")
     return "\n".join(out)
+
+
+def _commented(spec, values: dict, entries: dict) -> bool:
+    """Whether the template writes ``spec`` commented out: it has a default, or it does not apply
+    to the file as written (whose entries with defaults are commented, so a switch with a default
+    takes it)."""
+    written = {k: v for k, v in values.items() if k in entries and entries[k].default is None}
+    return spec.default is not None or not _applies(spec, written, entries)
 
 
 def _optional(section: str) -> str:
