@@ -9,7 +9,7 @@ from mbs.cli import main
 from mbs import aircraft
 from mbs.simulate import simulate
 
-ALLOWED_SOURCES = {"S1", "S1a", "S1b", "S2", "S3", "DER", "EST", "STD"}
+ALLOWED_SOURCES = {"S1", "S1a", "S1b", "S2", "S3", "FI", "DER", "EST", "STD"}  # the file's header names each
 
 
 @pytest.fixture(scope="module")
