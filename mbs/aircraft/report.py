@@ -82,13 +82,14 @@ def converted_rows(data: Data) -> list[tuple]:
     rows = []
     for section, entries in data.meta.items():
         for key, meta in entries.items():
-            spec = ENTRIES.get(section, {}).get(key)
+            spec = ENTRIES.get(section, {}).get(key) or DERIVED.get(section, {}).get(key)  # an override: DERIVED
             written = str(meta.get("unit", ""))
-            if meta.get("origin") not in ("file", "override") or spec is None or spec.kind in ("text", "choice"):
+            kind = getattr(spec, "kind", "number")  # tables (lookup) are listed by airframe_data.converted
+            if meta.get("origin") not in ("file", "override") or spec is None or kind in ("text", "choice", "lookup"):
                 continue
             if written.replace(" ", "") == spec.unit.replace(" ", "") or written in ("-", "1", ""):
                 continue
-            unit = {"travel": "m, rad or -", "mixing": "rad, rad per position"}.get(spec.kind, spec.unit)
+            unit = {"travel": "m, rad or -", "mixing": "rad, rad per position"}.get(kind, spec.unit)
             rows.append((f"{section}.{key}", data[section][key], unit,
                          f"from {meta.get('value', '')} {written}".strip(), meta.get("source", "")))
     return rows + _inertia_conversion(data)
