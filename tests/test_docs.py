@@ -17,7 +17,6 @@ from pathlib import Path
 
 import pytest
 
-from browser_fixtures import browser, page  # noqa: F401  (fixtures)
 from user_shell import DATA, ROOT, RUN, SHOWN, blocks, failure, runnable
 
 DOCS = ROOT / "docs"
