@@ -121,6 +121,7 @@ def test_a_command_that_prints_stays_pipe_clean(capsys, monkeypatch):
     monkeypatch.setattr(cli, "parser", lambda: parser)
     args = parser.parse_args(["scenes", "--json"])
     monkeypatch.setattr(argparse.ArgumentParser, "parse_args", lambda self, argv=None: args)
+    monkeypatch.setattr(argparse.ArgumentParser, "parse_known_args", lambda self, argv=None, namespace=None: (args, []))
     args.fn = noisy
     assert cli.main(["scenes", "--json"]) == 0
     captured = capsys.readouterr()

@@ -33,12 +33,13 @@ def test_a_coarse_step_is_said_with_the_step_that_would_do(tmp_path, capsys):
     assert len(warning) == 1 and warning[0].startswith(
         "heli simulate: warning: 10 rk4 steps per revolution are too coarse: estimated step error")
     named = re.search(r"of the range of (\S+) over", warning[0]).group(1)
-    assert named in ("seesaw.teeter", "tail_rotor.inflow") and "use --steps-per-rev 80 or more" in warning[0]
+    suggested = int(re.search(r"use --steps-per-rev (\d+) or more", warning[0]).group(1))
+    assert named.startswith(("seesaw.", "tail_rotor.")) and 40 <= suggested <= 100  # measured 70-80
     assert "result: the run reached its end time (but the step is too coarse: see the warning)" in out
     step = json.loads((tmp_path / "run.json").read_text())["step_error"]
-    assert not step["ok"] and step["suggested_steps_per_rev"] == 80 and step["ratio"] > 1
-    code, out, err = run_main(["simulate", "forward-flight", "--steps-per-rev", "80", "--out", str(tmp_path),
-                               "--quiet", "--start", "scene"], capsys)
+    assert not step["ok"] and step["suggested_steps_per_rev"] == suggested and step["ratio"] > 1
+    code, out, err = run_main(["simulate", "forward-flight", "--steps-per-rev", str(suggested), "--out",
+                               str(tmp_path), "--quiet", "--start", "scene"], capsys)
     assert "warning" not in err and json.loads((tmp_path / "run.json").read_text())["step_error"]["ok"]
 
 

@@ -76,7 +76,8 @@ def test_cosim_says_when_nothing_happened_and_its_axes_fit_a_short_run(tmp_path,
     fake = {"stop_s": 5.0, "step_s": 0.0014, "steps": 3500, "libcosim_vs_fmpy_max_abs": 0.0, "algebraic_loops": [],
             "algebraic_loops_without_dependencies": 2, "libcosim_wall_s": 1.0, "fmpy_wall_s": 2.0, "files": {},
             "closed": {"max_attitude_deg": 0.5, "attitude_within_2deg_after_s": 0.0, "max_drift_m": 0.1},
-            "open": {"attitude_beyond_2deg_s": None, "attitude_beyond_20deg_s": None, "drift_beyond_5m_s": 4.25}}
+            "open": {"attitude_beyond_2deg_s": None, "attitude_beyond_20deg_s": None, "drift_beyond_5m_s": 4.25},
+            "fmpy_ssp_runner": {"completed": False, "refused": ["collective = 0.0 is below its range"], "error": None}}
     monkeypatch.setattr(cosim, "run", lambda *a, **k: fake)
     assert cli.main(["cosim", "--stop", "5", "--out", str(tmp_path / "o"), "--json"]) == 0
     err = capsys.readouterr().err
