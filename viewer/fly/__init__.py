@@ -114,6 +114,17 @@ def check(sc, speeds=None) -> None:
                          "to choose; leave --speeds out")
 
 
+def _scene_reals(spec: dict, name: str, vr: dict, controls: list[dict]) -> list[list]:
+    """``[value reference, value]`` of each real parameter or input the scene ``name`` starts with
+    other than its XML start (the family's primary scene's; e.g. ground-run's initial forward speed
+    0 where forward flight's is 10), the pilot's inputs left out (each start sets them)."""
+    from fmu.build import scene_start_values
+
+    piloted = {q["name"] for q in controls}
+    return [[vr[n], float(v)] for n, v in scene_start_values(spec, name).items()
+            if n not in piloted and n != "scene" and isinstance(v, (int, float)) and not isinstance(v, bool)]
+
+
 def _model_config(sc, system, scene, spec: dict, controls: list[dict]) -> dict:
     """The page's configuration of the model (:mod:`viewer.fly.model`): step, value references, charts,
     readout, bodies and blade tips."""
@@ -124,6 +135,7 @@ def _model_config(sc, system, scene, spec: dict, controls: list[dict]) -> dict:
     return {"scene": name, "aircraft": info.name, "h": fm.step(sc, system),
             "revolution": sc.revolution(system, system.params()), "steps_per_rev": sc.steps_per_rev,
             "vr": {"scene": vr["scene"], "initial_state": vr.get("initial_state", -1)}, "inputs": controls,
+            "scene_reals": _scene_reals(spec, name, vr, controls),
             "hinge": hinge, "hinge_names": [info.state_names[i] for i in hinge], "charts": charts,
             "chart_vrs": chart_vrs, "readout": readout, "readout_vrs": readout_vrs,
             "chart_every": max(1, round(sc.steps_per_rev / fm.CHART_SAMPLES_PER_REV)),

@@ -103,6 +103,8 @@ function start(s, speed) {
   setText(C.scene);
   check(M.hw_set_string(C.vr.scene), "setting the scene");
   if (C.vr.initial_state >= 0) { setText("scene"); check(M.hw_set_string(C.vr.initial_state), "setting the start"); }
+  for (var r = 0; r < C.scene_reals.length; r++)  /* the scene's own start values (not the family's primary's) */
+    check(M.hw_set_real(C.scene_reals[r][0], C.scene_reals[r][1]), "setting the scene's start values");
   for (var i = 0; i < n; i++) check(M.hw_set_real(C.inputs[i].vr, st.controls[i]), "setting " + C.inputs[i].name);
   check(M.hw_start(), "initialising the model");
   var x = buffer();
