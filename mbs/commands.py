@@ -294,16 +294,15 @@ def cmd_trim(args) -> int:
 
     scene = _scene(args)
     _check_speed(args, scene)
+    if args.write and (args.turn_rate or args.bank is not None):
+        raise ValueError("--write stores trims of straight flight at zero sideslip, the ones 'heli simulate' starts "
+                         "from; a trim with --bank or --turn-rate is not stored: leave --write out (--json gives it)")
     res = trim(scene, speed=args.speed, climb_rate=args.climb_rate, method=args.method,
                steps_per_rev=args.steps_per_rev, backend=args.backend, tol=args.tol,
                max_iterations=args.iterations, progress=Progress(f"trim {args.scene}", not args.quiet),
                turn_rate=args.turn_rate, bank=args.bank)
     out, lines = res.summary(), _trim_lines(res)
-    if args.write and res.converged and (args.turn_rate or args.bank is not None):
-        lines.append(f"{args.write} not written: the stored trims are of straight flight at zero sideslip, the ones "
-                     "'heli simulate' starts from (this one: " + res.flight.constraint +
-                     f", turn rate {args.turn_rate:g} rad/s)")
-    elif args.write and res.converged:
+    if args.write and res.converged:
         from mbs.trims import entry_of, store
 
         key = store.write(args.write, entry_of(res, scene))

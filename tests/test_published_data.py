@@ -289,3 +289,15 @@ def _state_names(sym) -> list[str]:
     from mbs.backends.info import info_of
 
     return info_of(sym, {}).state_names
+
+
+def test_a_banked_trim_is_not_written_where_simulate_would_start_from_it(tmp_path, capsys):
+    """``heli trim --bank 0 --write``: refused before trimming, in one line (stored trims are of
+    straight flight at zero sideslip, which ``heli simulate`` starts from)."""
+    from test_cli_errors import run_main
+
+    code, err = run_main(["trim", "forward-flight", "--bank", "0", "--write", str(tmp_path / "t.toml"), "--quiet"],
+                         capsys)
+    assert code == 2 and "a trim with --bank or --turn-rate is not stored" in err
+    assert not (tmp_path / "t.toml").exists()
+
