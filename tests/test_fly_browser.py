@@ -43,6 +43,19 @@ def config(built) -> dict:
     return json.loads(text[start:text.index("</script>", start)].replace("<\\/", "</"))["config"]
 
 
+def _hold_from_hover(page, built, cfg: dict, mode: str) -> dict:
+    """From the hover start disturbed to 1 m/s, the stability augmentation ``mode`` on, flown for
+    HOLD_S seconds: the last frame."""
+    hover = next(i for i, s in enumerate(cfg["starts"]) if s["speed"] == 0.0)
+    open_page(page, built)
+    page.select_option("#start", str(hover))
+    page.fill("#speed", "1")
+    page.dispatch_event("#speed", "change")
+    page.select_option("#sas", mode)
+    page.wait_for_function(f"window.__fly.state.frame.sas === '{mode}' && window.__fly.state.frame.k === 0")
+    return fly_until(page, round(HOLD_S / cfg["h"]) * cfg["h"])
+
+
 def fly_until(page, t: float, scale="max") -> dict:
     """Fly to simulated time ``t`` (s) at the time scale ``scale`` and pause there; the last frame."""
     page.evaluate(f"window.__fly.scale({json.dumps(scale)})")
@@ -166,14 +179,7 @@ def test_hover_hold_switch_holds_the_disturbance_as_the_controller_fmu_in_libcos
 
     built = pages["flat"]
     cfg = config(built)
-    hover = next(i for i, s in enumerate(cfg["starts"]) if s["speed"] == 0.0)
-    open_page(page, built)
-    page.select_option("#start", str(hover))
-    page.fill("#speed", "1")
-    page.dispatch_event("#speed", "change")
-    page.select_option("#sas", "hover")
-    page.wait_for_function("window.__fly.state.frame.sas === 'hover' && window.__fly.state.frame.k === 0")
-    frame = fly_until(page, round(HOLD_S / cfg["h"]) * cfg["h"])
+    frame = _hold_from_hover(page, built, cfg, "hover")
     assert not frame["stopped"]
     flight = page.evaluate("window.__fly.history()")["flight"]
     assert len(flight) == frame["k"]
@@ -391,14 +397,7 @@ def test_attitude_hold_holds_the_attitude_and_lets_the_aircraft_drift(page, page
 
     built = pages["flat"]
     cfg = config(built)
-    hover = next(i for i, s in enumerate(cfg["starts"]) if s["speed"] == 0.0)
-    open_page(page, built)
-    page.select_option("#start", str(hover))
-    page.fill("#speed", "1")
-    page.dispatch_event("#speed", "change")
-    page.select_option("#sas", "attitude")
-    page.wait_for_function("window.__fly.state.frame.sas === 'attitude' && window.__fly.state.frame.k === 0")
-    frame = fly_until(page, round(HOLD_S / cfg["h"]) * cfg["h"])
+    frame = _hold_from_hover(page, built, cfg, "attitude")
     assert not frame["stopped"]
     flight = page.evaluate("window.__fly.history()")["flight"]
     res = {"time": np.array([r["k"] * cfg["h"] for r in flight])}
