@@ -200,7 +200,7 @@ def test_changing_the_radius_recomputes_every_derived_value(tmp_path):
     assert new["wake"]["core"] == mr["root_cutout"]
     eb = new["elastic_blade"]
     assert eb["flap_frequency"] == pytest.approx(math.sqrt(1 + mr["flap_stiffness"] / (mr["I_flap"] * mr["omega"] ** 2)))
-    from mbs.models.elastic_blade import beam_frequencies, blade_from_data
+    from mbs.flexible.uniform_blade import beam_frequencies, blade_from_data
 
     beam = beam_frequencies(blade_from_data(new), mr["omega"])
     for k in ("flap", "lag", "torsion"):

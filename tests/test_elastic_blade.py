@@ -9,25 +9,27 @@ import mbs
 from mbs import aircraft
 from mbs.models import helicopter
 from mbs.models.helicopter.scenes import ELASTIC_ROTOR
+from mbs.analysis.blade_modes import segmented_frequencies
+from mbs.flexible import uniform_blade as ub
 from mbs.models import elastic_blade as eb
 
 DATA = aircraft.load().data
 OMEGA = DATA["main_rotor"]["omega"]
-TARGETS = {k: DATA["elastic_blade"][f"{k}_frequency"] for k in eb.DIRECTIONS}
+TARGETS = {k: DATA["elastic_blade"][f"{k}_frequency"] for k in ub.DIRECTIONS}
 
 
 def test_the_data_files_stiffnesses_give_the_continuous_blade_its_target_frequencies():
-    blade = eb.blade_from_data(DATA)
-    found = eb.beam_frequencies(blade, OMEGA)
-    assert all(abs(found[k] / OMEGA / TARGETS[k] - 1) < 1e-4 for k in eb.DIRECTIONS)
-    derived = eb.calibrate(blade, OMEGA, TARGETS)
-    assert all(abs(derived[k] / blade.stiffness(k) - 1) < 1e-3 for k in eb.DIRECTIONS)
+    blade = ub.blade_from_data(DATA)
+    found = ub.beam_frequencies(blade, OMEGA)
+    assert all(abs(found[k] / OMEGA / TARGETS[k] - 1) < 1e-4 for k in ub.DIRECTIONS)
+    derived = ub.calibrate(blade, OMEGA, TARGETS)
+    assert all(abs(derived[k] / blade.stiffness(k) - 1) < 1e-3 for k in ub.DIRECTIONS)
 
 
 def test_the_beam_model_gives_the_closed_forms_of_the_cantilever_at_rest():
     """Uniform cantilever: first bending 1.8751² √(EI/(m L⁴)), first torsion (π/2L) √(GJ/i)."""
-    blade = eb.blade_from_data(DATA)
-    found, length = eb.beam_frequencies(blade, 0.0), blade.length
+    blade = ub.blade_from_data(DATA)
+    found, length = ub.beam_frequencies(blade, 0.0), blade.length
     for k in ("flap", "lag"):
         assert found[k] == pytest.approx(1.875104**2 * np.sqrt(blade.stiffness(k) / (blade.mass * length**4)), rel=1e-6)
     exact = np.pi / (2 * length) * np.sqrt(blade.torsion_stiffness / blade.torsional_inertia)
@@ -37,19 +39,19 @@ def test_the_beam_model_gives_the_closed_forms_of_the_cantilever_at_rest():
 def test_segmented_blade_frequencies_match_the_targets_and_converge():
     """Eigen analysis of the rotating multibody blade: within 1 % of the data's first flap, lag
     and torsion frequencies with 8 segments, and each error falls as the segments double."""
-    errors = {n: {k: v / OMEGA / TARGETS[k] - 1 for k, v in eb.segmented_frequencies(n).items()} for n in (8, 16, 32)}
+    errors = {n: {k: v / OMEGA / TARGETS[k] - 1 for k, v in segmented_frequencies(n).items()} for n in (8, 16, 32)}
     assert all(abs(e) < 0.01 for e in errors[8].values()), errors[8]
     for coarse, fine in ((8, 16), (16, 32)):
-        assert all(abs(errors[fine][k]) < 0.6 * abs(errors[coarse][k]) for k in eb.DIRECTIONS), errors
+        assert all(abs(errors[fine][k]) < 0.6 * abs(errors[coarse][k]) for k in ub.DIRECTIONS), errors
 
 
 def test_segments_carry_the_blade_mass_and_their_springs_its_flexibility():
-    blade = eb.blade_from_data(DATA)
+    blade = ub.blade_from_data(DATA)
     m = helicopter.build(replace(ELASTIC_ROTOR, blades=1, rotor_aero=False), name="one-blade")
     segments = [m.bodies[n] for n in eb.segment_names("blade1", 8)]
     assert sum(b.mass for b in segments) == pytest.approx(DATA["main_rotor"]["blade_mass"], rel=1e-12)
     springs = {f.coordinate: f.stiffness for f in m.forces}
-    for k in eb.DIRECTIONS:  # the hinges stand for the whole span: Σ 1/k = L / EI
+    for k in ub.DIRECTIONS:  # the hinges stand for the whole span: Σ 1/k = L / EI
         flexibility = sum(1 / springs[f"{b.name}.{k}"] for b in segments)
         assert flexibility == pytest.approx(blade.length / blade.stiffness(k), rel=1e-12)
     hinges = eb.layout(blade, 8)[0]

@@ -13,7 +13,7 @@ from scipy.optimize import brentq
 from mbs import aircraft
 from mbs.flexible.beam import ModalBlade
 from mbs.flexible.frequencies import rotating_frequencies
-from mbs.models.elastic_blade import Blade, beam_frequencies, blade_from_data
+from mbs.flexible.uniform_blade import Blade, beam_frequencies, blade_from_data
 
 # Dimensionless uniform beam: L = 1 m, m = 1 kg/m, EI = 1 N m², so that ω and Ω are the
 # dimensionless frequency and speed Ω* = Ω √(m L⁴ / EI); a thin section (no rotary inertia

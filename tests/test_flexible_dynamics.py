@@ -13,9 +13,10 @@ import mbs
 from mbs.dynamics import symbolic
 from mbs.flexible.beam import ModalBlade
 from mbs.flexible.body import add_flexible_blade
+from mbs.flexible.uniform_blade import Blade
 from mbs.linearize import rhs_jacobian
 from mbs.models import helicopter
-from mbs.models.elastic_blade import Blade, add_segmented_blade
+from mbs.models.elastic_blade import add_segmented_blade
 from trees import random_state, random_tree
 
 BLADE = Blade(root=0.2, tip=1.2, mass=2.0, chord=0.1, thickness=0.02, flap_stiffness=60.0, lag_stiffness=150.0,

@@ -14,7 +14,8 @@ from mbs.loads.analysis import rotor_loads
 from mbs import aircraft
 from mbs.models import helicopter
 from mbs.models.helicopter.scenes import ELASTIC_ROTOR
-from mbs.models.elastic_blade import blade_from_data, layout
+from mbs.flexible.uniform_blade import blade_from_data
+from mbs.models.elastic_blade import layout
 from mbs.sweep import charts as sweep_charts
 
 

@@ -9,11 +9,12 @@ import mbs
 from mbs import aircraft, scenes
 from mbs.dynamics import symbolic
 from mbs.flexible.frequencies import classify, equilibrium
+from mbs.analysis.blade_modes import modal_frequencies, segmented_frequencies
+from mbs.flexible import uniform_blade as ub
 from mbs.linearize import rhs_jacobian
 from mbs.models import elastic_blade as eb
 from mbs.models import helicopter
 from mbs.models.helicopter.scenes import ELASTIC_ROTOR, ELASTIC_ROTOR_MODAL
-from mbs.models.modal_blade import modal_frequencies
 
 DATA = aircraft.load().data
 OMEGA = DATA["main_rotor"]["omega"]
@@ -24,9 +25,9 @@ def test_the_modal_blade_has_the_32_segment_blades_frequencies():
     """One blade in vacuum on its driven hub: the scene's modal blade's first flap, lag and
     torsion frequencies within 1 % of the 32-segment chain's (0.15 % in fact; both within
     0.2 % of the continuous blade behind the data file)."""
-    modal, chain = modal_frequencies(MODES), eb.segmented_frequencies(32)
-    targets = {k: DATA["elastic_blade"][f"{k}_frequency"] * OMEGA for k in eb.DIRECTIONS}
-    for k in eb.DIRECTIONS:
+    modal, chain = modal_frequencies(MODES), segmented_frequencies(32)
+    targets = {k: DATA["elastic_blade"][f"{k}_frequency"] * OMEGA for k in ub.DIRECTIONS}
+    for k in ub.DIRECTIONS:
         assert modal[k] == pytest.approx(chain[k], rel=1e-2), k
         assert modal[k] == pytest.approx(chain[k], rel=2e-3), k
         assert modal[k] == pytest.approx(targets[k], rel=2e-3) and chain[k] == pytest.approx(targets[k], rel=2e-3)
@@ -82,7 +83,7 @@ def test_the_modal_rotors_hover_equals_the_32_segment_rotors(hover_modal, hover_
     chain_thrust, chain = hover_chain32[:2]
     assert thrust == pytest.approx(chain_thrust, rel=5e-3)
     assert thrust == pytest.approx(chain_thrust, rel=1e-3)
-    for k in eb.DIRECTIONS:
+    for k in ub.DIRECTIONS:
         assert found[k][0] == pytest.approx(chain[k][0], rel=1e-2), k
         assert found[k][0] == pytest.approx(chain[k][0], rel=3e-3), k
 
@@ -97,7 +98,7 @@ def test_the_modal_blades_spanwise_moments_equal_the_32_segment_blades(hover_mod
     from mbs.models.modal_blade import station_radii
 
     modal, chain = _outputs(hover_modal[3], hover_modal[2]), _outputs(hover_chain32[3], hover_chain32[2])
-    inner = eb.layout(eb.blade_from_data(DATA), 32)[0][1:]
+    inner = eb.layout(ub.blade_from_data(DATA), 32)[0][1:]
     for comp in ("moment_x", "moment_y", "moment_z"):
         profile = np.array([chain[f"blade1.station{j}.{comp}"] for j in range(2, 33)])
         scale = np.abs(profile).max()

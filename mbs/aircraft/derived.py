@@ -142,7 +142,7 @@ def _elastic(values: dict) -> None:
     _set(eb, "lag_frequency", lambda: mr["lag_frequency"])
     todo = {k: eb[f"{k}_frequency"] for k in ("flap", "lag", "torsion") if f"{k}_stiffness" not in eb}
     if todo:  # the continuous blade's finite elements (scipy) only when a stiffness is to be found
-        from mbs.models.elastic_blade import blade_from_data, calibrate
+        from mbs.flexible.uniform_blade import blade_from_data, calibrate
 
         trial = blade_from_data(values, flap=1.0, lag=1.0, torsion=1.0)
         eb.update({f"{k}_stiffness": v for k, v in calibrate(trial, mr["omega"], todo).items()})

@@ -15,7 +15,9 @@
 * :mod:`mbs.analysis.held`: the rotor's periodic response with the fuselage motion held (the
   quasi-static rotor) and its derivatives by the implicit-function theorem;
 * :mod:`mbs.analysis.derivatives`: stability and control derivatives at trim, Padfield's A and B;
-* :mod:`mbs.analysis.flight_modes`: the eigenvalues of A named as flight modes.
+* :mod:`mbs.analysis.flight_modes`: the eigenvalues of A named as flight modes;
+* :mod:`mbs.analysis.blade_modes`: an elastic blade's first frequencies on a driven hub from the
+  model's AD Jacobian (segmented and modal blades).
 
 Only the signal functions (numpy) are imported here; the others need CasADi.
 """

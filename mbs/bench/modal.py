@@ -61,17 +61,17 @@ def _row(name: str, scene_name: str, options: dict, steps_per_rev: int) -> dict:
 def run() -> dict:
     """Every row of :data:`CASES` and the ratios to the chain's."""
     from mbs import aircraft
-    from mbs.models import elastic_blade as eb
-    from mbs.models.modal_blade import modal_frequencies
+    from mbs.analysis.blade_modes import modal_frequencies, segmented_frequencies
+    from mbs.flexible.uniform_blade import DIRECTIONS
 
     d = aircraft.load().data
     omega = d["main_rotor"]["omega"]
-    targets = {k: d["elastic_blade"][f"{k}_frequency"] * omega for k in eb.DIRECTIONS}
+    targets = {k: d["elastic_blade"][f"{k}_frequency"] * omega for k in DIRECTIONS}
     rows = []
     for name, scene_name, options, steps in CASES:
         row = _row(name, scene_name, options, steps)
         if name.startswith("chain"):
-            found = eb.segmented_frequencies(8, d)
+            found = segmented_frequencies(8, d)
         elif name.startswith("modal"):
             found = modal_frequencies(options.get("blade_modes", (2, 2, 2)), d)
         else:

@@ -1,6 +1,9 @@
 """Flexible bodies: bodies whose sections move with modal coordinates (their own states) on
 top of their frame, the paper's first next step.
 
+* :mod:`~mbs.flexible.uniform_blade`: the uniform blade of the aircraft file and its continuous
+  reference model (finite elements of the rotating beam, its frequencies, the stiffnesses that
+  give the file's frequencies), on which the blades here and the segmented blade are built;
 * :mod:`~mbs.flexible.shapes`: mode shapes of a blade (the continuous blade's finite elements,
   turning or at rest), with slopes, curvatures and the foreshortening integrals;
 * :mod:`~mbs.flexible.beam`: :class:`~mbs.flexible.beam.ModalBlade`, the kinematics of a

@@ -29,7 +29,7 @@ import numpy as np
 from mbs import _rotation as rot
 from mbs.flexible.shapes import DIRECTIONS, Shapes, mode_shapes
 from mbs.joints import Relative, compose
-from mbs.models.elastic_blade import BEAM_ELEMENTS, Blade
+from mbs.flexible.uniform_blade import BEAM_ELEMENTS, Blade
 
 
 def _counts(modes) -> dict[str, int]:
@@ -69,7 +69,7 @@ def coordinate_names(counts: dict[str, int]) -> tuple[str, ...]:
 class ModalBlade:
     """A blade whose sections move with modal coordinates on top of its root frame.
 
-    blade: the section data (:class:`mbs.models.elastic_blade.Blade`; ``root`` is the radius
+    blade: the section data (:class:`mbs.flexible.uniform_blade.Blade`; ``root`` is the radius
     of the blade frame's origin from the rotor axis). modes: per direction (see
     :func:`_counts`). omega: the reference speed of the mode shapes (rad/s; the rotor's
     nominal speed: its own rotating modes). sense: +1 for a rotor turning about its thrust

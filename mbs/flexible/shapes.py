@@ -2,7 +2,7 @@
 
 Each direction's shapes are modes of the continuous blade clamped at its root, turning at a
 reference speed ``omega`` (rad/s; 0: the cantilever's own modes), from the finite elements of
-:func:`mbs.models.elastic_blade.beam_matrices` (cubic Hermite in bending, linear in torsion
+:func:`mbs.flexible.uniform_blade.beam_matrices` (cubic Hermite in bending, linear in torsion
 and extension): smooth between the element nodes, with first and second derivatives, and
 normalised so that the tip value is the blade length ``L`` (bending, extension: the modal
 coordinate is then the tip deflection over ``L``, an angle in rad for small deflections) or
@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.linalg import eigh
 
-from mbs.models.elastic_blade import BEAM_ELEMENTS, GAUSS, Blade, beam_matrices, element_shapes
+from mbs.flexible.uniform_blade import BEAM_ELEMENTS, GAUSS, Blade, beam_matrices, element_shapes
 
 DIRECTIONS = ("flap", "lag", "torsion", "axial")
 """The directions of a blade's modes: flap and lag bending, torsion and extension."""

@@ -1,6 +1,6 @@
 """Elastic main-rotor blades as flexible bodies with modal coordinates (:mod:`mbs.flexible`).
 
-The blade of the aircraft file (:func:`mbs.models.elastic_blade.blade_from_data`: the
+The blade of the aircraft file (:func:`mbs.flexible.uniform_blade.blade_from_data`: the
 uniform blade clamped at the rigid blade's hinge radius, with the ``[elastic_blade]``
 stiffnesses and structural damping) carries ``cfg.blade_modes`` modes per direction, the
 blade's own rotating modes at the rotor's nominal speed; its mass sits on Gauss–Legendre
@@ -22,6 +22,7 @@ import numpy as np
 from mbs.flexible.beam import ModalBlade
 from mbs.flexible.body import add_flexible_blade, aero_name
 from mbs.joints import Joint
+from mbs.flexible.uniform_blade import blade_from_data
 from mbs.models import elastic_blade as eb
 from mbs.tree import Model
 
@@ -32,7 +33,7 @@ def modal_blade(d, modes, sense: int = 1, nodes: int | None = None) -> ModalBlad
     if "elastic_blade" not in d or not d["elastic_blade"]:
         raise ValueError("elastic blades need the aircraft file's [elastic_blade] section (first torsion frequency "
                          "and structural damping); this aircraft has none")
-    return ModalBlade(eb.blade_from_data(d), modes, d["main_rotor"]["omega"], sense, nodes)
+    return ModalBlade(blade_from_data(d), modes, d["main_rotor"]["omega"], sense, nodes)
 
 
 def aero_radii(d, cfg) -> np.ndarray:
@@ -62,7 +63,7 @@ STATIONS = 8
 def station_radii(d) -> dict[int, float]:
     """Station number ``j`` -> radius (m from the rotor axis) of the modal blade's load
     stations (:data:`STATIONS`) on the blade of the aircraft data ``d``."""
-    hinges = eb.layout(eb.blade_from_data(d), STATIONS)[0]
+    hinges = eb.layout(blade_from_data(d), STATIONS)[0]
     return {j: float(hinges[j - 1]) for j in range(2, STATIONS + 1)}
 
 
@@ -74,24 +75,3 @@ def rotor_pieces(d, cfg) -> dict[str, list[tuple[str, float]]]:
     radii = aero_radii(d, cfg).tolist()
     blades = [f"blade{k + 1}" for k in range(cfg.blade_count(d["main_rotor"]["n_blades"]))]
     return {b: [(aero_name(b, j + 1), r) for j, r in enumerate(radii)] for b in blades}
-
-
-def modal_frequencies(modes, data=None) -> dict[str, float]:
-    """First flap, lag and torsion frequencies (rad/s, rotating frame) of one modal blade with
-    ``modes`` per direction (of the aircraft ``data``, default the Bo105) on a hub driven at
-    the rotor speed, in vacuum, without gravity and dampers: the eigenvalues of the AD
-    Jacobian of the multibody model at the undeformed blade, as
-    :func:`mbs.models.elastic_blade.segmented_frequencies` for the segmented blade."""
-    from mbs.dynamics import symbolic
-    from mbs.flexible.frequencies import classify
-    from mbs.linearize import rhs_jacobian
-    from mbs.models import helicopter
-
-    cfg = helicopter.Config(fuselage="none", blades=1, tail_rotor=False, rotor_aero=False, airframe_aero=False,
-                            dampers=False, shaft_tilt=False, pitch_hinge=False, blade_modes=modes)
-    model = helicopter.build(cfg, data, name="modal-blade")
-    model.gravity = np.zeros(3)
-    sym = symbolic(model)
-    p = [model.parameters[k].default for k in model.parameters]
-    found = classify(np.array(rhs_jacobian(sym["rhs"])(np.zeros(sym.layout.nx), 0.0, p)), sym.layout.q_names)
-    return {k: found[k][0] for k in eb.DIRECTIONS if k in found}
