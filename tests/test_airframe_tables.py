@@ -111,7 +111,7 @@ def test_tables_sampling_the_padfield_polynomials_reproduce_the_trim(tmp_path):
     equals the polynomials' within 0.01 deg in every control and attitude; aircraft check lists
     the tables' conversion (loads at 30.48 m/s over q) with their source."""
     from mbs import aircraft, scenes
-    from mbs.aircraft.airframe_data import with_polynomial_tables
+    from mbs.aircraft.template import with_polynomial_tables
     from mbs.analysis.trim import periodic_solution
 
     path = with_polynomial_tables("bo105", tmp_path)

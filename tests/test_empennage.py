@@ -103,7 +103,7 @@ def test_airframe_warnings_fire_where_they_should(tmp_path):
     assert any("horizontal tail: 17 m/s of main-rotor wake, more than" in w for w in airframe_warnings(strong, d))
     stalled = {**calm, "horizontal_tail.downwash": 0.0, "fuselage.w": 8.0}  # 22 deg nose-up flow at the tail
     assert any("horizontal tail: angle of attack" in w and "stall" in w for w in airframe_warnings(stalled, d))
-    from mbs.aircraft.airframe_data import with_polynomial_tables
+    from mbs.aircraft.template import with_polynomial_tables
 
     tables = aircraft.load(with_polynomial_tables("bo105", tmp_path)).data
     assert airframe_warnings(calm, tables) == []

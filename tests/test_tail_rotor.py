@@ -10,7 +10,7 @@ import pytest
 
 from aircraft_files import entries, mirrored, uh60_tailed, with_tail_rotor, write
 from mbs import aircraft, scenes
-from mbs.aircraft import checks
+from mbs.aircraft import mass
 from mbs.aircraft.derived import tail_flap_frequency
 from mbs.models.helicopter import Config, build
 from mbs.models.helicopter import frames as fr
@@ -39,7 +39,7 @@ def test_a_canted_tail_rotor_s_thrust_has_the_closed_form_lift_and_side_componen
     names = system.info.output_names
     force = y[:, [names.index(f"tail_rotor.hub.force_{c}") for c in "xyz"]]
     thrust = y[:, names.index("tail_rotor.thrust")]
-    weight = checks.rotor_masses(craft.data)[1] * craft.data["environment"]["g"]
+    weight = mass.rotor_masses(craft.data)[1] * craft.data["environment"]["g"]
     g, t = cant * DEG, toe * DEG
     axis = np.array([math.cos(g) * math.sin(t), -math.cos(g) * math.cos(t), -math.sin(g)])
     assert fr.main_sense(craft.data) == -1 and thrust.min() > 1000.0

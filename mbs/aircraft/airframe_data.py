@@ -264,19 +264,3 @@ def tables_from_polynomials(fa: dict, step_deg: float = 5.0, limit_deg: float = 
         f'reference_speed = {{ value = {fa["v_ref"]}, unit = "m/s", source = "polynomials sampled" }}',
         entry("X_alpha", "N"), entry("Z_alpha", "N"), entry("M_alpha", "N m"), entry("Y_beta", "N"),
         entry("N_beta", "N m"), ""])
-
-
-def with_polynomial_tables(source, directory) -> "Path":
-    """A copy of the aircraft file ``source`` in ``directory`` whose fuselage polynomials are
-    replaced by :func:`tables_from_polynomials`."""
-    import re
-    from pathlib import Path
-
-    from mbs import aircraft
-
-    craft = aircraft.load(source)
-    text = re.sub(r"\[fuselage_aero\].*?(?=\n\[horizontal_tail\])", lambda _: tables_from_polynomials(
-        craft.data["fuselage_aero"]), craft.path.read_text(), flags=re.S)
-    path = Path(directory) / f"{craft.path.stem}_fuselage_tables.toml"
-    path.write_text(text)
-    return path

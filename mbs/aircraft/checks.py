@@ -10,6 +10,8 @@ from fractions import Fraction
 
 import numpy as np
 
+from mbs.aircraft.mass import rotor_masses
+
 MAX_PERIOD_REVS = 16
 """Longest common period of the rotors (main-rotor revolutions) a periodic analysis shoots over;
 a gear ratio that repeats later is replaced there by the nearest one that repeats within it."""
@@ -243,14 +245,6 @@ def _distributions(v: dict) -> list[str]:
         out.append("main_rotor.section_inertia_table: applies with main_rotor.mass_table only (the blade without a "
                    "mass table is the uniform box of I_flap)")
     return out
-
-
-def rotor_masses(v: dict) -> tuple[float, float]:
-    """Masses (kg) of the main rotor (hub and blades) and of the tail rotor (hub, seesaw, blades)."""
-    mr, tr = v["main_rotor"], v["tail_rotor"]
-    seesaw = tr.get("seesaw_mass", 0.0) if tr["hub_type"] == "teetering" else 0.0
-    return (mr["hub_mass"] + mr["n_blades"] * mr["blade_mass"],
-            tr["hub_mass"] + seesaw + tr["n_blades"] * tr["blade_mass"])
 
 
 def _airframe_mass(v: dict) -> list[str]:

@@ -14,7 +14,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from mbs.aircraft import geometry as geo
-from mbs.aircraft.checks import rotor_masses
 
 AVERAGE_AZIMUTHS = 36
 """Azimuths of the average over a revolution: exact for an inertia (a trigonometric polynomial of
@@ -139,6 +138,14 @@ def published_inertia(d) -> np.ndarray:
     """The file's inertia tensor (3, 3), kg m²: ``[[Ixx, 0, -Ixz], [0, Iyy, 0], [-Ixz, 0, Izz]]``."""
     a = d["aircraft"]
     return np.array([[a["Ixx"], 0, -a["Ixz"]], [0, a["Iyy"], 0], [-a["Ixz"], 0, a["Izz"]]], dtype=float)
+
+
+def rotor_masses(v: dict) -> tuple[float, float]:
+    """Masses (kg) of the main rotor (hub and blades) and of the tail rotor (hub, seesaw, blades)."""
+    mr, tr = v["main_rotor"], v["tail_rotor"]
+    seesaw = tr.get("seesaw_mass", 0.0) if tr["hub_type"] == "teetering" else 0.0
+    return (mr["hub_mass"] + mr["n_blades"] * mr["blade_mass"],
+            tr["hub_mass"] + seesaw + tr["n_blades"] * tr["blade_mass"])
 
 
 def airframe(d, transmission: float = 0.0) -> Part:

@@ -7,7 +7,7 @@ import numpy as np
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from mbs.aircraft import airframe_data, checks, derived, performance
+from mbs.aircraft import airframe_data, checks, derived, mass, performance
 from mbs.aircraft._aircraft import AircraftError, Data, _text, evaluate, resolve
 from mbs.aircraft.schema import DERIVED, FROM_TABLES
 
@@ -156,7 +156,7 @@ def figures(data: Data) -> list[tuple]:
     power estimate (:mod:`mbs.aircraft.performance`)."""
     mr, tr, env = data["main_rotor"], data["tail_rotor"], data["environment"]
     hov = performance.hover(data)
-    main_mass, tail_mass = checks.rotor_masses(data)
+    main_mass, tail_mass = mass.rotor_masses(data)
     revs = checks.rotor_period(tr["gear_ratio"], checks.tail_blade_symmetry(tr))[0]
     return [*airfoil_rows(data),
         ("main-rotor solidity", hov.main.solidity, "-"), ("tail-rotor solidity", hov.tail.solidity, "-"),

@@ -1,4 +1,6 @@
-"""``heli aircraft new NAME``: a commented aircraft file to fill in.
+"""Aircraft files the program writes: ``heli aircraft new NAME``'s commented file to fill in
+(:func:`template`), and a copy of a file with its fuselage polynomials as tables
+(:func:`with_polynomial_tables`).
 
 Every entry of :data:`mbs.aircraft.schema.ENTRIES` with its meaning and unit in a comment and
 the Bo105's value as a placeholder (source ``TEMPLATE``, which ``heli aircraft check`` warns
@@ -8,7 +10,11 @@ values listed, not written.
 from __future__ import annotations
 
 import json
+import re
+from pathlib import Path
 
+from mbs.aircraft._aircraft import load
+from mbs.aircraft.airframe_data import tables_from_polynomials
 from mbs.aircraft.reader import _applies
 from mbs.aircraft.schema import DERIVED, ENTRIES, OPTIONAL_SECTIONS
 
@@ -37,8 +43,6 @@ NEEDED_BY = {"elastic_blade": "the elastic-rotor scene's blades (elastic, 8 segm
 
 def template(name: str, source: str = "TEMPLATE") -> str:
     """The text of a new aircraft file called ``name``."""
-    from mbs.aircraft import load
-
     base = load("bo105").data
     out = [HEADER.format(name=name, source=source)]
     for section, entries in ENTRIES.items():
@@ -88,3 +92,14 @@ def _toml(value) -> str:
 def _derived_comment(section: str) -> list[str]:
     return [f"# derived, not written (override = true replaces it): {key}: {d.text}"
             for key, d in DERIVED.get(section, {}).items()]
+
+
+def with_polynomial_tables(source, directory) -> "Path":
+    """A copy of the aircraft file ``source`` in ``directory`` whose fuselage polynomials are
+    replaced by :func:`mbs.aircraft.airframe_data.tables_from_polynomials`."""
+    craft = load(source)
+    text = re.sub(r"\[fuselage_aero\].*?(?=\n\[horizontal_tail\])", lambda _: tables_from_polynomials(
+        craft.data["fuselage_aero"]), craft.path.read_text(), flags=re.S)
+    path = Path(directory) / f"{craft.path.stem}_fuselage_tables.toml"
+    path.write_text(text)
+    return path

@@ -189,11 +189,11 @@ def deep_tree_speed(name: str) -> dict:
 
 def fuselage_tables_speed() -> dict:
     """:func:`scene_speed` of forward flight with the Bo105's fuselage polynomials sampled as
-    tables every 5 deg over ±90 deg (:func:`mbs.aircraft.airframe_data.with_polynomial_tables`)."""
+    tables every 5 deg over ±90 deg (:func:`mbs.aircraft.template.with_polynomial_tables`)."""
     import tempfile
 
     from mbs import scenes
-    from mbs.aircraft.airframe_data import with_polynomial_tables
+    from mbs.aircraft.template import with_polynomial_tables
 
     with tempfile.TemporaryDirectory() as tmp:
         scene = scenes.get("forward-flight").with_aircraft(str(with_polynomial_tables("bo105", tmp)))
