@@ -80,7 +80,7 @@ def _scene(args):
 
 def _in_air(scene, args):
     """``scene`` in the ``--altitude``, ``--temperature-offset`` and ``--wind`` of ``args``."""
-    from mbs.models.helicopter.environment import with_environment
+    from mbs.models.helicopter.air_options import with_environment
 
     keys = ("altitude", "temperature_offset", "wind", "turbulence", "gust", "ground_effect")
     given = {k: getattr(args, k, None) for k in keys}

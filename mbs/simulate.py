@@ -119,7 +119,7 @@ def run_record(scene: _scenes.Scene) -> dict:
     if scene.aircraft is None:
         return {"scene": scene.name}
     from mbs.models.helicopter import aero_switches
-    from mbs.models.helicopter.environment import environment_record
+    from mbs.models.helicopter.air_options import environment_record
 
     craft = scene.aircraft
     out = {"scene": scene.name, "aircraft": {"name": craft.name, "file": str(craft.path.resolve()),
@@ -158,7 +158,7 @@ def scene_of_run(meta: dict, where: str = "run.json", aircraft=None) -> _scenes.
             raise ValueError(f"{where}: the aircraft file {recorded['file']} has changed since the run; the model "
                              "would not be the one that ran (restore the file, or run again)")
     scene = _scenes.get(meta["scene"], aircraft=craft)
-    from mbs.models.helicopter.environment import environment_of_record
+    from mbs.models.helicopter.air_options import environment_of_record
 
     aero = meta.get("aero")
     if aero is not None and not (scene.aircraft is not None and sorted(aero) == sorted(aero_switches(scene))):

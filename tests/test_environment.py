@@ -11,7 +11,7 @@ from mbs import scenes
 from mbs.dynamics import symbolic
 from mbs.environment import atmosphere as isa
 from mbs.models.helicopter import with_aero
-from mbs.models.helicopter.environment import with_environment
+from mbs.models.helicopter.air_options import with_environment
 
 # ISO 2533 / ICAO standard atmosphere tables: altitude (m), temperature (K), pressure (Pa), density (kg/m^3)
 ISA_TABLE = [(0.0, 288.15, 101325.0, 1.2250), (1000.0, 281.65, 89874.6, 1.1116), (2000.0, 275.15, 79495.2, 1.0065),

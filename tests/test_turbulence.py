@@ -11,7 +11,7 @@ from scipy.signal import welch
 
 from mbs import scenes
 from mbs.environment import turbulence as tb
-from mbs.models.helicopter.environment import with_environment
+from mbs.models.helicopter.air_options import with_environment
 
 FT, KT = tb.FT, tb.KT
 

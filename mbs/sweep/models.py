@@ -41,10 +41,10 @@ def _model_options(kind: str, options: dict) -> dict:
 def scene_of(scene: str, options: dict):
     """The scene ``scene`` of the sweep's aircraft (``options["aircraft"]``: file and SHA-256, or
     absent for the Bo105) in its air (``options["environment"]``: the scene options of
-    :func:`mbs.models.helicopter.environment.environment_record`, e.g. ``{"atmosphere": "isa"}`` or
+    :func:`mbs.models.helicopter.air_options.environment_record`, e.g. ``{"atmosphere": "isa"}`` or
     ``{"turbulence": "dryden"}``); ValueError when the file has changed since the sweep began."""
     from mbs import aircraft, scenes
-    from mbs.models.helicopter.environment import environment_of_record
+    from mbs.models.helicopter.air_options import environment_of_record
 
     recorded = options.get("aircraft")
     craft = aircraft.load(recorded["file"]) if recorded else None
