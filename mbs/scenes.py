@@ -47,7 +47,7 @@ class Scene:
         """This helicopter scene of another aircraft: an :class:`mbs.aircraft.Aircraft`, a
         packaged aircraft's name or a file path (loaded and checked)."""
         from mbs import aircraft as ac
-        from mbs.models.helicopter.scenes import plots
+        from mbs.models.helicopter.panels import plots
 
         if self.aircraft is None:
             raise ValueError(f"scene {self.name!r} is not a helicopter scene: an aircraft file applies to "

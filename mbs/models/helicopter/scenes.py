@@ -10,6 +10,7 @@ from dataclasses import replace
 from mbs import aircraft as ac
 from mbs.models.helicopter.build import build
 from mbs.models.helicopter.config import FULL, Config
+from mbs.models.helicopter.panels import config_plots
 from mbs.scenes import Scene, register
 
 
@@ -19,32 +20,6 @@ def _builder(cfg: Config, name: str):
         return build(replace(cfg, **options), aircraft, name=f"{aircraft.key}-{name}")
     make.config = cfg
     return make
-
-
-def _plots(cfg: Config, n_blades: int) -> dict:
-    blades = range(cfg.blade_count(n_blades))
-    panels = {"main-rotor flap (rad)": [f"blade{k + 1}.flap" for k in blades],
-              "main-rotor lag (rad)": [f"blade{k + 1}.lag" for k in blades]}
-    if cfg.tail_rotor:
-        panels["tail-rotor seesaw (rad)"] = ["seesaw.teeter"]
-    if cfg.drive_train:
-        panels["rotor speed (rad/s)"] = ["main_rotor.speed"]
-    return panels
-
-
-def plots(scene: Scene) -> dict:
-    """The hinge-angle panels of a helicopter scene for its aircraft (teeter only if it teeters,
-    the tail blades' flap if they flap)."""
-    from mbs.models.helicopter.config import config_of
-
-    data, cfg = scene.aircraft.data, config_of(scene)
-    panels = _plots(cfg, data["main_rotor"]["n_blades"])
-    tr = data["tail_rotor"]
-    if tr["hub_type"] != "teetering":
-        panels.pop("tail-rotor seesaw (rad)", None)
-    if tr["hub_type"] == "flapping" and cfg.tail_rotor:
-        panels["tail-rotor flap (rad)"] = [f"tail_blade{k + 1}.flap" for k in range(tr["n_blades"])]
-    return panels
 
 
 SCENE_CONFIGS = {
@@ -118,13 +93,13 @@ def _register() -> None:
     n = bo105.data["main_rotor"]["n_blades"]
     for name, (cfg, text, conservative) in SCENE_CONFIGS.items():
         register(Scene(name, text, _builder(cfg, name), omega=bo105.omega, conservative=conservative,
-                       plots=_plots(cfg, n), aircraft=bo105))
+                       plots=config_plots(cfg, n), aircraft=bo105))
     for name, (cfg, text) in DRIVE_TRAIN_CONFIGS.items():
-        register(Scene(name, text, _builder(cfg, name), omega=bo105.omega, plots=_plots(cfg, n), aircraft=bo105))
+        register(Scene(name, text, _builder(cfg, name), omega=bo105.omega, plots=config_plots(cfg, n), aircraft=bo105))
     register(Scene("elastic-rotor", ELASTIC_TEXT, _builder(ELASTIC_ROTOR, "elastic-rotor"), omega=bo105.omega,
-                   steps_per_rev=300, plots=_plots(ELASTIC_ROTOR, n), aircraft=bo105))
+                   steps_per_rev=300, plots=config_plots(ELASTIC_ROTOR, n), aircraft=bo105))
     register(Scene("elastic-rotor-modal", MODAL_TEXT, _builder(ELASTIC_ROTOR_MODAL, "elastic-rotor-modal"),
-                   omega=bo105.omega, steps_per_rev=120, plots=_plots(ELASTIC_ROTOR_MODAL, n), aircraft=bo105))
+                   omega=bo105.omega, steps_per_rev=120, plots=config_plots(ELASTIC_ROTOR_MODAL, n), aircraft=bo105))
 
 
 _register()
