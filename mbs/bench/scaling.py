@@ -28,8 +28,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from mbs import atomic
-from mbs.bench.speed import toolchain
-from mbs.bench.timing import machine, median_time
+from mbs.bench.timing import machine, median_time, toolchain
 from mbs.joints import Hinge
 from mbs.tree import Model
 

@@ -15,7 +15,7 @@ import time
 
 import numpy as np
 
-from mbs.bench.timing import machine, median_time
+from mbs.bench.timing import machine, median_time, toolchain
 from mbs.models.demo import spinning_rotor
 from mbs.tree import Model
 
@@ -244,27 +244,6 @@ def tables_speed() -> dict:
     analytic = scene_speed(base)
     return {**tables, "ratio_rk4_step_to_analytic": tables["rk4_step_in_run_cpu_us"] / analytic["rk4_step_in_run_cpu_us"],
             "analytic_real_time_factor_cpu": analytic["real_time_factor_cpu"]}
-
-
-def toolchain() -> dict:
-    """Versions beyond :func:`mbs.bench.timing.machine`: the C compiler and the reference engines."""
-    import importlib
-    import subprocess
-
-    from mbs.backends.compiled import CompilerNotFound, find_compiler
-
-    out = {}
-    try:
-        cc = find_compiler()
-        out["cc"] = subprocess.run([cc, "--version"], capture_output=True, text=True).stdout.splitlines()[0]
-    except (CompilerNotFound, OSError, IndexError) as exc:
-        out["cc"] = f"unavailable ({exc})"
-    for name in ("pinocchio", "mujoco"):
-        try:
-            out[name] = importlib.import_module(name).__version__
-        except ImportError:
-            out[name] = "not installed"
-    return out
 
 
 def run(progress: Callable[[int, int], None] | None = None) -> dict:

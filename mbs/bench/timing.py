@@ -1,4 +1,5 @@
-"""Timing helper: medians over batches, robust on a shared, noisy machine."""
+"""Timing helper: medians over batches, robust on a shared, noisy machine; the machine and the
+tool chain a benchmark ran on."""
 from __future__ import annotations
 
 import platform
@@ -41,3 +42,24 @@ def machine() -> dict:
     import os
     return {"cpu": cpu, "cores": os.cpu_count(), "python": platform.python_version(),
             "numpy": np.__version__, "scipy": scipy.__version__, "casadi": casadi.__version__}
+
+
+def toolchain() -> dict:
+    """Versions beyond :func:`machine`: the C compiler and the reference engines."""
+    import importlib
+    import subprocess
+
+    from mbs.backends.compiled import CompilerNotFound, find_compiler
+
+    out = {}
+    try:
+        cc = find_compiler()
+        out["cc"] = subprocess.run([cc, "--version"], capture_output=True, text=True).stdout.splitlines()[0]
+    except (CompilerNotFound, OSError, IndexError) as exc:
+        out["cc"] = f"unavailable ({exc})"
+    for name in ("pinocchio", "mujoco"):
+        try:
+            out[name] = importlib.import_module(name).__version__
+        except ImportError:
+            out[name] = "not installed"
+    return out
