@@ -88,6 +88,27 @@ flight_speed = Within(*SPEED_RANGE, "m/s", "the flight speeds the model covers (
 climb_rate = Within(*CLIMB_RANGE, "m/s", "the climb rates the model covers (4000 ft/min down or up)")
 
 
+def parse_speeds(text: str):
+    """``"LO:HI:N"`` -> N speeds (m/s) from LO to HI."""
+    import numpy as np
+
+    try:
+        lo, hi, n = text.split(":")
+        values = np.linspace(float(lo), float(hi), int(n))
+    except ValueError:
+        raise ValueError(f"sweep {text!r}: expected LO:HI:N (speeds in m/s), e.g. 0:60:13") from None
+    if not (len(values) >= 1 and np.all(np.isfinite(values))):
+        raise ValueError(f"sweep {text!r}: need N >= 1 finite speeds")
+    if len(values) == 1 and float(lo) != float(hi):
+        raise ValueError(f"sweep {text!r}: N = 1 gives {lo} m/s only, never {hi}; give N >= 2, or --speed {lo}")
+    for v in (values[0], values[-1]):
+        try:
+            flight_speed.check(v)
+        except Bad as exc:
+            raise ValueError(f"sweep {text!r}: {exc}") from None
+    return values
+
+
 def within(low: float, high: float, unit: str, what: str = "the range it takes") -> Within:
     """Type: a finite number in ``[low, high]`` (``unit`` named in the message)."""
     return Within(low, high, unit, what)

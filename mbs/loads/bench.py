@@ -66,7 +66,7 @@ def sweep_time(scene_name: str, speeds) -> dict:
 
 
 def run(scene_name: str = "forward-flight", sweep: str = "0:72:13") -> dict:
-    from mbs.loads.commands import parse_speeds
+    from mbs.arguments import parse_speeds
 
     return {"benchmark": "loads", "machine": machine(), "cost": outputs_cost(scene_name),
             "sweep": sweep_time(scene_name, parse_speeds(sweep))}

@@ -10,27 +10,6 @@ from mbs import commands as core
 from mbs.cli import add_json, emit
 
 
-def parse_speeds(text: str):
-    """``"LO:HI:N"`` -> N speeds (m/s) from LO to HI."""
-    import numpy as np
-
-    try:
-        lo, hi, n = text.split(":")
-        values = np.linspace(float(lo), float(hi), int(n))
-    except ValueError:
-        raise ValueError(f"sweep {text!r}: expected LO:HI:N (speeds in m/s), e.g. 0:60:13") from None
-    if not (len(values) >= 1 and np.all(np.isfinite(values))):
-        raise ValueError(f"sweep {text!r}: need N >= 1 finite speeds")
-    if len(values) == 1 and float(lo) != float(hi):
-        raise ValueError(f"sweep {text!r}: N = 1 gives {lo} m/s only, never {hi}; give N >= 2, or --speed {lo}")
-    for v in (values[0], values[-1]):
-        try:
-            A.flight_speed.check(v)
-        except A.Bad as exc:
-            raise ValueError(f"sweep {text!r}: {exc}") from None
-    return values
-
-
 def cmd_loads(args) -> int:
     if args.sweep and args.speed is not None:
         raise ValueError(f"give --speed or --sweep, not both (--speed {args.speed:g}, --sweep {args.sweep})")
@@ -135,7 +114,7 @@ def _sweep(args, scene) -> int:
     from mbs.loads import charts, files
     from mbs.loads.sweep import speed_sweep
 
-    speeds = parse_speeds(args.sweep)
+    speeds = A.parse_speeds(args.sweep)
     res = speed_sweep(scene, speeds, args.steps_per_rev, args.backend,
                       Progress(f"loads sweep {args.scene}", not args.quiet))
     out_dir = Path(args.out or f"out/loads/{args.scene}")
@@ -180,7 +159,7 @@ def register(sub, bench) -> None:
     A.add_aircraft(p)
     p.add_argument("--speed", type=A.flight_speed, default=None,
                    help=f"flight speed in m/s, {A.SPEED_RANGE[0]:g} to {A.SPEED_RANGE[1]:g} (default: the scene's)")
-    p.add_argument("--sweep", metavar="LO:HI:N", default=None, type=A.checked_by(parse_speeds),
+    p.add_argument("--sweep", metavar="LO:HI:N", default=None, type=A.checked_by(A.parse_speeds),
                    help="loads at N speeds from LO to HI m/s (e.g. 0:72:13): table, CSV and the chart of the "
                         "vibratory hub loads and the power against speed (in --out, default out/loads/SCENE)")
     core._steps_per_rev(p)
@@ -195,7 +174,7 @@ def register(sub, bench) -> None:
 
     p = bench.add_parser("loads", help="cost of the loads outputs per step against an RK4 step, and a loads sweep")
     A.add_scene(p, nargs="?", default="forward-flight", what="scene (default forward-flight)")
-    p.add_argument("--sweep", metavar="LO:HI:N", default="0:72:13", type=A.checked_by(parse_speeds),
+    p.add_argument("--sweep", metavar="LO:HI:N", default="0:72:13", type=A.checked_by(A.parse_speeds),
                    help="speeds of the timed sweep (default 0:72:13)")
     add_json(p)
     p.set_defaults(fn=cmd_bench_loads)
