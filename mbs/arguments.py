@@ -17,6 +17,8 @@ import tempfile
 from pathlib import Path
 from typing import Callable
 
+from mbs.envelope import CLIMB_RANGE, SPEED_RANGE
+
 Bad = argparse.ArgumentTypeError
 
 
@@ -69,11 +71,6 @@ class Within:
                       f"{self.unit}{self.hint(value)}")
 
 
-SPEED_RANGE = (-20.0, 90.0)
-"""Flight speeds (m/s) the commands accept: rearward flight to 175 kt, beyond every packaged
-aircraft's never-exceed speed (the FMU's ``initial_forward_speed`` has the same range)."""
-CLIMB_RANGE = (-20.0, 20.0)
-"""Climb rates (m/s, up positive) the commands accept: about 4000 ft/min either way."""
 KNOT = 0.514444  # m/s
 
 

@@ -6,6 +6,7 @@ import sys
 from pathlib import Path
 
 from mbs import arguments as A
+from mbs.envelope import CLIMB_RANGE, SPEED_RANGE
 from mbs.cli import add_json, emit, say
 
 FIXED_METHODS = ("euler", "rk4", "rk8")  # mbs.integrators.FIXED_STEP, named here to keep casadi out of start-up
@@ -614,7 +615,7 @@ def _add_periodic_arguments(p) -> None:
     A.add_scene(p, nargs="?", default="forward-flight", what="scene (default forward-flight)")
     A.add_aircraft(p)
     p.add_argument("--speed", type=A.flight_speed, default=None,
-                   help=f"flight speed in m/s, {A.SPEED_RANGE[0]:g} to {A.SPEED_RANGE[1]:g} (default: the scene's)")
+                   help=f"flight speed in m/s, {SPEED_RANGE[0]:g} to {SPEED_RANGE[1]:g} (default: the scene's)")
     p.add_argument("--method", choices=("rk4", "rk8"), default="rk4", help="fixed-step method (default rk4)")
     _steps_per_rev(p)
     _backend(p)
@@ -712,7 +713,7 @@ def register(sub, bench) -> None:
                        "with the exact AD Jacobian of the period map")
     _add_periodic_arguments(p)
     p.add_argument("--climb-rate", type=A.climb_rate, default=0.0,
-                   help=f"climb rate in m/s, up positive, {A.CLIMB_RANGE[0]:g} to {A.CLIMB_RANGE[1]:g} (default 0)")
+                   help=f"climb rate in m/s, up positive, {CLIMB_RANGE[0]:g} to {CLIMB_RANGE[1]:g} (default 0)")
     p.add_argument("--bank", type=A.within(-1.2, 1.2, "rad", "the bank angles a trim holds"), default=None,
                    help="hold this roll angle in rad (right wing down positive) and trim the sideslip instead "
                         "(--bank 0: a zero-bank trim); default: zero sideslip, the roll trimmed")

@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mbs.arguments import SPEED_RANGE  # the initial forward speed that --set speed=V accepts, m/s
+from mbs.envelope import SPEED_RANGE  # the initial forward speed that --set speed=V accepts, m/s
 
 SPEED = "speed"
 

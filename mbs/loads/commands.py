@@ -6,6 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from mbs import arguments as A
+from mbs.envelope import SPEED_RANGE
 from mbs import commands as core
 from mbs.cli import add_json, emit
 
@@ -158,7 +159,7 @@ def register(sub, bench) -> None:
     A.add_scene(p, nargs="?", default="forward-flight", what="scene (default forward-flight)")
     A.add_aircraft(p)
     p.add_argument("--speed", type=A.flight_speed, default=None,
-                   help=f"flight speed in m/s, {A.SPEED_RANGE[0]:g} to {A.SPEED_RANGE[1]:g} (default: the scene's)")
+                   help=f"flight speed in m/s, {SPEED_RANGE[0]:g} to {SPEED_RANGE[1]:g} (default: the scene's)")
     p.add_argument("--sweep", metavar="LO:HI:N", default=None, type=A.checked_by(A.parse_speeds),
                    help="loads at N speeds from LO to HI m/s (e.g. 0:72:13): table, CSV and the chart of the "
                         "vibratory hub loads and the power against speed (in --out, default out/loads/SCENE)")

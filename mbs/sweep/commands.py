@@ -6,6 +6,7 @@ import time
 from pathlib import Path
 
 from mbs import arguments as A
+from mbs.envelope import CLIMB_RANGE
 from mbs.cli import add_json, emit
 
 
@@ -164,7 +165,7 @@ def register(sub, bench) -> None:
     t.add_argument("--speed", required=True, metavar="LO:HI:N", type=A.checked_by(_range("--speed", A.flight_speed)),
                    help="speeds in m/s, e.g. 0:70:15")
     t.add_argument("--climb-rate", type=A.climb_rate, default=0.0,
-                   help=f"climb rate in m/s, up positive, {A.CLIMB_RANGE[0]:g} to {A.CLIMB_RANGE[1]:g} (default 0)")
+                   help=f"climb rate in m/s, up positive, {CLIMB_RANGE[0]:g} to {CLIMB_RANGE[1]:g} (default 0)")
     t.add_argument("--method", choices=("rk4", "rk8"), default="rk4", help="fixed-step method (default rk4)")
     t.add_argument("--tol", type=A.tolerance, default=1e-10,
                    help="max |scaled residual| to reach, at most 1e-3 (default 1e-10)")
