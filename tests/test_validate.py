@@ -16,7 +16,8 @@ import pytest
 
 from mbs.analysis.flight_modes import FlightMode
 from mbs.validate import compare, eigen
-from mbs.validate.data import EigenTolerance, ValidationError, from_dict, load, packaged
+from mbs.validate.data import EigenTolerance, ValidationError, from_dict
+from mbs.validate.files import load, packaged
 from mbs.validate.ours import Model, Point
 from test_cli_errors import assert_one_line_error, run_main
 

@@ -9,7 +9,8 @@ from mbs import arguments as A
 def data_file(text: str):
     """Type: a validation file (TOML or CSV) or a packaged validation's name, read and checked;
     its first problem, naming the entry, refuses it."""
-    from mbs.validate.data import ValidationError, load
+    from mbs.validate.data import ValidationError
+    from mbs.validate.files import load
 
     try:
         return load(text)
@@ -37,7 +38,7 @@ def cmd_validate(args) -> int:
 def register(sub, bench) -> None:
     from mbs.cli import add_json
     from mbs.commands import _aero, _backend, _quiet, _steps_per_rev
-    from mbs.validate.data import packaged
+    from mbs.validate.files import packaged
 
     p = sub.add_parser("validate", help="the model against published trims, derivatives and eigenvalues: tables, "
                                         "differences and charts, with the data's conventions")

@@ -19,7 +19,6 @@ The CSV form (:mod:`mbs.validate.csvdata`) carries the same information, one poi
 from __future__ import annotations
 
 import math
-import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -27,9 +26,6 @@ import numpy as np
 
 from mbs.aircraft import units
 
-tomllib = __import__("tomllib" if sys.version_info >= (3, 11) else "tomli")
-
-PACKAGED = Path(__file__).resolve().parent / "data"
 KINDS = ("trim", "derivative")
 SPEED_UNITS = {"kn": "kt"}
 """Speed unit names the aircraft-file unit reader does not know, and the one it does."""
@@ -126,38 +122,6 @@ class Validation:
         found = [v for s in self.series if s.kind in kinds for v in s.speed]
         found += [e.speed for e in self.eigenvalues] if "eigenvalues" in kinds else []
         return sorted({round(float(v), 9) for v in found})
-
-
-def packaged() -> list[str]:
-    """Names of the validation files shipped with the package."""
-    return sorted(p.stem for p in PACKAGED.glob("*.toml"))
-
-
-def resolve(text: str) -> Path:
-    """The validation file ``text``: a path, or the name of a packaged one."""
-    path = Path(text).expanduser()
-    if path.is_file():
-        return path
-    if (PACKAGED / f"{text}.toml").is_file():
-        return PACKAGED / f"{text}.toml"
-    if path.exists():
-        raise ValidationError(f"{text!r} is not a file")
-    raise ValidationError(f"no validation file {text!r}: give a .toml or .csv file or one of the packaged "
-                          f"validations ({', '.join(packaged())})")
-
-
-def load(text: str | Path) -> Validation:
-    """Read and check the validation file ``text`` (a path or a packaged name)."""
-    path = resolve(str(text))
-    if path.suffix.lower() == ".csv":
-        from mbs.validate.csvdata import load_csv
-
-        return load_csv(path)
-    try:
-        raw = tomllib.loads(path.read_text())
-    except (ValueError, UnicodeDecodeError) as exc:
-        raise ValidationError(f"{path}: not a TOML file ({exc})") from None
-    return from_dict(raw, path)
 
 
 def from_dict(raw: dict, path: Path) -> Validation:
