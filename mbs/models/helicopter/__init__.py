@@ -5,7 +5,9 @@ force elements) with the data of an :class:`mbs.aircraft.Aircraft`; the scenes o
 :mod:`mbs.models.helicopter.scenes` are such configs. Frames and senses of rotation:
 :mod:`mbs.models.helicopter.frames`; bodies and joints: :mod:`~mbs.models.helicopter.tree`;
 aerodynamics: :mod:`~mbs.models.helicopter.aero`; the closed-form trim estimate:
-:mod:`~mbs.models.helicopter.estimate`.
+:mod:`~mbs.models.helicopter.estimate`; the air: :mod:`~mbs.models.helicopter.environment`, and a
+scene's air options: :mod:`~mbs.models.helicopter.air_options`; a scene's plot panels:
+:mod:`~mbs.models.helicopter.panels`.
 """
 from mbs.models.helicopter.aero import airfoil, main_rotor_wake, rotor_model
 from mbs.models.helicopter.build import build, stored_trim
