@@ -21,8 +21,8 @@ import numpy as np
 
 from mbs.flexible.beam import ModalBlade
 from mbs.flexible.body import add_flexible_blade, aero_name
-from mbs.joints import Joint
 from mbs.flexible.uniform_blade import blade_from_data
+from mbs.joints import Joint
 from mbs.models import elastic_blade as eb
 from mbs.tree import Model
 

@@ -95,7 +95,8 @@ def _register() -> None:
         register(Scene(name, text, _builder(cfg, name), omega=bo105.omega, conservative=conservative,
                        plots=config_plots(cfg, n), aircraft=bo105))
     for name, (cfg, text) in DRIVE_TRAIN_CONFIGS.items():
-        register(Scene(name, text, _builder(cfg, name), omega=bo105.omega, plots=config_plots(cfg, n), aircraft=bo105))
+        register(Scene(name, text, _builder(cfg, name), omega=bo105.omega, plots=config_plots(cfg, n),
+                       aircraft=bo105))
     register(Scene("elastic-rotor", ELASTIC_TEXT, _builder(ELASTIC_ROTOR, "elastic-rotor"), omega=bo105.omega,
                    steps_per_rev=300, plots=config_plots(ELASTIC_ROTOR, n), aircraft=bo105))
     register(Scene("elastic-rotor-modal", MODAL_TEXT, _builder(ELASTIC_ROTOR_MODAL, "elastic-rotor-modal"),
