@@ -11,13 +11,20 @@ at 0, 80, 100, 120, 140 kn (the Puma file as shipped, Pitt-Peters inflow, quasi-
 | compressibility off                             | 0.95 | 0.93 | 0.88 | 0.81 | 0.70 |
 | compressibility off, lift linear to 75 deg      | 0.95 | 0.92 | 0.88 | 0.81 | 0.71 |
 | compressibility off, uniform inflow             | 0.56 | 0.83 | 0.80 | 0.74 | 0.64 |
+| compressibility off, 16 blade elements (not 8)  | 0.96 | 0.93 |      |      | 0.71 |
+| compressibility off, lag hinge stiff (1.5/rev)  | 0.74 | 0.79 |      |      | 0.62 |
 | compressibility and hub drag off (Helisim's)    | 0.95 | 0.93 | 0.90 | 0.84 | 0.77 |
 
 1. Compressibility, which Helisim leaves out (its lift slope a_0 = 5.73 everywhere), takes
    0.09-0.14 of the ratio at every speed: the Prandtl-Glauert factor raises the effective Lock
    number (x1.24 at the hover tip, Mach 0.60; up to the bound x1.67 on the advancing tip at
    140 kn, Mach 0.81), and the flapping that lags a roll rate falls as 16/γ.
-2. The stall guard (the smooth clip of the angle at alpha_stall) changes nothing measurable.
+2. The stall guard (the smooth clip of the angle at alpha_stall) changes nothing measurable: the
+   retreating blade's angle of attack at the 140 kn trim peaks near 10.6 deg (at ψ 254 deg,
+   0.9 R, by the theory below), below the guard's 14.9 deg. Blade elements and the lag hinge do
+   not make the trend either (rows above). Uniform inflow leaves out the quasi-steady first
+   harmonics of Pitt-Peters, which raise the hover damping x1.7 (the theory below: x1.7 too) and
+   fade as the wake skews, so it moves the whole curve, not the fall from 80 to 140 kn.
 3. The rest of the fall is the physics of a linear-lift rotor at the trim the model finds: at
    high advance ratio the rotor's side force due to a roll rate is not the thrust tilted with
    the disc; the in-plane component of the blade lift (lift tilted by the inflow angle,
@@ -28,10 +35,10 @@ at 0, 80, 100, 120, 140 kn (the Puma file as shipped, Pitt-Peters inflow, quasi-
    (first-harmonic flapping of a centre-spring blade, lift a_0 α from 0.15 R to the tip-loss
    radius, quasi-steady Pitt-Peters first harmonics, in-plane lift forces; no stall,
    compressibility, lag or reverse-flow model) gives the main rotor's L_p at the model's own
-   trims (compressibility off, hub drag on) -1.78, -1.43, -1.34, -1.22, -1.08 1/s at 0, 80,
-   100, 120, 140 kn, the model -1.69, -1.57, -1.47, -1.33, -1.15 (ratio 0.95-1.09; the rest is the
+   trims (compressibility off, hub drag on) -1.78, -1.52, -1.41, -1.28, -1.12 1/s at 0, 80,
+   100, 120, 140 kn, the model -1.69, -1.57, -1.47, -1.33, -1.15 (ratio 0.95-1.04; the rest is the
    tail rotor, fin and lag, which the theory leaves out). With the trim's cyclic set to zero the
-   same theory's L_p at 140 kn is -2.05 instead of -1.08 (its thrust then 1.6 W: no trim, only
+   same theory's L_p at 140 kn is -2.07 instead of -1.12 (its thrust then 1.6 W: no trim, only
    the cause shown).
 4. The hub drag (`[hub_drag]`, 0.6 m^2, an estimate; Helisim's airframe drag is its fuselage
    polynomials alone) needs more forward cyclic at speed, so it takes 0.07 at 140 kn by item 3.
@@ -40,7 +47,10 @@ So the decline is no modelling error: compressibility, which Helisim lacks, and 
 distribution through the in-plane rotor forces, which the hub-drag estimate deepens. With
 Helisim's assumptions (compressibility and hub drag off) L_p is within 25 % of Helisim's at every
 speed (x0.77 at 140 kn); what is left of the fall is item 3 at the model's trim, which cannot be
-compared with Helisim's own (its trims are not in the stored material).
+compared with Helisim's own (its trims are not in the stored material). The Bo105's L_p stays
+flat against its Helisim data because its hingeless hub carries the rolling moment itself:
+N_b K_β/2 = 227 kN m/rad against T h_R = 32 kN m (12 % through the side force), where the Puma's
+centre spring gives 96 kN m/rad against 123 kN m (56 %).
 """
 from __future__ import annotations
 
@@ -83,8 +93,8 @@ def test_roll_damping_with_helisims_assumptions_is_within_25_percent_of_helisim_
 
 def test_roll_damping_follows_the_linear_rotor_theory_at_the_models_own_trims(helisims_assumptions):
     """Ours (compressibility and hub drag off) against :func:`linear_rotor_roll_damping` at our
-    trims (-1.78, -1.45, -1.38, -1.29, -1.17 1/s): ratios 0.95, 1.09, 1.09, 1.09, 1.08 at 0, 80,
-    100, 120, 140 kn, and the fall from 80 to 140 kn x0.80 against the theory's x0.81."""
+    trims (-1.78, -1.54, -1.44, -1.34, -1.21 1/s): ratios 0.95, 1.03, 1.04, 1.05, 1.04 at 0, 80,
+    100, 120, 140 kn, and the fall from 80 to 140 kn x0.80 against the theory's x0.79."""
     ours, theory = {}, {}
     for kn in SPEEDS_KN:
         res = helisims_assumptions[kn]
@@ -93,9 +103,9 @@ def test_roll_damping_follows_the_linear_rotor_theory_at_the_models_own_trims(he
         ours[kn] = res.table["L_p"]
         theory[kn] = linear_rotor_roll_damping(speed, ref["Theta_e"], ref["collective"], ref["longitudinal_cyclic"])
     print({kn: (round(ours[kn], 3), round(theory[kn], 3)) for kn in SPEEDS_KN})
-    assert all(0.85 <= ours[kn] / theory[kn] <= 1.15 for kn in SPEEDS_KN), (ours, theory)
+    assert all(0.9 <= ours[kn] / theory[kn] <= 1.1 for kn in SPEEDS_KN), (ours, theory)
     fall_ours, fall_theory = ours[140] / ours[80], theory[140] / theory[80]
-    assert abs(fall_ours - fall_theory) < 0.08, (fall_ours, fall_theory)
+    assert abs(fall_ours - fall_theory) < 0.05, (fall_ours, fall_theory)
     assert fall_theory < 0.85  # the theory itself falls: the decline is the linear rotor's at this trim
 
 
@@ -151,14 +161,20 @@ class _LinearRotor:
         thrust, m_s, m_c = mean(lift), mean(lift * r * s), mean(lift * r * c)
         in_plane = -lift * up / np.where(np.abs(ut) > 1e-9, ut, 1e-9)
         side = mean(-in_plane * c - beta * lift * s)
+        residual = [flap.mean(), 2 * (flap * np.cos(self.psi)).mean(), 2 * (flap * np.sin(self.psi)).mean(),
+                    *self.inflow_residual((l0, l1s, l1c), thrust, m_s, m_c)]
+        return np.array(residual), side
+
+    def inflow_residual(self, inflow, thrust: float, m_s: float, m_c: float) -> list:
+        """Pitt-Peters' steady state ``v = L V^-1 F / B²`` (as :mod:`mbs.aero.inflow`), nondimensional."""
+        l0, l1s, l1c = inflow
         lt = self.lam + l0
         v_t = np.hypot(self.mu, lt)
-        v_m = (self.mu**2 + lt * (lt + l0)) / v_t
-        a, b, cc = 15 * np.pi / 64 * self.mu / (v_t + lt), 4 / (1 + lt / v_t), 4 * (lt / v_t) / (1 + lt / v_t)
+        v_m, cos_chi = (self.mu**2 + lt * (lt + l0)) / v_t, lt / v_t
+        a, b, c = 15 * np.pi / 64 * self.mu / (v_t + lt), 4 / (1 + cos_chi), 4 * cos_chi / (1 + cos_chi)
         b2 = self.tip**2
-        residual = [flap.mean(), 2 * (flap * np.cos(self.psi)).mean(), 2 * (flap * np.sin(self.psi)).mean(),
-                    l0 - thrust / (2 * b2 * v_t), l1s - b * m_s / (b2 * v_m), l1c - (a * thrust / v_t + cc * m_c / v_m) / b2]
-        return np.array(residual), side
+        return [l0 - (thrust / (2 * v_t) - a * m_c / v_m) / b2, l1s - b * m_s / (b2 * v_m),
+                l1c - (a * thrust / v_t + c * m_c / v_m) / b2]
 
     def response(self, p: float) -> tuple[float, float]:
         """Lateral flapping β1s (rad) and side force coefficient at roll rate ``p`` per Ω (Newton)."""
