@@ -86,8 +86,12 @@ def test_puma_frequencies_within_25_percent_of_helisim(puma):
     assert not bad, bad
 
 
-FLIGHT = {"collective": "-1.01 deg at 100 kt", "lateral_cyclic": None, "longitudinal_cyclic": None,
-          "tail_collective": "+2.7, +2.6 deg at 23, 31 kt", "pitch": "-1.2 to +1.8 deg at 27-67 kt"}
+FLIGHT = {"collective": "-1.01 deg at 100 kt (too little inflow through the disc at speed, at most a third of it "
+                        "drag: test_bo105_trim_causes.py)", "lateral_cyclic": None, "longitudinal_cyclic": None,
+          "tail_collective": "+2.7, +2.6 deg at 23, 31 kt (the flight test's 3.7 deg step from 15 to 23 kt, which the "
+                             "model lacks: test_bo105_trim_causes.py)",
+          "pitch": "-1.2 to +1.8 deg at 27-67 kt (the data's scatter at 27 and 39 kt, the tail-wake downwash +0.5 deg "
+                   "from 39 kt: test_bo105_trim_causes.py)"}
 
 
 @pytest.mark.parametrize("quantity", [
