@@ -31,9 +31,11 @@ shipped (2200 kg, ISA sea level, every aerodynamics switch on); "ours - flight" 
 |                                             | compressibility off +0.59 / +0.55, download off -0.14 / -0.01).     |
 | tail collective -1.4 / -2.0 at 82.6 / 101 kt| the fin: its side force unloads the tail rotor as V^2. The fin's    |
 |                                             | incidence conflicts between transcriptions of S1: S1a +0.0812 rad   |
-|                                             | (the file; a third, a C++ Bo105 model, has zero-lift angle -0.08116,|
-|                                             | the same), S1b -0.0612; Padfield's printed table not read. With     |
-|                                             | S1b's the model lands within 0.1 deg of the flight test at both     |
+|                                             | (the file; a third public transcription, a C++ Bo105 model, has the |
+|                                             | fin's zero-lift angle -0.08116 beside the tailplane's -0.0698 for   |
+|                                             | S1's +0.0698 incidence: S1a's value), S1b -0.0612; Padfield's       |
+|                                             | printed table not read. With S1b's the model lands within 0.1 deg   |
+|                                             | of the flight test at both                                          |
 |                                             | speeds (and moves < 0.35 deg at 15-31 kt), but S1b's fin then       |
 |                                             | pushes against the tail rotor, which suggests a sign-convention     |
 |                                             | difference rather than the true value: the file keeps S1a's. Power  |
@@ -43,8 +45,9 @@ shipped (2200 kg, ISA sea level, every aerodynamics switch on); "ours - flight" 
 |                                             | and after (22.5 -> 31 kt: both fall 1.7-1.8 deg) the two agree. The |
 |                                             | main-rotor wake is modelled at the tail surfaces only (not at the   |
 |                                             | tail rotor): the tail-wake switch moves ours < 0.1 deg there. The   |
-|                                             | step is the tail rotor leaving the main rotor's wake, an            |
-|                                             | interaction the model does not have.                                |
+|                                             | usual cause of such a step, the main rotor's wake and tip vortices  |
+|                                             | passing off the tail rotor, is an interaction the model does not    |
+|                                             | have (not measured here: no model of it to switch).                 |
 | pitch -1.24 / +1.81 at 26.7 / 38.6 kt       | the flight data's own scatter: a cubic through all 12 flight points |
 |                                             | (rms residual 0.71 deg) leaves +1.12 and -1.38 deg at these two;    |
 |                                             | ours is within 0.5 deg of that curve at both.                       |
