@@ -60,6 +60,12 @@ shipped (2200 kg, ISA sea level, every aerodynamics switch on); "ours - flight" 
 
 Longitudinal cyclic (within 1.5 deg everywhere; -2.36 against -3.17 at 105 kt) follows the
 collective's cause: the hub drag alone moves it -0.41 deg at 100 kt.
+
+CG: the hub-CG offset's sign is ambiguous between S1's transcriptions (the file: hub 0.08 m aft
+of the CG, S1a). Measured with the other sign (file changed): pitch +0.9 deg at every speed (hover
+3.05 against the flight test's 2.71, but 96 kt -2.72 against -4.34) and the hover longitudinal
+cyclic 0.12 against 2.0 deg (1.9 out of the 1.5 deg tolerance; the file's sign: 0.90). The hover
+cyclic keeps the file's sign, and no CG shift moves the speed-dependent misses above.
 """
 from __future__ import annotations
 
