@@ -70,7 +70,7 @@ def _table(spec: dict, dt: float) -> np.ndarray:
 def _host(mode: str, args: dict, tmp_path: Path) -> dict:
     args_file = tmp_path / f"{mode}-args.json"
     args_file.write_text(json.dumps(args))
-    proc = subprocess.run([sys.executable, "-m", "fmu.hosts", mode, str(args_file)], cwd=tmp_path,
+    proc = subprocess.run([sys.executable, "-m", "fmu_hosts.modes", mode, str(args_file)], cwd=tmp_path,
                           capture_output=True, text=True, env=dict(os.environ), timeout=600)
     assert proc.returncode == 0, proc.stderr[-3000:]
     return json.loads(proc.stdout.strip().splitlines()[-1])
@@ -114,7 +114,7 @@ def test_an_altitude_outside_the_isa_is_refused_at_initialisation(which, python_
                  "names": ["main_rotor.speed"], "start_values": {"altitude": 25000.0}}
     args_file = tmp_path / "bad.json"
     args_file.write_text(json.dumps(proc_args))
-    proc = subprocess.run([sys.executable, "-m", "fmu.hosts", "fmpy", str(args_file)], cwd=tmp_path,
+    proc = subprocess.run([sys.executable, "-m", "fmu_hosts.modes", "fmpy", str(args_file)], cwd=tmp_path,
                           capture_output=True, text=True, timeout=300)
     assert proc.returncode != 0
     assert "altitude" in proc.stderr and "25000" in proc.stderr, proc.stderr[-2000:]

@@ -1,5 +1,5 @@
 """Cases of the FMI 2.0 and 3.0 standards that a strict host checks, run on this project's FMUs in
-the scripted C host (:mod:`fmu.script_host`): stopTime, start values written or not, the state
+the scripted C host (:mod:`fmu_hosts.script_host`): stopTime, start values written or not, the state
 machines, status queries, FMU states and their serialized form. Each case returns what the host
 answered (statuses, values, messages) for the tests to assert; none asserts itself.
 
@@ -13,7 +13,7 @@ import shutil
 from dataclasses import dataclass
 from pathlib import Path
 
-from fmu import script_host as sh
+from fmu_hosts import script_host as sh
 
 OK, WARNING, DISCARD, ERROR = 0, 1, 2, 3
 GUID_BYTE = 18
