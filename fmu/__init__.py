@@ -7,3 +7,6 @@
 
 Importing this package imports nothing heavy.
 """
+
+DEFAULT_SCENES = ("forward-flight", "hover", "ground-run")
+"""The scene family of an FMU built without ``--scenes``: the first one is its default scene."""

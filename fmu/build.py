@@ -30,8 +30,9 @@ from pathlib import Path
 
 import numpy as np
 
+from fmu import DEFAULT_SCENES
+
 HERE = Path(__file__).resolve().parent
-DEFAULT_SCENES = ("forward-flight", "hover", "ground-run")
 SLAVE = "heli_bo105_slave"
 RUNTIME = ["backends/__init__.py", "backends/info.py", "backends/system.py", "backends/closure.py",
            "backends/compiled.py", "backends/vm.py", "backends/cache.py", "integrators/*.py"]

@@ -172,7 +172,7 @@ def _pybuild_fmu(aircraft=None) -> Path:
 
 def c_data(dsg: dict, guid: str) -> str:
     """``hover_hold_data.h``: the design as C constants."""
-    from fmu.native.build import c_real, c_reals, c_string
+    from fmu.native.c_literals import c_real, c_reals, c_string
 
     rows = ",\n  ".join(c_reals(r) for r in dsg["gains"])
     low = [dsg["ranges"][c][0] for c in OUTPUTS]
