@@ -194,7 +194,7 @@ def model_description(dsg: dict, guid: str, step: float) -> bytes:
     """``modelDescription.xml`` of the controller FMU."""
     from xml.etree import ElementTree as ET
 
-    from fmu.heli_bo105_slave import BASE_UNITS
+    from fmu.pythonfmu.units import BASE_UNITS
 
     root = ET.Element("fmiModelDescription", fmiVersion="2.0", modelName=IDENTIFIER, guid=guid,
                       description="hover hold for the heli rotor FMU: LQR at the hover trim from the model's own "

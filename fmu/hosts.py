@@ -289,7 +289,7 @@ def finish(code: int = 0) -> None:
     interpreter's teardown. One host that had run the pythonfmu FMU aborted in that teardown
     during a full test run (glibc "corrupted double-linked list", after complete results), the
     symptom of pythonfmu 0.7.0's double release of its Python state at exit, which the FMU's
-    front end now prevents (``fmu/shim``; tests/test_fmu_exit.py runs C hosts through their
+    front end now prevents (``fmu/pythonfmu/shim``; tests/test_fmu_exit.py runs C hosts through their
     exit); these hosts check what the FMU computed, not the interpreter's teardown."""
     sys.stdout.flush()
     sys.stderr.flush()

@@ -116,9 +116,9 @@ def test_model_description_declares_units_ranges_and_structure(fmu_path, spec):
 def test_staged_code_never_imports_the_hosts_mbs(tmp_path):
     entry, package = build.stage_code(tmp_path)
     sources = [tmp_path / f"{entry}.py", *package.rglob("*.py")]
-    assert package.name.startswith("heli_bo105_") and entry.startswith("heli_bo105_slave_")
+    assert package.name.startswith("heli_rotor_") and entry.startswith("heli_rotor_slave_")
     for path in sources:
-        assert not re.search(r"^\s*(from|import)\s+mbs\b", path.read_text(), re.MULTILINE), path
+        assert not re.search(r"^\s*(from|import)\s+(mbs|fmu)\b", path.read_text(), re.MULTILINE), path
     assert f"from {package.name}.backends.compiled import CompiledSystem" in (tmp_path / f"{entry}.py").read_text()
 
 

@@ -501,9 +501,9 @@ def cache_key(scene_names, aircraft=None) -> str:
     root = pybuild.mbs_dir()
     files = [(p.relative_to(root).as_posix(), p) for p in sorted(root.rglob("*"))
              if p.suffix in pybuild.SOURCE_SUFFIXES and "__pycache__" not in p.parts]
-    files += [(f"fmu/{p.name}", p) for p in (HERE.parent / "build.py", HERE.parent / "heli_bo105_slave.py",
-                                             HERE.parent / "periodic.py", HERE.parent / "periodic_starts.json")
-              if p.exists()]
+    files += [(f"fmu/{p.name}", p) for p in (HERE.parent / "build.py", HERE.parent / "periodic.py",
+                                             HERE.parent / "periodic_starts.json") if p.exists()]
+    files += [(f"fmu/pythonfmu/{p.name}", p) for p in sorted((HERE.parent / "pythonfmu").glob("*.py"))]
     files += [(f"fmu/native/{name}", HERE / name) for name in ("build.py", "c_literals.py", "derivatives.py", "fmi3.py",
                                                                  "units.py", "platforms.py", *HAND_WRITTEN)]
     files += [("fmu/structure.py", HERE.parent / "structure.py")]

@@ -18,7 +18,7 @@ from fmu_hosts import script_host as sh
 OK, WARNING, DISCARD, ERROR = 0, 1, 2, 3
 GUID_BYTE = 18
 """A byte of the GUID in a serialized state's header: both FMUs write an 8-byte tag and two 4-byte
-fields, then the GUID (``fmu/shim/fmi2_shim.c``, ``fmu/native/heli_core.c``)."""
+fields, then the GUID (``fmu/pythonfmu/shim/fmi2_shim.c``, ``fmu/native/heli_core.c``)."""
 
 
 @dataclass

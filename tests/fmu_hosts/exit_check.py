@@ -1,5 +1,5 @@
 """Run the pythonfmu FMU from C hosts linked to libpython, each run a fresh process, and count
-the runs that do not exit cleanly (the exit test of the FMU's front end, ``fmu/shim``).
+the runs that do not exit cleanly (the exit test of the FMU's front end, ``fmu/pythonfmu/shim``).
 
 - :func:`compile_python_host`: ``python_host.c`` compiled against this interpreter's libpython;
 - :func:`runs`: ``n`` fresh runs of one mode (``embed``: the host starts Python itself;
