@@ -127,7 +127,8 @@ def test_the_hover_hold_loop_holds_for_a_minute_in_moderate_turbulence(native_fm
     (W20 30 kt, 100 m above the ground) carried by a 5 m/s headwind: the loop holds; the attitude
     and position peaks are reported (the steady headwind alone moves the hover point a few metres,
     the controller having no integral action)."""
-    from fmu import controller, cosim, ssp
+    from fmu import controller, cosim
+    from fmu.cosim import ssp
 
     ctrl, _ = controller.ensure_controller_fmu()
     dsg = controller.read_design(ctrl)
