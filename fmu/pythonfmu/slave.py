@@ -48,7 +48,6 @@ subpackage ``heli_rotor_<digest>.slave`` (names unique to the build), never from
 """
 from __future__ import annotations
 
-import json
 import math
 import sys
 import traceback
@@ -59,7 +58,7 @@ from pythonfmu import Boolean, DefaultExperiment, Fmi2Slave, Integer, Real, Stri
 from pythonfmu.enums import Fmi2Causality, Fmi2Initial, Fmi2Status, Fmi2Variability
 
 from fmu.pythonfmu.errors import BadValue, entry_point
-from fmu.pythonfmu.fmu_state import STATE_FORMAT, state_problem
+from fmu.pythonfmu.fmu_state import STATE_FORMAT, from_bytes, state_problem, to_bytes
 from fmu.pythonfmu.resources import keep_one, load_vm, read_spec, repoint_package
 from fmu.pythonfmu.stepping import BoundStepper, Stepper, closure_failure
 from fmu.pythonfmu.units import unit_definitions
@@ -643,26 +642,8 @@ class HeliRotorSlave(Fmi2Slave):
             self._load(self._scene()["group"], self._use("evaluator"), x, comp)
         self._t, self._p, self._cache = float(state["t"]), None, None
 
-    @staticmethod
-    def _fmu_state_to_bytes(state) -> bytes:
-        """The serialised FMU state (JSON); never raises."""
-        try:
-            return json.dumps(state).encode("utf-8")
-        except Exception as exc:
-            return json.dumps({"format": "invalid", "error": f"state not serialisable: {exc}"}).encode("utf-8")
-
-    @staticmethod
-    def _fmu_state_from_bytes(state: bytes):
-        """The FMU state from its bytes; a corrupt blob gives a marker that
-        ``_set_fmu_state`` refuses with a message (this is called without an instance, so it
-        cannot log)."""
-        try:
-            value = json.loads(bytes(state).decode("utf-8"))
-        except Exception as exc:
-            return {"format": "corrupt", "error": f"the serialised state cannot be decoded ({type(exc).__name__}: "
-                                                  f"{str(exc)[:200]})"}
-        return value if isinstance(value, dict) else {"format": "corrupt", "error": "the serialised state is "
-                                                      f"a JSON {type(value).__name__}, not an object"}
+    _fmu_state_to_bytes = staticmethod(to_bytes)
+    _fmu_state_from_bytes = staticmethod(from_bytes)
 
 
 # -- pythonfmu re-runs this file ----------------------------------------------------------------
