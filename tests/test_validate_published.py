@@ -52,8 +52,8 @@ PUMA = {
     "X_u": "x1.29-1.67 from 60 kn (hub_drag, an estimate, adds about 40 % of the drag)",
     "M_u": "x2.6 in hover, x0.29 and x0.15 at 20 and 80 kn, x1.36-1.68 elsewhere",
     "M_q": "x1.25-1.32 at 0-40 kn",
-    "L_p": "x0.68, 0.56 at 120, 140 kn (within 25 % to 100 kn; compressibility at the advancing tip, Mach 0.81 at "
-           "140 kn, takes 0.14 of it, measured with it off)",
+    "L_p": "x0.68, 0.56 at 120, 140 kn (within 25 % to 100 kn): compressibility, which Helisim lacks, takes 0.14 at "
+           "140 kn and the hub-drag estimate's trim 0.07; with both off x0.77-1.05 (test_roll_damping.py)",
     "N_r": "x1.80-3.00, growing with speed (the tail rotor: N_θ0T x1.5-2.0)", "L_v": "opposite sign (the published "
     "curve's sign is uncertain)",
     "N_v": "x1.57-4.61 from 40 kn", "Z_θ0": "x1.26 in hover",
