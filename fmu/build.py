@@ -4,10 +4,11 @@ copy of the slave and of the core's run-time files, and call pythonfmu's builder
 ``ensure_fmu(scenes)`` returns a cached ``.fmu`` (``<cache>/fmu/<key>/<identifier>.fmu``,
 keyed by the sources of ``mbs`` and ``fmu``, the scenes, ``$CC``, CasADi and pythonfmu),
 building it in a fresh interpreter (``python -m fmu.build``) when absent or when it fails
-its recorded digest. The staged code lives in a package named ``heli_bo105_<digest>``
-(digest of the staged code) with every ``import mbs...`` rewritten to it, so the shipped
-copy never mixes with an ``mbs`` that the host process imported, nor with another build of
-this FMU loaded in the same process.
+its recorded digest. The staged code lives in a package named ``heli_rotor_<digest>``
+(digest of the staged code) with every ``import mbs...`` rewritten to it, and the slave's
+helpers (:mod:`fmu.pythonfmu`) in its subpackage ``slave``, so the shipped copy never mixes
+with an ``mbs`` or ``fmu`` that the host process imported, nor with another build of this FMU
+loaded in the same process.
 """
 from __future__ import annotations
 
@@ -30,14 +31,17 @@ from pathlib import Path
 
 import numpy as np
 
+from fmu import DEFAULT_SCENES
+
 HERE = Path(__file__).resolve().parent
-DEFAULT_SCENES = ("forward-flight", "hover", "ground-run")
-SLAVE = "heli_bo105_slave"
+SLAVE = "heli_rotor_slave"  # the entry module (fmu/pythonfmu/slave.py) in the FMU: <SLAVE>_<digest>.py
+SLAVE_DIR = HERE / "pythonfmu"
 RUNTIME = ["backends/__init__.py", "backends/info.py", "backends/system.py", "backends/closure.py",
            "backends/compiled.py", "backends/vm.py", "backends/cache.py", "integrators/*.py"]
 VM_FUNCTIONS = ("incr_rk4", "incr_rk8", "project", "fmu_outputs")
 MODELS_FOLDER = "heli_models"  # resources/heli_models/ of the pythonfmu FMU
 _IMPORT = re.compile(r"^(\s*)(from|import)\s+mbs(?=[\s.])", re.MULTILINE)
+_SLAVE_IMPORT = re.compile(r"^(\s*)(from|import)\s+fmu\.pythonfmu(?=[\s.])", re.MULTILINE)
 # Ranges shared by every scene (and by the native FMU, which reads spec.json).
 # max_step: with RK4 (the default integrator) over 20 revolutions at the trim, the hinge
 # amplitudes of every scene are those of small steps (0.049-0.051 rad) up to 0.012 s; at
@@ -426,20 +430,29 @@ def runtime_sources() -> dict[str, str]:
             for pattern in RUNTIME for path in sorted(root.glob(pattern))}
 
 
+def slave_sources() -> dict[str, str]:
+    """The slave's helper modules (:mod:`fmu.pythonfmu` but the entry ``slave.py``): file name -> text."""
+    return {path.name: path.read_text() for path in sorted(SLAVE_DIR.glob("*.py"))
+            if path.name not in ("__init__.py", "slave.py")}
+
+
 def stage_code(stage: Path) -> tuple[str, Path]:
     """Write the entry module (the slave, with its class defined in it as pythonfmu expects)
-    and the renamed core package into ``stage``; returns (entry module name, package folder)."""
+    and the renamed core package, with the slave's helpers in its subpackage ``slave``, into
+    ``stage``; returns (entry module name, package folder)."""
     files = runtime_sources()
-    slave = (HERE / f"{SLAVE}.py").read_text()
-    digest = hashlib.sha256(json.dumps([files, slave], sort_keys=True).encode()).hexdigest()[:12]
-    package = f"heli_bo105_{digest}"
+    helpers = slave_sources()
+    slave = (SLAVE_DIR / "slave.py").read_text()
+    digest = hashlib.sha256(json.dumps([files, helpers, slave], sort_keys=True).encode()).hexdigest()[:12]
+    package = f"heli_rotor_{digest}"
     folder = stage / package
     files["__init__.py"] = f'"""Run-time part of the core shipped in the heli rotor FMU (build {digest})."""\n'
+    files.update({f"slave/{name}": text for name, text in helpers.items()})
     entry = f"{SLAVE}_{digest}"
     for path, text in [*((folder / rel, t) for rel, t in files.items()), (stage / f"{entry}.py", slave)]:
-        renamed = _IMPORT.sub(rf"\1\2 {package}", text)
-        if re.search(r"^\s*(from|import)\s+mbs\b", renamed, re.MULTILINE):
-            raise RuntimeError(f"staged {path.name} still imports mbs")
+        renamed = _SLAVE_IMPORT.sub(rf"\1\2 {package}.slave", _IMPORT.sub(rf"\1\2 {package}", text))
+        if re.search(r"^\s*(from|import)\s+(mbs|fmu)\b", renamed, re.MULTILINE):
+            raise RuntimeError(f"staged {path.name} still imports mbs or fmu")
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_text(renamed)
     for sub in {p.parent for p in folder.rglob("*.py")}:
@@ -482,7 +495,7 @@ def build_here(scene_names, dest: Path, aircraft=None) -> Path:
     imports the staged code). Writes ``dest`` (a ``.fmu`` path)."""
     from pythonfmu import FmuBuilder
 
-    from fmu import shim
+    from fmu.pythonfmu import shim
 
     shim.find_compiler()  # first: without a C compiler this fails at once, clearly
     spec, groups = plan(list(scene_names), aircraft)
@@ -499,9 +512,9 @@ def build_here(scene_names, dest: Path, aircraft=None) -> Path:
 
 
 def compiled_shim(guid: str) -> bytes:
-    """The FMU's FMI front end (``fmu/shim/fmi2_shim.c``) compiled for this machine with the
-    FMU's GUID; raises :class:`fmu.shim.ShimBuildError` (e.g. no C compiler)."""
-    from fmu import shim
+    """The FMU's FMI front end (``fmu/pythonfmu/shim/fmi2_shim.c``) compiled for this machine with
+    the FMU's GUID; raises :class:`fmu.pythonfmu.shim.ShimBuildError` (e.g. no C compiler)."""
+    from fmu.pythonfmu import shim
 
     with tempfile.TemporaryDirectory(prefix="heli-fmu-shim-") as tmp:
         return shim.compile_shim(Path(tmp) / "shim.so", guid).read_bytes()
@@ -512,7 +525,7 @@ def _recompress(src: Path, dest: Path, shim_library: bytes | None = None, spec: 
     With ``shim_library``, the FMI front end takes the place of pythonfmu's library, which
     moves to ``binaries/linux64/pythonfmu/``, and other platforms' binaries are dropped. With
     ``spec``, the model description gets its ``<ModelStructure>`` (:mod:`fmu.structure`)."""
-    from fmu.shim import relocate
+    from fmu.pythonfmu.shim import relocate
 
     dest.parent.mkdir(parents=True, exist_ok=True)
     with zipfile.ZipFile(src) as zin, zipfile.ZipFile(dest, "w", zipfile.ZIP_DEFLATED) as zout:

@@ -60,9 +60,9 @@ def cmd_demo(args) -> int:
 
 
 def cmd_bench_fmu(args) -> int:
-    from fmu import bench
+    from fmu.bench import speed
 
-    res = bench.run(args.revs, args.repeats)
+    res = speed.run(args.revs, args.repeats)
     us, usc = res["us_per_step"], res["us_per_step_cpu"]
     rows = [("fmpy.simulate_fmu", "fmpy"), ("  first call in process", "fmpy_cold"),
             ("fmpy loop (FMU2Slave)", "fmpy_loop"), ("core directly", "core"),

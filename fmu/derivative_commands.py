@@ -76,9 +76,9 @@ def _write(path: Path, lin) -> None:
 
 
 def cmd_bench_me(args) -> int:
-    from fmu import bench_derivatives
+    from fmu.bench import derivatives
 
-    r = bench_derivatives.run(args.revs, args.repeats)
+    r = derivatives.run(args.revs, args.repeats)
     j, s = r["jacobian"], r["simulation"]
     lines = [f"{r['scene']}, native FMI 2.0 FMU in fmpy (this process)",
              f"  Jacobian {j['shape'][0]}x{j['shape'][1]} (median of the repeats):",

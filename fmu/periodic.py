@@ -27,6 +27,8 @@ from pathlib import Path
 
 import numpy as np
 
+from fmu import DEFAULT_SCENES
+
 HERE = Path(__file__).resolve().parent
 DATA = HERE / "periodic_starts.json"
 TOLERANCE = 1e-8
@@ -158,8 +160,6 @@ def write(scene_names) -> Path:
 
 
 def main(argv=None) -> int:
-    from fmu.build import DEFAULT_SCENES
-
     ap = argparse.ArgumentParser(description="trim the FMU's scenes and store their periodic start states")
     ap.add_argument("--scenes", default=",".join(DEFAULT_SCENES), help="comma-separated scenes to trim")
     args = ap.parse_args(argv)

@@ -7,6 +7,8 @@ from pathlib import Path
 import pytest
 
 sys.path.insert(0, str(Path(__file__).parent))
+# ... and for the fresh processes that run the test hosts (python -m fmu_hosts.MODULE)
+os.environ["PYTHONPATH"] = os.pathsep.join(filter(None, [str(Path(__file__).parent), os.environ.get("PYTHONPATH")]))
 pytest_plugins = ["browser_fixtures"]  # one browser for the session, shared by every browser test module
 
 import mbs  # noqa: E402

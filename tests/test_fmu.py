@@ -1,7 +1,7 @@
 """The FMI 2.0 co-simulation FMU: validation, agreement with the core and between importers,
 state save/restore, independent instances, bad input, and ``heli demo``.
 
-Every FMU runs in a fresh interpreter (``python -m fmu.hosts MODE ARGS``) whose working
+Every FMU runs in a fresh interpreter (``python -m fmu_hosts.modes MODE ARGS``) whose working
 directory is a temporary folder, never in the pytest process: pythonfmu shares
 ``sys.modules`` with its host. The FMU is built once per session (and cached on disk).
 """
@@ -51,10 +51,10 @@ def trim_inputs(spec: dict, scene: str = "forward-flight") -> dict:
 
 
 def host(mode: str, args: dict, tmp_path: Path, env: dict | None = None) -> dict:
-    """Run ``fmu.hosts`` in a fresh interpreter with ``tmp_path`` as working directory."""
+    """Run ``fmu_hosts.modes`` in a fresh interpreter with ``tmp_path`` as working directory."""
     args_file = tmp_path / f"{mode}-args.json"
     args_file.write_text(json.dumps(args))
-    proc = subprocess.run([sys.executable, "-m", "fmu.hosts", mode, str(args_file)], cwd=tmp_path,
+    proc = subprocess.run([sys.executable, "-m", "fmu_hosts.modes", mode, str(args_file)], cwd=tmp_path,
                           capture_output=True, text=True, env={**os.environ, **(env or {})}, timeout=300)
     assert proc.returncode == 0, proc.stderr[-3000:]
     result = json.loads(proc.stdout.strip().splitlines()[-1])
@@ -116,9 +116,9 @@ def test_model_description_declares_units_ranges_and_structure(fmu_path, spec):
 def test_staged_code_never_imports_the_hosts_mbs(tmp_path):
     entry, package = build.stage_code(tmp_path)
     sources = [tmp_path / f"{entry}.py", *package.rglob("*.py")]
-    assert package.name.startswith("heli_bo105_") and entry.startswith("heli_bo105_slave_")
+    assert package.name.startswith("heli_rotor_") and entry.startswith("heli_rotor_slave_")
     for path in sources:
-        assert not re.search(r"^\s*(from|import)\s+mbs\b", path.read_text(), re.MULTILINE), path
+        assert not re.search(r"^\s*(from|import)\s+(mbs|fmu)\b", path.read_text(), re.MULTILINE), path
     assert f"from {package.name}.backends.compiled import CompiledSystem" in (tmp_path / f"{entry}.py").read_text()
 
 

@@ -70,7 +70,7 @@ def _table(spec: dict, dt: float) -> np.ndarray:
 def _host(mode: str, args: dict, tmp_path: Path) -> dict:
     args_file = tmp_path / f"{mode}-args.json"
     args_file.write_text(json.dumps(args))
-    proc = subprocess.run([sys.executable, "-m", "fmu.hosts", mode, str(args_file)], cwd=tmp_path,
+    proc = subprocess.run([sys.executable, "-m", "fmu_hosts.modes", mode, str(args_file)], cwd=tmp_path,
                           capture_output=True, text=True, env=dict(os.environ), timeout=600)
     assert proc.returncode == 0, proc.stderr[-3000:]
     return json.loads(proc.stdout.strip().splitlines()[-1])
@@ -114,7 +114,7 @@ def test_an_altitude_outside_the_isa_is_refused_at_initialisation(which, python_
                  "names": ["main_rotor.speed"], "start_values": {"altitude": 25000.0}}
     args_file = tmp_path / "bad.json"
     args_file.write_text(json.dumps(proc_args))
-    proc = subprocess.run([sys.executable, "-m", "fmu.hosts", "fmpy", str(args_file)], cwd=tmp_path,
+    proc = subprocess.run([sys.executable, "-m", "fmu_hosts.modes", "fmpy", str(args_file)], cwd=tmp_path,
                           capture_output=True, text=True, timeout=300)
     assert proc.returncode != 0
     assert "altitude" in proc.stderr and "25000" in proc.stderr, proc.stderr[-2000:]
@@ -127,7 +127,8 @@ def test_the_hover_hold_loop_holds_for_a_minute_in_moderate_turbulence(native_fm
     (W20 30 kt, 100 m above the ground) carried by a 5 m/s headwind: the loop holds; the attitude
     and position peaks are reported (the steady headwind alone moves the hover point a few metres,
     the controller having no integral action)."""
-    from fmu import controller, cosim, ssp
+    from fmu import controller, cosim
+    from fmu.cosim import ssp
 
     ctrl, _ = controller.ensure_controller_fmu()
     dsg = controller.read_design(ctrl)

@@ -6,7 +6,8 @@ from __future__ import annotations
 
 import pytest
 
-from fmu import build, exit_check
+from fmu import build
+from fmu_hosts import exit_check
 
 RUNS = 100
 

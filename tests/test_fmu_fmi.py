@@ -6,7 +6,7 @@ fmi2GetFMUstate into the same state does not grow memory, a too small serialisat
 is refused, a state restored into an instance in another phase steps on, unknown log
 categories are refused, and every unit has its SI base units.
 
-Each case runs in a fresh interpreter (``python -m fmu.probe_fmi CASE ARGS``).
+Each case runs in a fresh interpreter (``python -m fmu_hosts.probe_fmi CASE ARGS``).
 """
 from __future__ import annotations
 
@@ -42,7 +42,7 @@ def fmu_path(request) -> Path:
 def probe(case: str, args: dict, tmp_path: Path) -> dict:
     args_file = tmp_path / f"{case}-args.json"
     args_file.write_text(json.dumps(args))
-    proc = subprocess.run([sys.executable, "-m", "fmu.probe_fmi", case, str(args_file)], cwd=tmp_path,
+    proc = subprocess.run([sys.executable, "-m", "fmu_hosts.probe_fmi", case, str(args_file)], cwd=tmp_path,
                           capture_output=True, text=True, timeout=600)
     assert proc.returncode == 0, f"the host died (exit code {proc.returncode}):\n{proc.stderr[-3000:]}"
     return json.loads(proc.stdout.strip().splitlines()[-1])

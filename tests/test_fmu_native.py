@@ -2,8 +2,8 @@
 master (dlopen) against fmpy and against the pythonfmu FMU, rebuilding from its sources,
 misuse and bad input, an awkward unzip folder, and memory over many instances.
 
-Every FMU run happens in a fresh process (the C host, ``python -m fmu.hosts`` or
-``python -m fmu.native.checks``). Both FMUs are built once per session and cached on disk.
+Every FMU run happens in a fresh process (the C host, ``python -m fmu_hosts.modes`` or
+``python -m fmu_hosts.native_checks``). Both FMUs are built once per session and cached on disk.
 """
 from __future__ import annotations
 
@@ -55,8 +55,8 @@ def host_exe(tmp_path_factory) -> Path:
 
 @pytest.fixture(scope="session")
 def checks(native_fmu, tmp_path_factory) -> dict:
-    """Every case of :mod:`fmu.native.checks`, each in its own instance, in one fresh process."""
-    proc = subprocess.run([sys.executable, "-m", "fmu.native.checks", str(native_fmu)], capture_output=True,
+    """Every case of :mod:`fmu_hosts.native_checks`, each in its own instance, in one fresh process."""
+    proc = subprocess.run([sys.executable, "-m", "fmu_hosts.native_checks", str(native_fmu)], capture_output=True,
                           text=True, cwd=tmp_path_factory.mktemp("checks"), timeout=600)
     assert proc.returncode == 0, proc.stderr[-3000:]
     return {**json.loads(proc.stdout.strip().splitlines()[-1]), "_stderr": proc.stderr}
@@ -75,7 +75,7 @@ def own_reals(spec: dict, scene: str) -> dict:
 
 def fmpy_run(fmu: Path, scene: str, spec: dict, dt: float, steps: int, names: list[str], tmp_path: Path,
              start_values: dict | None = None, inputs: dict | None = None) -> dict:
-    """``fmpy.simulate_fmu`` of ``fmu`` in a fresh process (``python -m fmu.hosts fmpy``), the
+    """``fmpy.simulate_fmu`` of ``fmu`` in a fresh process (``python -m fmu_hosts.modes fmpy``), the
     inputs held at ``inputs`` (default the scene's trim)."""
     table = [{"time": 0.0, **{n: (inputs or spec["scenes"][scene]["defaults"])[n] for n in trims(spec, scene)}}]
     periodic = (start_values or {}).get("initial_state") == "periodic"
@@ -83,7 +83,7 @@ def fmpy_run(fmu: Path, scene: str, spec: dict, dt: float, steps: int, names: li
             "start_values": {**build.scene_start_values(spec, scene, periodic), **(start_values or {})}}
     path = tmp_path / f"fmpy-{scene}-{fmu.stem}.json"
     path.write_text(json.dumps(args))
-    proc = subprocess.run([sys.executable, "-m", "fmu.hosts", "fmpy", str(path)], cwd=tmp_path, capture_output=True,
+    proc = subprocess.run([sys.executable, "-m", "fmu_hosts.modes", "fmpy", str(path)], cwd=tmp_path, capture_output=True,
                           text=True, timeout=600)
     assert proc.returncode == 0, proc.stderr[-3000:]
     return json.loads(proc.stdout.strip().splitlines()[-1])
@@ -225,7 +225,7 @@ def test_serialised_state_restored_in_a_fresh_process_continues_identically(nati
     results = []
     for mode in ("save", "restore"):
         (tmp_path / "args.json").write_text(json.dumps(args))
-        proc = subprocess.run([sys.executable, "-m", "fmu.hosts", mode, str(tmp_path / "args.json")], cwd=tmp_path,
+        proc = subprocess.run([sys.executable, "-m", "fmu_hosts.modes", mode, str(tmp_path / "args.json")], cwd=tmp_path,
                               capture_output=True, text=True, timeout=300)
         assert proc.returncode == 0, proc.stderr[-3000:]
         results.append(json.loads(proc.stdout.strip().splitlines()[-1]))

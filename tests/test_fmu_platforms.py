@@ -159,7 +159,7 @@ def test_sources_compile_and_link_for_macos(target, unzipped, tmp_path):
 def _controller_script(facts: dict, steps: int) -> list[str]:
     """A minute-like run of the controller in the scripted host: every input of the trim plus its own
     sine (position, attitude, heading beyond +-pi, velocities, rates), the outputs after each step."""
-    from fmu import conformance
+    from fmu_hosts import conformance
 
     inputs = [n for n, c in facts["causality"].items() if c == "input"]
     outputs = " ".join(str(facts["vr"][n]) for n in facts["outputs"])
@@ -188,7 +188,8 @@ def test_controller_under_wine_and_qemu_equals_linux(platform, tmp_path, monkeyp
     sources/, as FMI 2.0 has no ARM folder) under qemu, each in the scripted C host built for that
     platform, over 300 steps with every input moving (the heading through +-pi): every output equals
     the x86_64 Linux library's to 1e-12 rad."""
-    from fmu import controller, script_host
+    from fmu import controller
+    from fmu_hosts import script_host
 
     need(*TOOLS[platform.fmi3][:2], *([ARM_SYSROOT] if platform is platforms.ARM else []))
     monkeypatch.setenv("WINEDEBUG", "-all")

@@ -3,7 +3,7 @@ fmi2Discard (never fmi2Fatal) with a message naming the call or the variable, re
 calls stay harmless, and a good call afterwards works; start values round-trip; instances
 do not leak.
 
-Every case runs in its own fresh interpreter (``python -m fmu.probe CASE ARGS``, cwd a
+Every case runs in its own fresh interpreter (``python -m fmu_hosts.probe CASE ARGS``, cwd a
 temporary folder): a crash shows as that process's exit code. The cases use only the
 variable names and the model description, so they run against any FMU of this model: the
 fixture ``fmu_path`` is the Python FMU and the native one (``$HELI_NATIVE_FMU`` may name a
@@ -48,10 +48,10 @@ def fmu_path(request) -> Path:
 
 
 def probe(case: str, args: dict, tmp_path: Path, timeout: float = 300) -> dict:
-    """Run ``fmu.probe`` case ``case`` in a fresh interpreter; it must exit with 0."""
+    """Run ``fmu_hosts.probe`` case ``case`` in a fresh interpreter; it must exit with 0."""
     args_file = tmp_path / f"{case}-args.json"
     args_file.write_text(json.dumps({"repeat": REPEAT, **args}))
-    proc = subprocess.run([sys.executable, "-m", "fmu.probe", case, str(args_file)], cwd=tmp_path,
+    proc = subprocess.run([sys.executable, "-m", "fmu_hosts.probe", case, str(args_file)], cwd=tmp_path,
                           capture_output=True, text=True, timeout=timeout)
     assert proc.returncode == 0, f"the host died (exit code {proc.returncode}):\n{proc.stderr[-3000:]}"
     return json.loads(proc.stdout.strip().splitlines()[-1])

@@ -1,4 +1,4 @@
-"""The FMU's FMI front end (``fmu/shim``) in front of pythonfmu's binary: resource paths with
+"""The FMU's FMI front end (``fmu/pythonfmu/shim``) in front of pythonfmu's binary: resource paths with
 ``#&%`` and non-ASCII characters, statuses (an error logged during a call is fmi2Error, a
 fatal error of pythonfmu leaves a dead instance that answers fmi2Error instead of crashing),
 logging with loggingOn = false, a host without Python, misuse, and the packaging.
@@ -19,7 +19,8 @@ from xml.etree import ElementTree
 
 import pytest
 
-from fmu import build, hosts, shim
+from fmu import build, hosts
+from fmu.pythonfmu import shim
 
 FAMILY = build.DEFAULT_SCENES
 ODD_FOLDER = "a#b&c%d ü"

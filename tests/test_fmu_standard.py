@@ -1,5 +1,5 @@
 """The FMUs to the letter of the FMI 2.0 and 3.0 standards, each case run in a C host written for
-it (``fmu/script_host.c``, which calls the standard functions only; for the pythonfmu FMU linked
+it (``tests/fmu_hosts/script_host.c``, which calls the standard functions only; for the pythonfmu FMU linked
 to libpython), on every FMU kind where it applies: the pythonfmu FMU (FMI 2.0 co-simulation), the
 native FMU (FMI 2.0 and 3.0, co-simulation and model exchange) and the hover-hold controller.
 
@@ -9,7 +9,7 @@ native FMU (FMI 2.0 and 3.0, co-simulation and model exchange) and the hover-hol
   start value or none (also in another scene of the family, and in fmpy);
 - the controller's heading: any finite size costs one step of microseconds, never a loop;
 - statuses, strings, FMU states and the state machines as the standards define them.
-The cases are :mod:`fmu.conformance`'s; every host run is a fresh process.
+The cases are :mod:`fmu_hosts.conformance`'s; every host run is a fresh process.
 """
 from __future__ import annotations
 
@@ -25,8 +25,9 @@ from xml.etree import ElementTree
 
 import pytest
 
-from fmu import build, conformance, controller, script_host
-from fmu.conformance import DISCARD, ERROR, OK, WARNING
+from fmu import build, controller
+from fmu_hosts import conformance, script_host
+from fmu_hosts.conformance import DISCARD, ERROR, OK, WARNING
 from fmu.native import build as native_build
 
 FAMILY = build.DEFAULT_SCENES
@@ -52,7 +53,7 @@ def hosts(tmp_path_factory) -> dict:
 
 @pytest.fixture
 def make(fmu_files, hosts, tmp_path):
-    """``make(kind)``: the :class:`fmu.conformance.Target` of one of :data:`KINDS`, unzipped afresh."""
+    """``make(kind)``: the :class:`fmu_hosts.conformance.Target` of one of :data:`KINDS`, unzipped afresh."""
     def target(kind: str) -> conformance.Target:
         which, interface = KINDS[kind]
         python = which == "python"
@@ -162,12 +163,12 @@ def test_fmpy_runs_the_same_with_every_start_value_written_or_none(which, fmu_fi
 
 
 def fmpy_outputs(fmu, start_values: dict, names: list[str], folder: Path, apply: bool = False) -> dict:
-    """``fmpy.simulate_fmu`` of ``fmu`` for 20 steps of 2.5 ms in a fresh process (``fmu.hosts``)."""
+    """``fmpy.simulate_fmu`` of ``fmu`` for 20 steps of 2.5 ms in a fresh process (``fmu_hosts.modes``)."""
     args = {"fmu": str(fmu), "stop": 0.05, "dt": 0.0025, "names": names, "apply_defaults": apply,
             "start_values": start_values}
     path = folder / f"args-{len(list(folder.glob('args-*')))}.json"
     path.write_text(json.dumps(args))
-    proc = subprocess.run([sys.executable, "-m", "fmu.hosts", "fmpy_starts", str(path)], cwd=folder,
+    proc = subprocess.run([sys.executable, "-m", "fmu_hosts.modes", "fmpy_starts", str(path)], cwd=folder,
                           capture_output=True, text=True, timeout=600)
     assert proc.returncode == 0, proc.stderr[-3000:]
     return json.loads(proc.stdout.strip().splitlines()[-1])

@@ -118,7 +118,7 @@ def test_an_input_moved_without_a_step_changes_exactly_its_declared_outputs(fmu_
     _, outputs, _ = declared(fmu_path)
     args = tmp_path / "args.json"
     args.write_text(json.dumps({"fmu": str(fmu_path), "delta": 0.01}))
-    proc = subprocess.run([sys.executable, "-m", "fmu.probe_fmi", "feedthrough", str(args)], cwd=tmp_path,
+    proc = subprocess.run([sys.executable, "-m", "fmu_hosts.probe_fmi", "feedthrough", str(args)], cwd=tmp_path,
                           capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr[-2000:]
     moved = json.loads(proc.stdout.strip().splitlines()[-1])

@@ -1,6 +1,6 @@
 """Both FMUs output the hub loads, the blade root loads, the shaft and engine power, equal to
 the core's (1e-9), through a collective step and a cyclic doublet. Every FMU runs under fmpy
-in a fresh interpreter (``python -m fmu.hosts``); the FMUs are built once and cached."""
+in a fresh interpreter (``python -m fmu_hosts.modes``); the FMUs are built once and cached."""
 from __future__ import annotations
 
 import json
@@ -31,7 +31,7 @@ def native_fmu() -> Path:
 def fmpy(fmu: Path, args: dict, tmp_path: Path) -> dict:
     path = tmp_path / f"fmpy-{fmu.stem}.json"
     path.write_text(json.dumps({"fmu": str(fmu), **args}))
-    proc = subprocess.run([sys.executable, "-m", "fmu.hosts", "fmpy", str(path)], cwd=tmp_path, capture_output=True,
+    proc = subprocess.run([sys.executable, "-m", "fmu_hosts.modes", "fmpy", str(path)], cwd=tmp_path, capture_output=True,
                           text=True, timeout=600, env=dict(os.environ))
     assert proc.returncode == 0, proc.stderr[-3000:]
     return json.loads(proc.stdout.strip().splitlines()[-1])

@@ -43,6 +43,7 @@ from xml.etree import ElementTree as ET
 from fmu import build as pybuild
 from fmu.native import derivatives as me_derivatives
 from fmu.native import fmi3, platforms, units
+from fmu.native.c_literals import c_array, c_real, c_reals, c_string
 
 HERE = Path(__file__).resolve().parent
 HAND_WRITTEN = ("heli_core.c", "heli_core.h", "heli_forward.h", "fmi2Functions.c", "fmi3Functions.c", "heli_model.h", "heli_libm.c",
@@ -78,36 +79,6 @@ def fmi_headers_dir() -> Path:
 
 
 # -- C literals ------------------------------------------------------------------------------
-
-def c_real(x: float | None) -> str:
-    """A C double literal that reads back exactly (``%.17g``); None is NAN."""
-    if x is None or math.isnan(x):
-        return "NAN"
-    if math.isinf(x):
-        return "INFINITY" if x > 0 else "-INFINITY"
-    text = "%.17g" % x
-    return text if re.search(r"[.eE]", text) else text + ".0"
-
-
-def c_string(s: str | None) -> str:
-    """A C string literal (octal escapes for anything but printable ASCII); None is NULL."""
-    if s is None:
-        return "NULL"
-    out = []
-    for b in s.encode():
-        ch = chr(b)
-        out.append(ch if 32 <= b < 127 and ch not in '"\\?' else "\\%03o" % b)
-    return '"' + "".join(out) + '"'
-
-
-def c_reals(values) -> str:
-    """A C initializer ``{a, b, c}`` of exact doubles (:func:`c_real`)."""
-    return "{" + ", ".join(map(c_real, values)) + "}"
-
-
-def c_array(ctype: str, name: str, items: list[str]) -> str:
-    return f"static const {ctype} {name}[{max(len(items), 1)}] = {{{', '.join(items) or '0'}}};\n"
-
 
 # -- start values ----------------------------------------------------------------------------
 
@@ -530,11 +501,11 @@ def cache_key(scene_names, aircraft=None) -> str:
     root = pybuild.mbs_dir()
     files = [(p.relative_to(root).as_posix(), p) for p in sorted(root.rglob("*"))
              if p.suffix in pybuild.SOURCE_SUFFIXES and "__pycache__" not in p.parts]
-    files += [(f"fmu/{p.name}", p) for p in (HERE.parent / "build.py", HERE.parent / "heli_bo105_slave.py",
-                                             HERE.parent / "periodic.py", HERE.parent / "periodic_starts.json")
-              if p.exists()]
-    files += [(f"fmu/native/{name}", HERE / name) for name in ("build.py", "derivatives.py", "fmi3.py", "units.py",
-                                                                 "platforms.py", *HAND_WRITTEN)]
+    files += [(f"fmu/{p.name}", p) for p in (HERE.parent / "build.py", HERE.parent / "periodic.py",
+                                             HERE.parent / "periodic_starts.json") if p.exists()]
+    files += [(f"fmu/pythonfmu/{p.name}", p) for p in sorted((HERE.parent / "pythonfmu").glob("*.py"))]
+    files += [(f"fmu/native/{name}", HERE / name) for name in ("build.py", "c_literals.py", "derivatives.py", "fmi3.py",
+                                                                 "units.py", "platforms.py", *HAND_WRITTEN)]
     files += [("fmu/structure.py", HERE.parent / "structure.py")]
     for rel, path in files:
         h.update(rel.encode() + b"\0" + path.read_bytes())

@@ -14,6 +14,7 @@ from __future__ import annotations
 import re
 from xml.etree import ElementTree as ET
 
+from fmu.native.c_literals import c_string
 from fmu.native.units import unit_definitions
 
 ELEMENT = re.compile(r"^(der\()?([A-Za-z_]+?)(\d+)\.(.+?)(\))?$")
@@ -75,8 +76,6 @@ def me_order(vars3: list[dict], state_slots: list[int], n_variables: int) -> lis
 
 def c_tables(vars3: list[dict], order: list[int]) -> str:
     """C tables of ``heli_data.c`` for the FMI 3.0 interface (see ``heli_model.h``)."""
-    from fmu.native.build import c_string
-
     rows = [f"static const int slots3_{k}[{len(v['slots'])}] = {{{', '.join(map(str, v['slots']))}}};\n"
             for k, v in enumerate(vars3)]
     rows.append("static const heli_variable3 variables3[] = {\n"

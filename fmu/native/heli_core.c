@@ -2,7 +2,7 @@
    co-simulation and model exchange alike, over the tables and compiled model groups of
    heli_data.c (see heli_model.h, heli_core.h). fmi2Functions.c and fmi3Functions.c only
    translate the standards' calls into these functions. Behaviour follows the pythonfmu slave
-   (fmu/heli_bo105_slave.py):
+   (fmu/pythonfmu/slave.py):
 
    - The scene (a String parameter) selects the model group and the initial state. Every input
      and parameter that the master did not set is its XML start value (FMI 2.0 section 2.2.7: an

@@ -14,14 +14,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
-#ifdef _WIN32
-#include <windows.h>
-#else
-#include <dlfcn.h>
-#endif
 
 #include "fmi2Functions.h"
+#include "host_platform.h"
 
 #define MAX_VALUES 256
 
@@ -48,17 +43,6 @@ static void logger(fmi2ComponentEnvironment env, fmi2String name, fmi2Status sta
   va_end(ap);
   fprintf(stderr, "[%s %d %s] %s\n", name, (int) status, category, text);
 }
-
-/* The shared library (a DLL on Windows) and its symbols. */
-#ifdef _WIN32
-static void* open_library(const char* path) { return (void*) LoadLibraryA(path); }
-static void* find_symbol(void* lib, const char* name) { return (void*) GetProcAddress((HMODULE) lib, name); }
-static const char* library_error(void) { return "LoadLibrary failed"; }
-#else
-static void* open_library(const char* path) { return dlopen(path, RTLD_NOW | RTLD_LOCAL); }
-static void* find_symbol(void* lib, const char* name) { return dlsym(lib, name); }
-static const char* library_error(void) { return dlerror(); }
-#endif
 
 static void* symbol(void* lib, const char* name) {
   void* f = find_symbol(lib, name);
@@ -115,19 +99,6 @@ static fmi2Component start(const api* a, const char* guid, const char* scene, co
   if (!c || a->setup(c, fmi2False, 0.0, 0.0, fmi2False, 0.0) || a->enter(c)) return NULL;
   if (a->set_string(c, &scene_vr, 1, &scene) > fmi2Warning || a->set_real(c, in_vr, n_in, in) > fmi2Warning) return NULL;
   return a->exit_init(c) ? NULL : c;
-}
-
-static double now(void) {
-#ifdef _WIN32
-  LARGE_INTEGER f, t;
-  QueryPerformanceFrequency(&f);
-  QueryPerformanceCounter(&t);
-  return (double) t.QuadPart / (double) f.QuadPart;
-#else
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double) ts.tv_sec + 1e-9 * (double) ts.tv_nsec;
-#endif
 }
 
 static int run(const api* a, char** argv, int quiet) {

@@ -14,7 +14,7 @@ def per_second(unit: str | None) -> str:
 
 def base_units(unit: str) -> dict[str, int] | None:
     """Exponents of the SI base units of ``unit`` (None for a unit not known here)."""
-    from fmu.heli_bo105_slave import BASE_UNITS
+    from fmu.pythonfmu.units import BASE_UNITS
 
     if unit in BASE_UNITS:
         return BASE_UNITS[unit]

@@ -10,7 +10,7 @@ poses for the 3D view, ``heli_wasm_poses_<group>.c``) and, in place of the deriv
 The FMI wrappers are not compiled: the page drives the core directly.
 
 The controller: ``controller_fmi2.c`` and ``hover_hold_data.h`` exactly as shipped in the
-controller FMU's ``sources/``, with ``fmu/controller_wasm.c`` as entry points.
+controller FMU's ``sources/``, with ``fmu/controller/controller_wasm.c`` as entry points.
 
 Flags (:data:`FLAGS`): ``-Os`` (the smallest: 367 kB for the default family against 465 kB at
 ``-O2``, and as fast in Chromium's V8: ``heli bench fly``),
@@ -38,7 +38,7 @@ TARGET = "wasm32-wasi"
 FLAGS = ["-Os", "-fno-math-errno", "-ffp-contract=off", "-DHELI_LIBM_LINKED"]
 LINK = ["-mexec-model=reactor", "-Wl,-z,stack-size=1048576", "-Wl,--strip-debug"]
 DRIVER = "heli_wasm.c"
-CONTROLLER_DRIVER = HERE.parent / "controller_wasm.c"
+CONTROLLER_DRIVER = HERE.parent / "controller" / "controller_wasm.c"
 
 
 @dataclass

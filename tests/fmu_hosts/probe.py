@@ -8,7 +8,7 @@ library; statuses are returned, never raised) with a logger that records every m
 (loggingOn is false: errors must reach the logger anyway). Each case in ``CASES`` returns
 a JSON-able dict of call records ``{"call", "status", "messages", ...}``.
 
-``python -m fmu.probe CASE ARGS_JSON`` runs one case in this (fresh) process and prints one
+``python -m fmu_hosts.probe CASE ARGS_JSON`` runs one case in this (fresh) process and prints one
 JSON line; the tests run every case in its own interpreter, so a crash shows as the exit
 code of that process. Arguments: ``fmu`` (path to the ``.fmu``), ``dt`` (s), ``repeat``.
 Only variable names and the XML model description are used, so the same cases run against

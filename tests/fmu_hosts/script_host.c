@@ -33,18 +33,13 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
-#ifdef _WIN32
-#include <windows.h>
-#else
-#include <dlfcn.h>
-#endif
 #ifdef SCRIPT_HOST_PYTHON
 #include <Python.h>
 #endif
 
 #include "fmi2Functions.h"
 #include "fmi3Functions.h"
+#include "host_platform.h"
 
 #define SLOTS 16
 #define MAX_VALUES 4096
@@ -54,31 +49,11 @@
 
 /* -- libraries and their symbols ------------------------------------------------------------ */
 
-#ifdef _WIN32
-static void* open_library(const char* path) { return (void*) LoadLibraryA(path); }
-static void* find_symbol(void* lib, const char* name) { return (void*) GetProcAddress((HMODULE) lib, name); }
-#else
-static void* open_library(const char* path) { return dlopen(path, RTLD_NOW | RTLD_LOCAL); }
-static void* find_symbol(void* lib, const char* name) { return dlsym(lib, name); }
-#endif
 
 static void* libs[SLOTS];
 
 /* A function of the current instance's library (NULL when it lacks it). */
 #define FN(type, name) ((type*) find_symbol(libs[cur->lib], name))
-
-static double now(void) {
-#ifdef _WIN32
-  LARGE_INTEGER f, t;
-  QueryPerformanceFrequency(&f);
-  QueryPerformanceCounter(&t);
-  return (double) t.QuadPart / (double) f.QuadPart;
-#else
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double) ts.tv_sec + 1e-9 * (double) ts.tv_nsec;
-#endif
-}
 
 /* -- output ------------------------------------------------------------------------------------ */
 

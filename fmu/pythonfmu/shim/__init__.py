@@ -37,7 +37,7 @@ def find_compiler() -> str:
     try:
         return find()
     except CompilerNotFound as exc:
-        raise ShimBuildError("building the FMU needs a C compiler for its FMI front end (fmu/shim/fmi2_shim.c): "
+        raise ShimBuildError("building the FMU needs a C compiler for its FMI front end (fmu/pythonfmu/shim/fmi2_shim.c): "
                              f"{exc}; or use a cached FMU") from None
 
 

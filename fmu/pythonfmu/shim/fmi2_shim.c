@@ -711,47 +711,26 @@ fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined, fm
     return status;
 }
 
-fmi2Status fmi2EnterInitializationMode(fmi2Component c)
-{
-    const char *call = "fmi2EnterInitializationMode";
-    Instance *s = live(c, call);
-    if (!s || !in_phase(s, call, PHASE(INSTANTIATED))) {
-        return fmi2Error;
+/* The one shape of a phase change: a live instance in phase FROM; pythonfmu's function; phase TO
+ * when the call advanced. */
+#define FORWARD_TRANSITION(NAME, FIELD, FROM, TO)                      \
+    fmi2Status NAME(fmi2Component c)                                   \
+    {                                                                  \
+        const char *call = #NAME;                                      \
+        Instance *s = live(c, call);                                   \
+        if (!s || !in_phase(s, call, PHASE(FROM))) {                   \
+            return fmi2Error;                                          \
+        }                                                              \
+        fmi2Status status = finish(s, call, api.FIELD(s->inner));      \
+        if (advanced(status)) {                                        \
+            s->phase = TO;                                             \
+        }                                                              \
+        return status;                                                 \
     }
-    fmi2Status status = finish(s, call, api.enterInitializationMode(s->inner));
-    if (advanced(status)) {
-        s->phase = INITIALIZATION_MODE;
-    }
-    return status;
-}
 
-fmi2Status fmi2ExitInitializationMode(fmi2Component c)
-{
-    const char *call = "fmi2ExitInitializationMode";
-    Instance *s = live(c, call);
-    if (!s || !in_phase(s, call, PHASE(INITIALIZATION_MODE))) {
-        return fmi2Error;
-    }
-    fmi2Status status = finish(s, call, api.exitInitializationMode(s->inner));
-    if (advanced(status)) {
-        s->phase = STEPPING;
-    }
-    return status;
-}
-
-fmi2Status fmi2Terminate(fmi2Component c)
-{
-    const char *call = "fmi2Terminate";
-    Instance *s = live(c, call);
-    if (!s || !in_phase(s, call, PHASE(STEPPING))) {
-        return fmi2Error;
-    }
-    fmi2Status status = finish(s, call, api.terminate(s->inner));
-    if (advanced(status)) {
-        s->phase = TERMINATED;
-    }
-    return status;
-}
+FORWARD_TRANSITION(fmi2EnterInitializationMode, enterInitializationMode, INSTANTIATED, INITIALIZATION_MODE)
+FORWARD_TRANSITION(fmi2ExitInitializationMode, exitInitializationMode, INITIALIZATION_MODE, STEPPING)
+FORWARD_TRANSITION(fmi2Terminate, terminate, STEPPING, TERMINATED)
 
 fmi2Status fmi2Reset(fmi2Component c)
 {
@@ -775,75 +754,26 @@ fmi2Status fmi2Reset(fmi2Component c)
 #define SETTABLE PHASE(INSTANTIATED) | PHASE(INITIALIZATION_MODE) | PHASE(STEPPING)
 #define GETTABLE PHASE(INITIALIZATION_MODE) | PHASE(STEPPING) | PHASE(TERMINATED)
 
-fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Real value[])
-{
-    const char *call = "fmi2GetReal";
-    Instance *s = live(c, call);
-    if (!s || !VALUES_OK(s, call, vr, nvr, value) || !in_phase(s, call, GETTABLE)) {
-        return fmi2Error;
+/* The one shape of a value call: a live instance, its arrays present, a phase that allows the
+ * call (PHASES); then pythonfmu's function, its status through finish(). */
+#define FORWARD_VALUES(NAME, FIELD, VALUE_TYPE, PHASES)                                              \
+    fmi2Status NAME(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, VALUE_TYPE value[])  \
+    {                                                                                                \
+        const char *call = #NAME;                                                                    \
+        Instance *s = live(c, call);                                                                 \
+        if (!s || !VALUES_OK(s, call, vr, nvr, value) || !in_phase(s, call, PHASES)) {               \
+            return fmi2Error;                                                                        \
+        }                                                                                            \
+        return finish(s, call, api.FIELD(s->inner, vr, nvr, value));                                 \
     }
-    return finish(s, call, api.getReal(s->inner, vr, nvr, value));
-}
 
-fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Integer value[])
-{
-    const char *call = "fmi2GetInteger";
-    Instance *s = live(c, call);
-    if (!s || !VALUES_OK(s, call, vr, nvr, value) || !in_phase(s, call, GETTABLE)) {
-        return fmi2Error;
-    }
-    return finish(s, call, api.getInteger(s->inner, vr, nvr, value));
-}
-
-fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Boolean value[])
-{
-    const char *call = "fmi2GetBoolean";
-    Instance *s = live(c, call);
-    if (!s || !VALUES_OK(s, call, vr, nvr, value) || !in_phase(s, call, GETTABLE)) {
-        return fmi2Error;
-    }
-    return finish(s, call, api.getBoolean(s->inner, vr, nvr, value));
-}
-
-fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2String value[])
-{
-    const char *call = "fmi2GetString";
-    Instance *s = live(c, call);
-    if (!s || !VALUES_OK(s, call, vr, nvr, value) || !in_phase(s, call, GETTABLE)) {
-        return fmi2Error;
-    }
-    return finish(s, call, api.getString(s->inner, vr, nvr, value));
-}
-
-fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Real value[])
-{
-    const char *call = "fmi2SetReal";
-    Instance *s = live(c, call);
-    if (!s || !VALUES_OK(s, call, vr, nvr, value) || !in_phase(s, call, SETTABLE)) {
-        return fmi2Error;
-    }
-    return finish(s, call, api.setReal(s->inner, vr, nvr, value));
-}
-
-fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Integer value[])
-{
-    const char *call = "fmi2SetInteger";
-    Instance *s = live(c, call);
-    if (!s || !VALUES_OK(s, call, vr, nvr, value) || !in_phase(s, call, SETTABLE)) {
-        return fmi2Error;
-    }
-    return finish(s, call, api.setInteger(s->inner, vr, nvr, value));
-}
-
-fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Boolean value[])
-{
-    const char *call = "fmi2SetBoolean";
-    Instance *s = live(c, call);
-    if (!s || !VALUES_OK(s, call, vr, nvr, value) || !in_phase(s, call, SETTABLE)) {
-        return fmi2Error;
-    }
-    return finish(s, call, api.setBoolean(s->inner, vr, nvr, value));
-}
+FORWARD_VALUES(fmi2GetReal, getReal, fmi2Real, GETTABLE)
+FORWARD_VALUES(fmi2GetInteger, getInteger, fmi2Integer, GETTABLE)
+FORWARD_VALUES(fmi2GetBoolean, getBoolean, fmi2Boolean, GETTABLE)
+FORWARD_VALUES(fmi2GetString, getString, fmi2String, GETTABLE)
+FORWARD_VALUES(fmi2SetReal, setReal, const fmi2Real, SETTABLE)
+FORWARD_VALUES(fmi2SetInteger, setInteger, const fmi2Integer, SETTABLE)
+FORWARD_VALUES(fmi2SetBoolean, setBoolean, const fmi2Boolean, SETTABLE)
 
 /* pythonfmu would hand a NULL string to Python as None, and answers fmi2Fatal for bytes that are
  * not UTF-8 (its instance then unusable); both are refused here with fmi2Error. */

@@ -1,5 +1,5 @@
 """Cases of the FMI 2.0 and 3.0 standards that a strict host checks, run on this project's FMUs in
-the scripted C host (:mod:`fmu.script_host`): stopTime, start values written or not, the state
+the scripted C host (:mod:`fmu_hosts.script_host`): stopTime, start values written or not, the state
 machines, status queries, FMU states and their serialized form. Each case returns what the host
 answered (statuses, values, messages) for the tests to assert; none asserts itself.
 
@@ -13,12 +13,12 @@ import shutil
 from dataclasses import dataclass
 from pathlib import Path
 
-from fmu import script_host as sh
+from fmu_hosts import script_host as sh
 
 OK, WARNING, DISCARD, ERROR = 0, 1, 2, 3
 GUID_BYTE = 18
 """A byte of the GUID in a serialized state's header: both FMUs write an 8-byte tag and two 4-byte
-fields, then the GUID (``fmu/shim/fmi2_shim.c``, ``fmu/native/heli_core.c``)."""
+fields, then the GUID (``fmu/pythonfmu/shim/fmi2_shim.c``, ``fmu/native/heli_core.c``)."""
 
 
 @dataclass

@@ -18,8 +18,12 @@ import sysconfig
 import zipfile
 from pathlib import Path
 
+import fmu
+
 HERE = Path(__file__).resolve().parent
+PROJECT = Path(fmu.__file__).resolve().parents[1]  # the folder that holds fmu/ and mbs/
 SOURCE = HERE / "script_host.c"
+PLATFORM_HEADER_DIR = Path(fmu.__file__).resolve().parent / "native"  # host_platform.h, shared with host.c
 
 
 def compile_host(dest: Path, platform=None, python: bool = False) -> Path:
@@ -39,7 +43,7 @@ def compile_host(dest: Path, platform=None, python: bool = False) -> Path:
         libdir, version = sysconfig.get_config_var("LIBDIR"), sysconfig.get_config_var("VERSION")
         extra = ["-DSCRIPT_HOST_PYTHON", "-I", sysconfig.get_paths()["include"], f"-L{libdir}", f"-Wl,-rpath,{libdir}",
                  f"-lpython{version}{sysconfig.get_config_var('ABIFLAGS') or ''}"]
-    cmd = [cc, "-O2", "-std=c99", "-D_POSIX_C_SOURCE=200809L", "-I", str(fmi_headers_dir()), str(SOURCE), "-o",
+    cmd = [cc, "-O2", "-std=c99", "-D_POSIX_C_SOURCE=200809L", "-I", str(fmi_headers_dir()), "-I", str(PLATFORM_HEADER_DIR), str(SOURCE), "-o",
            str(dest), *static, *extra, *platforms.HOST_LIBS[platform.fmi3], "-lm"]
     proc = subprocess.run(cmd, capture_output=True, text=True)
     if proc.returncode:
@@ -49,7 +53,7 @@ def compile_host(dest: Path, platform=None, python: bool = False) -> Path:
 
 def python_env() -> dict:
     """The environment of a host linked to libpython: numpy and the project importable."""
-    return {**os.environ, "PYTHONPATH": os.pathsep.join([*site.getsitepackages(), str(HERE.parent)])}
+    return {**os.environ, "PYTHONPATH": os.pathsep.join([*site.getsitepackages(), str(PROJECT)])}
 
 
 def run(host: Path, lines: list[str], runner=(), env: dict | None = None, timeout: float = 600,

@@ -1,4 +1,4 @@
-/* FMI 2.0 co-simulation interface of the hover-hold controller (see fmu/controller.py): a
+/* FMI 2.0 co-simulation interface of the hover-hold controller (see fmu/controller): a
    sampled linear-quadratic regulator around the hover trim,
 
        out = clamp(TRIM_OUT - gain_scale * GAINS e, LOW, HIGH),

@@ -1,6 +1,6 @@
 """Misuse and bad-input cases of the native FMU, each in its own instance, through fmpy.
 
-``python -m fmu.native.checks FMU CASE [CASE ...]`` prints one JSON object: per case the
+``python -m fmu_hosts.native_checks FMU CASE [CASE ...]`` prints one JSON object: per case the
 statuses of the calls (0 ok, 1 warning, 2 discard, 3 error, 4 fatal), the messages the
 logger received and whether a good call afterwards worked. Run it in a fresh process.
 """

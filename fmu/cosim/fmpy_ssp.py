@@ -10,7 +10,7 @@ gives connectors no start value: initial values come from the bindings (which ma
 as ours do) and from the connected outputs after initialisation, as libcosim applies them.
 The work-around is a master loop that does so over fmpy itself, :func:`fmu.cosim.run_fmpy`.
 
-``python -m fmu.fmpy_ssp SSP STOP STEP`` prints one JSON object: ``completed``, and otherwise
+``python -m fmu.cosim.fmpy_ssp SSP STOP STEP`` prints one JSON object: ``completed``, and otherwise
 the exception fmpy raised and the helicopter FMU's message (from its stderr).
 """
 from __future__ import annotations
@@ -24,7 +24,7 @@ from pathlib import Path
 def run(ssp_file: Path, stop: float, step: float, timeout: float = 600) -> dict:
     """fmpy's ``simulate_ssp`` of ``ssp_file`` to ``stop`` in steps of ``step`` (s), in a fresh process:
     ``{"completed": bool, "error": the exception's text, "refused": the FMUs' error messages}``."""
-    proc = subprocess.run([sys.executable, "-m", "fmu.fmpy_ssp", str(ssp_file), repr(stop), repr(step)],
+    proc = subprocess.run([sys.executable, "-m", "fmu.cosim.fmpy_ssp", str(ssp_file), repr(stop), repr(step)],
                           capture_output=True, text=True, timeout=timeout)
     if proc.returncode:
         raise RuntimeError(f"the fmpy SSP run's process failed:\n{proc.stderr[-3000:]}")

@@ -26,6 +26,10 @@ cycle); no direct
 feedthrough, so a loop with the helicopter FMU, whose fuselage outputs are states, is no
 algebraic loop; before the first step the outputs are the trim controls.
 ``gain_scale = 0`` leaves the loop open (the trim controls, held).
+
+This package: the design, the generated data header and the build here; the FMU's C
+(``controller_fmi2.c``) and its WebAssembly entry points for the flight page
+(``controller_wasm.c``, built by :mod:`fmu.native.wasm`).
 """
 from __future__ import annotations
 
@@ -172,12 +176,12 @@ def _pybuild_fmu(aircraft=None) -> Path:
 
 def c_data(dsg: dict, guid: str) -> str:
     """``hover_hold_data.h``: the design as C constants."""
-    from fmu.native.build import c_real, c_reals, c_string
+    from fmu.native.c_literals import c_real, c_reals, c_string
 
     rows = ",\n  ".join(c_reals(r) for r in dsg["gains"])
     low = [dsg["ranges"][c][0] for c in OUTPUTS]
     high = [dsg["ranges"][c][1] for c in OUTPUTS]
-    return ("/* The hover-hold controller's design (generated at build time by fmu/controller.py). */\n"
+    return ("/* The hover-hold controller's design (generated at build time by fmu/controller). */\n"
             f"#define HH_GUID {c_string(guid)}\n#define HH_NIN {len(INPUTS)}\n#define HH_NOUT {len(OUTPUTS)}\n"
             f"static const double GAINS[HH_NOUT][HH_NIN] = {{\n  {rows}}};\n"
             f"static const double TRIM_IN[HH_NIN] = {c_reals([dsg['trim_inputs'][n] for n in INPUTS])};\n"
@@ -194,11 +198,11 @@ def model_description(dsg: dict, guid: str, step: float) -> bytes:
     """``modelDescription.xml`` of the controller FMU."""
     from xml.etree import ElementTree as ET
 
-    from fmu.heli_bo105_slave import BASE_UNITS
+    from fmu.pythonfmu.units import BASE_UNITS
 
     root = ET.Element("fmiModelDescription", fmiVersion="2.0", modelName=IDENTIFIER, guid=guid,
                       description="hover hold for the heli rotor FMU: LQR at the hover trim from the model's own "
-                                  "stability and control derivatives (fmu/controller.py)", author="rotor-mbs",
+                                  "stability and control derivatives (fmu/controller)", author="rotor-mbs",
                       version=_version(), license="MIT", generationTool="rotor-mbs fmu.controller",
                       variableNamingConvention="structured", numberOfEventIndicators="0")
     cs = ET.SubElement(root, "CoSimulation", modelIdentifier=IDENTIFIER, needsExecutionTool="false",
@@ -302,7 +306,7 @@ def cache_key(aircraft=None) -> str:
     from fmu import build as pybuild
 
     h = hashlib.sha256(pybuild.cache_key(pybuild.DEFAULT_SCENES, aircraft).encode())
-    for name in ("controller.py", SOURCE):
+    for name in ("__init__.py", SOURCE):
         h.update((HERE / name).read_bytes())
     h.update(os.environ.get("CC", "").encode())
     h.update(json.dumps(platforms.key()).encode())

@@ -23,7 +23,7 @@ Errors: pythonfmu's wrapper turns a Python exception into ``fmi2Fatal`` and then
 the next call, so no exception ever leaves this slave. Every entry point (instantiate and
 reset, the setters and getters, the life-cycle calls, ``doStep``, the FMU-state calls)
 catches everything and logs a message with status error naming the call, the variable or
-value reference and the value; the FMU's FMI front end (``fmu/shim``) turns an error logged
+value reference and the value; the FMU's FMI front end (``fmu/pythonfmu/shim``) turns an error logged
 during a call into that call's ``fmi2Error`` and forwards it whatever ``loggingOn`` says.
 A getter answers NaN (Real), ``""`` (String), 0 or false for what it cannot give; setting
 an output is an error and is ignored. A bad value of an input or parameter is stored and
@@ -40,15 +40,14 @@ warning and worse are also written to ``stderr``.
 pythonfmu 0.7.0 executes this file again at every instantiate; :func:`_settle_rerun` at the
 end keeps that from leaking memory.
 
-In the shipped FMU this module is the entry module ``heli_bo105_slave_<digest>`` and imports
-the core's run-time files from the package ``heli_bo105_<digest>`` (both names unique to the
-build), never from an ``mbs`` that the host may have imported.
+In the shipped FMU this module is the entry module ``heli_rotor_slave_<digest>`` and imports
+the core's run-time files from the package ``heli_rotor_<digest>`` and its own helpers
+(:mod:`fmu.pythonfmu.stepping`, ``errors``, ``resources``, ``fmu_state``, ``units``) from its
+subpackage ``heli_rotor_<digest>.slave`` (names unique to the build), never from an ``mbs`` or
+``fmu`` that the host may have imported.
 """
 from __future__ import annotations
 
-import ctypes
-import functools
-import json
 import math
 import sys
 import traceback
@@ -58,148 +57,21 @@ import numpy as np
 from pythonfmu import Boolean, DefaultExperiment, Fmi2Slave, Integer, Real, String
 from pythonfmu.enums import Fmi2Causality, Fmi2Initial, Fmi2Status, Fmi2Variability
 
-from mbs.backends import closure as _closure
-from mbs.backends import compiled as _compiled
+from fmu.pythonfmu.errors import BadValue, entry_point
+from fmu.pythonfmu.fmu_state import STATE_FORMAT, from_bytes, state_problem, to_bytes
+from fmu.pythonfmu.resources import keep_one, load_vm, read_spec, repoint_package
+from fmu.pythonfmu.stepping import BoundStepper, Stepper, closure_failure
+from fmu.pythonfmu.units import unit_definitions
 from mbs.backends.compiled import CompiledSystem
 from mbs.backends.info import ModelInfo
 
 MODELS = "heli_models"
-STATE_FORMAT = "heli-fmu-state-1"
 TIME_TOLERANCE = 1e-9  # relative mismatch allowed between the master's time and ours
 DIAGNOSTIC_ROWS = 1000  # rows recorded when a failed step is redone to find where it failed
 
-# SI base-unit exponents for <UnitDefinitions>; unknown units are declared by name only.
-BASE_UNITS = {"rad": {"rad": 1}, "rad/s": {"rad": 1, "s": -1}, "m": {"m": 1}, "m/s": {"m": 1, "s": -1},
-              "s": {"s": 1}, "J": {"kg": 1, "m": 2, "s": -2}, "N": {"kg": 1, "m": 1, "s": -2},
-              "N m": {"kg": 1, "m": 2, "s": -2}, "W": {"kg": 1, "m": 2, "s": -3}, "1": {}}
 KINDS = {"Real": Real, "String": String}
 FALLBACK = {Real: math.nan, String: "", Integer: 0, Boolean: False}  # what a failed getter answers
 SUBSTEP_TOLERANCE = 1e-6  # relative: a step this much longer than n max_step is n sub-steps
-
-
-class Stepper:
-    """One instance's numerics through the core's evaluator interface (``_run``, ``_eval``),
-    for any evaluator: state ``x`` (nx,), summation compensation ``comp`` (nx,) and
-    parameters ``p``, advanced in place."""
-
-    def __init__(self, system, x: np.ndarray, comp: np.ndarray, method: str = "rk4"):
-        self.system, self.method = system, method
-        self.x, self.comp = np.array(x, dtype=float), np.array(comp, dtype=float)
-        self.p = np.zeros(len(system.info.parameters))
-
-    def set_params(self, p: np.ndarray) -> None:
-        self.p[:] = p
-
-    def step(self, t: float, h: float, n: int) -> tuple[int, int]:
-        """``n`` steps of ``h`` from ``t``; on failure (status 1 non-finite, 2 evaluation
-        error) the state is left as it was. Returns (status, sub-steps done)."""
-        comp = self.comp.copy()
-        rows, status, done = self.system._run(self.method, self.x, t, h, 0, n, n, self.p, comp)
-        if not status:
-            self.x[:], self.comp[:] = rows[-1], comp
-        return status, done
-
-    def snapshot(self) -> tuple[np.ndarray, np.ndarray]:
-        """Copies of the state and the summation compensation (to undo a step)."""
-        return self.x.copy(), self.comp.copy()
-
-    def restore(self, snap: tuple[np.ndarray, np.ndarray]) -> None:
-        """Undo to ``snap`` in place (the compiled driver holds pointers to these buffers)."""
-        self.x[:], self.comp[:] = snap
-
-    def outputs(self, t: float) -> list[float]:
-        """Every output and local variable of the FMU (generated ``fmu_outputs``)."""
-        return self.system._eval("fmu_outputs", self.x, t, self.p)[0].tolist()
-
-
-# The driver signature that BoundStepper was written for; if the core's template differs,
-# the generic Stepper is used.
-DRIVER_SIGNATURE = ("int mbs_run_{m}(const casadi_real* x0, double t0, double h, long long k0,\n"
-                    "    long long n, long long every, const casadi_real* p, casadi_real* out, casadi_real* comp,\n"
-                    "    int compensated, long long* done)")
-
-
-class BoundStepper(Stepper):
-    """:class:`Stepper` for the compiled evaluator with every C argument bound once to fixed
-    buffers: turning numpy arrays into pointers on each call costs about 25 µs, as much as
-    the integrator step of the Bo105 itself, and an FMU calls twice per communication step."""
-
-    usable = DRIVER_SIGNATURE in _compiled.DRIVER
-
-    def __init__(self, system, x, comp, method: str = "rk4"):
-        super().__init__(system, x, comp, method)
-        lib = ctypes.CDLL(str(system.folder / "model.so"))
-        self._trial, self._t, self._done = np.zeros(self.x.size), np.zeros(1), ctypes.c_longlong()
-        ptr = lambda a: a.ctypes.data  # noqa: E731
-        self._drive = getattr(lib, f"mbs_run_{method}")
-        self._drive.restype = ctypes.c_int
-        self._drive.argtypes = [ctypes.c_void_p, ctypes.c_double, ctypes.c_double, *[ctypes.c_longlong] * 3,
-                                *[ctypes.c_void_p] * 3, ctypes.c_int, ctypes.c_void_p]
-        self._drive_args = (ptr(self.x), ptr(self.p), ptr(self.x), ptr(self._trial), ctypes.addressof(self._done))
-        self._vals = np.zeros(self._outputs_size(lib))
-        self._fn = lib.fmu_outputs
-        self._fn.restype = ctypes.c_int
-        self._fn.argtypes = [*[ctypes.c_void_p] * 4, ctypes.c_int]
-        sizes = [ctypes.c_longlong() for _ in range(4)]
-        lib.fmu_outputs_work(*[ctypes.byref(z) for z in sizes])
-        self._arg = (ctypes.c_void_p * max(sizes[0].value, 3))(ptr(self.x), ptr(self._t), ptr(self.p))
-        self._res = (ctypes.c_void_p * max(sizes[1].value, 1))(ptr(self._vals))
-        self._iw = np.zeros(max(sizes[2].value, 1), np.int64)
-        self._w = np.zeros(max(sizes[3].value, 1))
-        self._fn_args = (ctypes.addressof(self._arg), ctypes.addressof(self._res), ptr(self._iw), ptr(self._w), 0)
-
-    @staticmethod
-    def _outputs_size(lib) -> int:
-        f = lib.fmu_outputs_sparsity_out
-        f.restype = ctypes.POINTER(ctypes.c_longlong)
-        sp = f(0)
-        return int(sp[0] * sp[1])
-
-    def step(self, t, h, n):
-        self._trial[:] = self.comp
-        x, p, out, trial, done = self._drive_args  # out is x: the driver writes the last row only on success
-        status = self._drive(x, t, h, 0, n, n, p, out, trial, 1, done)
-        if not status:
-            self.comp[:] = self._trial
-        return (2 if status > 1 else status), self._done.value
-
-    def outputs(self, t):
-        self._t[0] = t
-        if self._fn(*self._fn_args):
-            raise FloatingPointError("the generated function fmu_outputs reported an error")
-        return self._vals.tolist()
-
-
-class BadValue(ValueError):
-    """A value that the FMU refuses; the message names the variable and the value."""
-
-
-def load_vm(folder: Path, info: ModelInfo):
-    """The virtual-machine evaluator from the CasADi functions saved at build time (needs
-    casadi on the host)."""
-    import casadi as ca
-
-    from mbs.backends.system import System
-    from mbs.backends.vm import VMSystem
-
-    vm = VMSystem.__new__(VMSystem)
-    vm.functions = {f.stem: ca.Function.load(str(f)) for f in sorted((folder / "vm").glob("*.casadi"))}
-    System.__init__(vm, info, "float64")
-    return vm
-
-
-def _repoint_package(resources: str | None) -> None:
-    """Point this package's modules at ``resources`` if the folder they were first imported
-    from has gone (an importer deleted an earlier copy of this FMU; the code is identical,
-    the package name carries its digest), so that later imports (e.g. the VM) still work."""
-    top = CompiledSystem.__module__.split(".")[0]
-    own = Path(resources or "") / top
-    if not own.is_dir():
-        return
-    for name, module in list(sys.modules.items()):
-        paths = getattr(module, "__path__", None) if name.split(".")[0] == top else None
-        if paths and not all(Path(p).is_dir() for p in paths):
-            module.__path__ = [str(own.joinpath(*name.split(".")[1:]))]
 
 
 def _placeholder():
@@ -207,14 +79,6 @@ def _placeholder():
     own ``get_*``/``set_*``, so no variable holds a closure over the instance (a freed
     instance is then not kept alive by a reference cycle)."""
     return None
-
-
-def _keep_one(entry: str | None) -> None:
-    """Keep a single ``entry`` in ``sys.path``: pythonfmu inserts the resources folder at
-    every instantiate and never removes it."""
-    hits = [k for k, p in enumerate(sys.path) if entry and p == entry]
-    for k in reversed(hits[1:]):
-        del sys.path[k]
 
 
 def _index(indices: list[int]):
@@ -225,58 +89,8 @@ def _index(indices: list[int]):
     return np.array(indices, dtype=int)
 
 
-def _read_spec(path: Path) -> dict:
-    """The build's spec (variables, scenes, limits); raises BadValue naming the file."""
-    try:
-        return json.loads(path.read_text())
-    except (OSError, ValueError) as exc:
-        raise BadValue(f"{path} cannot be read: {type(exc).__name__}: {exc}") from exc
-
-
-def _fallback(value, args):
-    return value(*args) if callable(value) else value
-
-
-def entry_point(call: str, fallback=None):
-    """Decorator of an FMI entry point: nothing escapes it. A refused value (BadValue) is
-    logged with status error as ``"<call>: <message>"``, any other exception with its
-    traceback; then ``fallback`` (or ``fallback(*args)`` if callable) is returned."""
-    def wrap(fn):
-        @functools.wraps(fn)
-        def guarded(self, *args):
-            try:
-                if getattr(self, "_broken", None):
-                    self._report(f"{call}: instance unusable: {self._broken}")
-                    return _fallback(fallback, args)
-                return fn(self, *args)
-            except BadValue as exc:
-                self._report(f"{call}: {exc}")
-            except Exception as exc:
-                self._report(f"{call} failed: {type(exc).__name__}: {exc}\n{traceback.format_exc()}")
-            return _fallback(fallback, args)
-        return guarded
-    return wrap
-
-
 def _nan_list(vrs):
     return [math.nan] * len(vrs)
-
-
-def _state_problem(state) -> str | None:
-    """Why ``state`` is not a state of this FMU (None when it is one)."""
-    if not isinstance(state, dict):
-        return f"expected a dict, got {type(state).__name__}"
-    if state.get("format") != STATE_FORMAT:
-        reason = state.get("error") or f"format {state.get('format')!r}"
-        return f"{reason} (expected format {STATE_FORMAT!r})"
-    kinds = {"phase": str, "start_time": (int, float), "t": (int, float), "settings": dict, "errors": dict,
-             "frozen": dict, "x": (list, type(None)), "comp": (list, type(None))}
-    wrong = [k for k, kind in kinds.items() if not isinstance(state.get(k), kind)]
-    if wrong:
-        return f"missing or malformed entries {wrong}"
-    if (state["x"] is None) != (state["comp"] is None) or len(state["x"] or []) != len(state["comp"] or []):
-        return "the state x and its compensation differ in length"
-    return None
 
 
 class HeliRotorSlave(Fmi2Slave):
@@ -293,7 +107,7 @@ class HeliRotorSlave(Fmi2Slave):
         self.instance_name = str(kwargs.get("instance_name", ""))
         try:
             super().__init__(**kwargs)
-            _keep_one(self.resources)
+            keep_one(self.resources)
             self._setup()
         except Exception as exc:
             self._broken = f"the FMU could not be set up: {type(exc).__name__}: {exc}"
@@ -301,12 +115,12 @@ class HeliRotorSlave(Fmi2Slave):
 
     def _setup(self) -> None:
         root = Path(self.resources or Path(__file__).parent) / MODELS
-        self._root, self._spec = root, _read_spec(root / "spec.json")
+        self._root, self._spec = root, read_spec(root / "spec.json")
         self.modelName, self.description = self._spec["model_identifier"], self._spec["description"]
         self.version = self._spec["version"]
         ex = self._spec["default_experiment"]
         self.default_experiment = DefaultExperiment(ex["start"], ex["stop"], ex["step"])
-        _repoint_package(self.resources)
+        repoint_package(self.resources)
         self._limits = {"max_substeps": 1_000_000, "hinge_angle": math.pi / 2, **self._spec.get("limits", {})}
         self._vars = {v["name"]: v for v in self._spec["variables"]}
         for v in self._spec["variables"]:
@@ -422,7 +236,7 @@ class HeliRotorSlave(Fmi2Slave):
             root.set("guid", self._spec["guid"])  # from the FMU's content (fmu.build.content_guid); the shim checks it
         svs = list(root.find("ModelVariables"))
         units = {self._annotate(sv) for sv in svs}
-        self._unit_definitions(root, units - {None})
+        unit_definitions(root, units - {None})
         return root
 
     def _annotate(self, sv) -> str | None:
@@ -433,17 +247,6 @@ class HeliRotorSlave(Fmi2Slave):
             if v.get(key) is not None and (key == "start" or element.tag == "Real"):
                 element.set(key, v[key] if isinstance(v[key], str) else repr(float(v[key])))
         return v.get("unit")
-
-    @staticmethod
-    def _unit_definitions(root, units) -> None:
-        from xml.etree.ElementTree import Element, SubElement
-
-        defs = Element("UnitDefinitions")
-        for u in sorted(units):
-            unit = SubElement(defs, "Unit", name=u)
-            if u in BASE_UNITS:
-                SubElement(unit, "BaseUnit", {k: str(e) for k, e in BASE_UNITS[u].items()})
-        root.insert(list(root).index(root.find("CoSimulation")) + 1, defs)
 
     def _scene(self) -> dict:
         """The spec of the scene in use (the primary scene while ``scene`` holds a bad value)."""
@@ -791,7 +594,7 @@ class HeliRotorSlave(Fmi2Slave):
         where = f"at t = {tk!r} s (sub-step {done + 1} of {n}, h = {h!r} s)"
         if status != 1:
             return f"doStep at t = {t!r} s: the model evaluation failed {where}; the step was discarded"
-        loop = _closure_failure(st, x, tk, h)
+        loop = closure_failure(st, x, tk, h)
         if loop:
             return (f"doStep at t = {t!r} s: {loop} ({where.partition('(')[2]}; the step was discarded (the state "
                     f"stays at t = {t!r} s)")
@@ -813,7 +616,7 @@ class HeliRotorSlave(Fmi2Slave):
     @entry_point("setFMUstate")
     def _set_fmu_state(self, state: dict) -> None:
         """Restore ``state``; a malformed one is refused (logged error) and nothing changes."""
-        problem = _state_problem(state)
+        problem = state_problem(state)
         if problem:
             raise BadValue(f"not a state of this FMU: {problem}")
         before = dict(self.__dict__)
@@ -839,26 +642,8 @@ class HeliRotorSlave(Fmi2Slave):
             self._load(self._scene()["group"], self._use("evaluator"), x, comp)
         self._t, self._p, self._cache = float(state["t"]), None, None
 
-    @staticmethod
-    def _fmu_state_to_bytes(state) -> bytes:
-        """The serialised FMU state (JSON); never raises."""
-        try:
-            return json.dumps(state).encode("utf-8")
-        except Exception as exc:
-            return json.dumps({"format": "invalid", "error": f"state not serialisable: {exc}"}).encode("utf-8")
-
-    @staticmethod
-    def _fmu_state_from_bytes(state: bytes):
-        """The FMU state from its bytes; a corrupt blob gives a marker that
-        ``_set_fmu_state`` refuses with a message (this is called without an instance, so it
-        cannot log)."""
-        try:
-            value = json.loads(bytes(state).decode("utf-8"))
-        except Exception as exc:
-            return {"format": "corrupt", "error": f"the serialised state cannot be decoded ({type(exc).__name__}: "
-                                                  f"{str(exc)[:200]})"}
-        return value if isinstance(value, dict) else {"format": "corrupt", "error": "the serialised state is "
-                                                      f"a JSON {type(value).__name__}, not an object"}
+    _fmu_state_to_bytes = staticmethod(to_bytes)
+    _fmu_state_from_bytes = staticmethod(from_bytes)
 
 
 # -- pythonfmu re-runs this file ----------------------------------------------------------------
@@ -878,15 +663,6 @@ def _settle_rerun(scope: dict, module: dict) -> None:
     for name in [n for n, v in scope.items() if isinstance(v, type)]:
         del scope[name]
     scope["HeliRotorSlave"] = module["HeliRotorSlave"]
-
-
-def _closure_failure(stepper, x, t: float, h: float) -> str | None:
-    """The local loop (mbs.loops) that could not close in the failed sub-step from ``(x, t)``, or
-    None (no loop failed, or the evaluator has no generated right-hand side and outputs)."""
-    try:
-        return _closure.explain(stepper.system, stepper.method, x, t, h, 1, stepper.p)
-    except Exception:
-        return None
 
 
 _PINNED: list = []  # the module's dict, once per re-run (pythonfmu releases one reference each time)

@@ -4,8 +4,8 @@ step's arguments, the instance name and the GUID, a communication step rounded t
 nanoseconds, the fmi2Terminated status, FMU states (into an existing state, buffer size,
 restored into an instance in another phase) and log categories.
 
-``python -m fmu.probe_fmi CASE ARGS_JSON`` runs one case in this (fresh) process and prints
-one JSON line, like :mod:`fmu.probe` (whose :class:`~fmu.probe.Probe` drives the instance).
+``python -m fmu_hosts.probe_fmi CASE ARGS_JSON`` runs one case in this (fresh) process and prints
+one JSON line, like :mod:`fmu_hosts.probe` (whose :class:`~fmu_hosts.probe.Probe` drives the instance).
 """
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ import json
 import sys
 from pathlib import Path
 
-from fmu.probe import GOOD_STEP, Probe
+from fmu_hosts.probe import GOOD_STEP, Probe
 
 
 def _ready(a: dict, strings: dict | None = None, reals: dict | None = None) -> Probe:

@@ -1,5 +1,5 @@
 """Run the pythonfmu FMU from C hosts linked to libpython, each run a fresh process, and count
-the runs that do not exit cleanly (the exit test of the FMU's front end, ``fmu/shim``).
+the runs that do not exit cleanly (the exit test of the FMU's front end, ``fmu/pythonfmu/shim``).
 
 - :func:`compile_python_host`: ``python_host.c`` compiled against this interpreter's libpython;
 - :func:`runs`: ``n`` fresh runs of one mode (``embed``: the host starts Python itself;
@@ -14,7 +14,10 @@ import sysconfig
 import zipfile
 from pathlib import Path
 
+import fmu
+
 HERE = Path(__file__).resolve().parent
+PROJECT = Path(fmu.__file__).resolve().parents[1]  # the folder that holds fmu/ and mbs/
 
 
 def compile_python_host(dest: Path) -> Path:
@@ -48,7 +51,7 @@ def unzip(fmu: Path, folder: Path) -> dict:
 
 def runs(host: Path, fmu: dict, mode: str, n: int, steps: int = 5, dt: float = 1e-3) -> dict:
     """``n`` fresh runs of ``host`` in ``mode``: exit codes (counts) and the failures' stderr."""
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join([*site.getsitepackages(), str(HERE.parent)])}
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([*site.getsitepackages(), str(PROJECT)])}
     codes: dict[int, int] = {}
     failures = []
     for _ in range(n):

@@ -16,7 +16,10 @@ The SSD gives every start value a run needs as SSP 1.0 parameter bindings (inlin
 sets): the helicopter's scene, start and disturbance, and its four pitch inputs at the hover trim
 (SSP 1.0 binds start values of inputs too; its connectors carry no start value), so a master
 that applies the bindings starts at the trim before any value is transferred.
-:mod:`fmu.fmpy_ssp` runs fmpy's own SSP runner on it, which cannot run it (see there why).
+:mod:`fmu.cosim.fmpy_ssp` runs fmpy's own SSP runner on it, which cannot run it (see there why).
+
+This package: the masters and ``heli cosim`` here; :mod:`fmu.cosim.ssp` writes the SSP file (SSD
+and FMUs); :mod:`fmu.cosim.fmpy_ssp` is the fmpy SSP runner's fresh-process attempt.
 """
 from __future__ import annotations
 
@@ -36,7 +39,7 @@ VIEWER_REVS = 20  # revolutions shown by the viewer page: the first 2.8 s, the r
 
 
 def system(heli_fmu: Path, ctrl_fmu: Path, closed: bool = True, speed: float = 1.0) -> dict:
-    """Components and connections of the hover-hold system (see :func:`fmu.ssp.write_ssp`)."""
+    """Components and connections of the hover-hold system (see :func:`fmu.cosim.ssp.write_ssp`)."""
     trim = controller.read_design(ctrl_fmu)["trim_controls"]
     heli = {"path": heli_fmu, "fmu": heli_fmu.name, "inputs": list(controller.OUTPUTS), "outputs": RECORDED,
             "parameters": {"scene": controller.SCENE, "initial_state": "periodic", "initial_forward_speed": speed,
@@ -48,7 +51,7 @@ def system(heli_fmu: Path, ctrl_fmu: Path, closed: bool = True, speed: float = 1
 
 
 def write(dest: Path, heli_fmu: Path, ctrl_fmu: Path, stop: float, closed: bool = True, speed: float = 1.0) -> Path:
-    from fmu import ssp
+    from fmu.cosim import ssp
 
     s = system(heli_fmu, ctrl_fmu, closed, speed)
     return ssp.write_ssp(dest, "hover-hold" if closed else "hover-open-loop", s["components"], s["connections"], stop)
@@ -325,7 +328,7 @@ def run(out: Path, stop: float = 60.0, log=None, aircraft=None) -> dict:
     """``heli cosim``: build both FMUs, write the closed- and open-loop ``.ssp``, run the closed
     loop in libcosim and in the fmpy loop, the open loop in libcosim; compare, plot, write CSV."""
     from fmu import build as pybuild
-    from fmu import fmpy_ssp
+    from fmu.cosim import fmpy_ssp
     from fmu.native.build import ensure_native_fmu
 
     out.mkdir(parents=True, exist_ok=True)
