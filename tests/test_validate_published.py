@@ -54,11 +54,14 @@ PUMA = {
     "M_q": "x1.25-1.32 at 0-40 kn",
     "L_p": "x0.68, 0.56 at 120, 140 kn (within 25 % to 100 kn): compressibility, which Helisim lacks, takes 0.14 at "
            "140 kn and the hub-drag estimate's trim 0.07; with both off x0.77-1.05 (test_roll_damping.py)",
-    "N_r": "x1.80-3.00, growing with speed (the tail rotor: N_θ0T x1.5-2.0)", "L_v": "opposite sign (the published "
+    "N_r": "x1.80-3.00, growing with speed (the tail rotor: N_θ0T x1.5-2.0; the fin's slope 3.5 is taken from "
+           "S1a's polynomial transcribed without a linear term: with the fin at 0.001 1/rad x1.47-1.94)",
+    "L_v": "opposite sign (the published "
     "curve's sign is uncertain)",
     "N_v": "x1.57-4.61 from 40 kn", "Z_θ0": "x1.26 in hover",
-    "N_θ0T": "x1.50-1.97 at every speed (the file's tail chord 0.186 m is S1's solidity 0.19; S1a's rigidPuma.m "
-             "has 0.1176 m)",
+    "N_θ0T": "x1.50-1.97 at every speed: the model's tail rotor equals blade-element momentum theory on the "
+             "file's tail data, Helisim's is 0.62 of it (test_yaw_control.py); the chord 0.1176 m of S1a's "
+             "rigidPuma.m gives x1.21-1.41",
 }
 
 
