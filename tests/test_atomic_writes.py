@@ -33,13 +33,19 @@ def _run(folder: Path, revs: str) -> subprocess.CompletedProcess:
                           capture_output=True, text=True, timeout=600)
 
 
+def _ctrl_c_default() -> None:
+    """Ctrl-C's default action in the child: a test run started in the background by a shell
+    inherits SIGINT ignored, and Python then installs no KeyboardInterrupt handler."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def test_ctrl_c_while_results_csv_is_written_keeps_the_earlier_run(tmp_path):
     out = tmp_path / "run"
     assert _run(out, "2").returncode == 0
     before = _contents(out)
     assert sorted(before) == sorted(FILES)
     proc = subprocess.Popen([str(HELI), "simulate", "structural", "--revs", "1000", "--out", str(out), "--quiet"],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, preexec_fn=_ctrl_c_default)
     partial, deadline = [], time.monotonic() + 500
     while not partial and proc.poll() is None and time.monotonic() < deadline:
         partial = [p for p in out.glob(".results.csv.*" + atomic.PART + ".csv") if p.stat().st_size > 1_000_000]
