@@ -3,7 +3,7 @@ harmonics per revolution, and power as an engine sees it.
 
 * :mod:`mbs.loads.outputs`: joint reaction loads (:class:`mbs.dynamics.Reactions`, one backward
   Newton–Euler pass) declared as named model outputs;
-* :mod:`mbs.loads.rotorcraft`: the loads outputs of a Bo105-like tree (blade root and spanwise
+* :mod:`mbs.loads.rotorcraft`: the loads outputs of a helicopter tree of any aircraft file (blade root and spanwise
   loads, hub loads in body axes, shaft torque and power, engine power);
 * :mod:`mbs.loads.engine`: the engine power from the shaft powers, the transmission efficiency
   and the accessory power;
