@@ -63,11 +63,12 @@ SPEEDS_KN = (0, 80, 100, 120, 140)
 ALL_KN = (0, 20, 40, 60, 80, 100, 120, 140)  # Helisim's speeds
 
 
-def helisim_l_p() -> dict[float, float]:
-    """Helisim's L_p (1/s) by speed (kn), from the packaged validation file."""
+def helisim_derivative(quantity: str) -> dict[float, float]:
+    """Helisim's Puma derivative ``quantity`` (SI, Padfield's signs) by speed (kn), from the packaged
+    validation file."""
     from mbs.validate import load
 
-    series = next(s for s in load("puma_helisim").of_kind("derivative") if s.quantity == "L_p")
+    series = next(s for s in load("puma_helisim").of_kind("derivative") if s.quantity == quantity)
     return {round(float(v) / KNOT): float(x) for v, x in zip(series.speed, series.value)}
 
 
@@ -85,7 +86,7 @@ def helisims_assumptions():
 def test_roll_damping_with_helisims_assumptions_is_within_25_percent_of_helisim_at_every_speed(helisims_assumptions):
     """Compressibility and hub drag off: ratio ours/Helisim 0.95 in hover, 0.93, 0.90, 0.84, 0.77 at
     80, 100, 120, 140 kn (as shipped 0.86, 0.81, 0.76, 0.68, 0.56)."""
-    published = helisim_l_p()
+    published = helisim_derivative("L_p")
     ratio = {kn: helisims_assumptions[kn].table["L_p"] / published[kn] for kn in ALL_KN}
     print({kn: round(r, 3) for kn, r in ratio.items()})
     assert all(0.75 <= r <= 1.25 for r in ratio.values()), ratio

@@ -16,6 +16,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from scipy.optimize import brentq
+from test_roll_damping import helisim_derivative
 
 RHO = 1.225  # kg/m^3, sea level
 
@@ -65,14 +66,6 @@ def puma_data() -> dict:
     return {"omega": puma.omega, **{k: puma.data[k] for k in ("tail_rotor", "aircraft")}}
 
 
-def helisim_yaw_control_in_hover() -> float:
-    """Helisim's N_θ0T in hover (1/s², Padfield's θ0T sign) from the packaged validation file."""
-    from mbs.validate import load
-
-    series = next(s for s in load("puma_helisim").of_kind("derivative") if s.quantity == "N_θ0T")
-    return float(series.value[np.argmin(np.abs(np.asarray(series.speed, float)))])
-
-
 def test_the_models_tail_rotor_control_power_equals_blade_element_momentum_theory(puma_hover, puma_data):
     """Model 11.92 1/s² against the theory's 11.79 at the trim's tail collective (+1.1 %)."""
     ours = puma_hover.table["N_θ0T"]
@@ -85,6 +78,6 @@ def test_helisims_tail_rotor_control_power_is_well_below_the_theory_on_the_files
     """Helisim's |N_θ0T| is 0.62 of the theory on the file's tail-rotor data: the ×1.6 in hover is the
     data's (solidity, lift slope, arm, inertia), not the model's tail rotor."""
     theory = theory_yaw_control(puma_data, puma_hover.reference["tail_collective"])
-    ratio = abs(helisim_yaw_control_in_hover()) / theory
+    ratio = abs(helisim_derivative("N_θ0T")[0]) / theory
     print(round(ratio, 3))
     assert 0.55 < ratio < 0.7
