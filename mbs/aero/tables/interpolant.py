@@ -11,11 +11,20 @@ number, beyond which the end values are held (as C81 programs hold them) without
 
 Both directions together are one bicubic per cell of the grid. The tables of one airfoil (c_L,
 c_D, c_M, each on its own grid) are merged onto the union of their grids, each interpolant's
-pieces unchanged (a piecewise cubic on a grid is one on any finer grid). The cell is found
-without a search: equal bins whose edges hold every grid point (a table printed in steps of 0.1°
-and of 0.05 in Mach) give the interval from the bin; one call node reads the cell's power-basis
-coefficients from a constant array (a second first reads the interval when the grid fits no such
-bins), and the SX graph evaluates the bicubics by Horner's rule, inlined.
+pieces unchanged (a piecewise cubic on a grid is one on any finer grid).
+
+In the generated code the whole interpolant is one small MX function, called once per blade
+element (one call node in the SX graph, whose outputs are the coefficients). Equal bins whose
+edges hold every grid point (a table printed in steps of 0.1° and of 0.05 in Mach) give the cell
+from the bin without a search (on other grids the bin's inner points are counted by
+comparisons); the cell's power-basis coefficients are read through a pointer into a constant
+array, not copied, and Horner's rule evaluates the bicubics. A directional derivative of the SX
+graph calls the function's forward derivative (CasADi's, of the MX function), in which the reads'
+derivatives are structurally zero: a direction costs the bicubics' derivatives along alpha and
+Mach, one number an output. (With the reads as a call node of their own and the bicubics in the
+SX graph, each direction carried the derivatives of all the coefficients read, zero in value but
+not in structure, since CasADi's SX differentiation of a call whose derivative is structurally
+zero leaves stale values: 2.6 times the analytic section's trim time.)
 """
 from __future__ import annotations
 
@@ -148,67 +157,60 @@ def lattice(x: np.ndarray) -> int | None:
 
 
 class Bins:
-    """Where a point of the grid ``x`` (n,) lies: equal bins over the grid give its interval as
-    ``first[bin]`` plus the number of the bin's inner grid points at or below it. On a grid whose
-    points all lie on bin edges (:func:`lattice`) there are no inner points: the bin alone gives
-    the interval (``aligned``)."""
+    """Where a point of the grid ``x`` (n,) lies: equal bins over the grid (and one more at its end,
+    holding its last point alone) give its interval as ``first[bin]`` plus the number of the bin's
+    inner grid points at or below it. On a grid whose points all lie on bin edges (:func:`lattice`)
+    there are no inner points: the bin alone gives the interval (``aligned``)."""
 
-    def __init__(self, name: str, x: np.ndarray):
+    def __init__(self, x: np.ndarray):
         self.x0, self.n = float(x[0]), len(x)
         span = float(x[-1] - x[0])
         aligned = lattice(x)
         self.aligned = aligned is not None
         self.count = aligned or int(min(MAX_BINS, np.ceil(span / np.diff(x).min() - 1e-9)))
         self.scale = self.count / span
-        edges = x[0] + np.arange(self.count + 1) / self.scale
+        edges = x[0] + np.arange(self.count + 2) / self.scale
         tolerance = LATTICE_TOLERANCE if self.aligned else 0.0
         self.first = np.clip(np.searchsorted(x, edges[:-1] + tolerance, side="right") - 1, 0, len(x) - 2)
         after = np.searchsorted(x, edges[1:] - tolerance, side="left")  # points strictly inside follow first
         inner = [x[f + 1:min(a, len(x) - 1)] for f, a in zip(self.first, after)]
-        rows = np.full((self.count, 1 + max(len(i) for i in inner)), np.inf)
-        rows[:, 0] = self.first
+        self.inner = np.full((self.count + 1, max(len(i) for i in inner)), np.inf)
         for k, points in enumerate(inner):
-            rows[k, 1:1 + len(points)] = points
-        self.read = None if self.aligned else lookup(name, rows)
+            self.inner[k, :len(points)] = points
 
-    def bin(self, x):
-        """The bin holding ``x`` (SX): a whole number, of zero derivative."""
-        return ca.fmin(ca.fmax(ca.floor((x - self.x0) * self.scale), 0), self.count - 1)
+    def position(self, x):
+        """``(x - x[0])`` in bins (MX): the bin holding ``x`` is its whole part, for ``x`` within the
+        grid (the caller's to ensure)."""
+        return (x - self.x0) * self.scale
 
-    def interval(self, x):
-        """The index of the interval holding ``x`` (SX; not on an aligned grid, whose bins are read
-        with the cells, :func:`cells_by_bin`)."""
-        row = self.read(self.bin(x))
-        return ca.fmin(row[0] + sum(x >= row[q] for q in range(1, row.numel())), self.n - 2)
-
-
-def cells_by_bin(name: str, bins: Bins, rows: np.ndarray, mach_cells: int,
-                 mach_bins: Bins | None = None) -> ca.Function:
-    """``(bin, k) -> rows[first[bin] mach_cells + k, :]`` for an aligned grid: the interval and the
-    cell's row in one call node (inputs from ``floor`` and comparisons); with ``mach_bins`` (an
-    aligned Mach grid) ``k`` is a Mach bin, turned into its interval here too."""
-    b, k = ca.MX.sym("bin"), ca.MX.sym("k")
-    interval = ca.MX(ca.DM(mach_bins.first.astype(float)))[k] if mach_bins is not None else k
-    cell = ca.MX(ca.DM(bins.first.astype(float)))[b] * mach_cells + interval
-    return ca.Function(f"{name}{COPIED_SUFFIX}", [b, k], [_read(rows, cell)], {"never_inline": True})
+    def interval(self, x, position):
+        """The index of the interval holding ``x`` at ``position`` (MX, :meth:`position`):
+        ``first[bin]`` plus the bin's inner points at or below ``x`` (none on an aligned grid).
+        The reads truncate ``position`` to its bin; their derivatives are structurally zero."""
+        first = _element(self.first, position)
+        if not self.inner.shape[1]:
+            return first
+        points = _read(self.inner, position)
+        return first + sum(x >= points[q] for q in range(self.inner.shape[1]))
 
 
-def lookup(name: str, rows: np.ndarray) -> ca.Function:
-    """``i -> rows[i, :]`` for a whole number ``i`` within the rows (the caller's to ensure: the read
-    is not checked): a call node that reads constant data, the one thing an SX graph cannot do
-    itself. Its input is always built from ``floor`` and comparisons, so that no derivative
-    passes through the call."""
-    i = ca.MX.sym("i")
-    return ca.Function(f"{name}{COPIED_SUFFIX}", [i], [_read(rows, i)], {"never_inline": True})
+def clamp(x, low: float, high: float):
+    """``x`` held within ``[low, high]`` (MX; NaN gives ``low``) by two selections, no call."""
+    x = ca.if_else(x > low, x, low)
+    return ca.if_else(x < high, x, high)
 
 
-def _read(rows: np.ndarray, i: ca.MX) -> ca.MX:
-    """Row ``i`` of the constant ``rows`` as a column, copied from its offset; its derivative is
-    structurally zero (a read by a whole-number index; a row read of ``rows`` would clear an array
-    the size of the table in each directional derivative). The zero added (an ``if_else`` that
-    never takes its other branch) gives the call a derivative that is zero in value but not in
-    structure: CasADi's SX differentiation turns a call's structurally zero derivative into NaN."""
-    return ca.MX(ca.DM(rows.T))[:, i] + ca.if_else(i >= 0, 0, i)
+def _element(values: np.ndarray, i):
+    """``values[int(i)]`` (MX) for ``i`` within them; structurally zero derivative."""
+    return ca.MX(ca.DM(np.asarray(values, float)))[i]
+
+
+def _read(rows: np.ndarray, i):
+    """Row ``floor(i)`` of the constant ``rows`` as a column (MX): a pointer into the constant
+    array in the generated code, no copy. ``i`` within the rows (the caller's to ensure: the read
+    is not checked); the ``floor`` makes its derivative structurally zero (an index of nonzero
+    derivative would clear an array the size of the table in each directional derivative)."""
+    return ca.MX(ca.DM(rows.T))[:, i]
 
 
 def cell_rows(alpha: np.ndarray, mach: np.ndarray, data: np.ndarray) -> np.ndarray:
@@ -235,39 +237,39 @@ def cell_rows(alpha: np.ndarray, mach: np.ndarray, data: np.ndarray) -> np.ndarr
 
 
 class TableSpline:
-    """Several coefficient tables (:class:`HermiteTable`) as one CasADi SX function of
-    ``[alpha (rad), Mach]`` with one output each (module docstring); ``__call__(alpha, mach)`` ->
-    a column of the coefficients."""
+    """Several coefficient tables (:class:`HermiteTable`) as one CasADi function of ``alpha``
+    (rad) and the Mach number with one output each (module docstring); ``__call__(alpha, mach)``
+    -> a column of the coefficients."""
 
     def __init__(self, name: str, tables: list[HermiteTable]):
         alpha, mach = union([t.alpha for t in tables]), union([t.mach for t in tables])
         self.size, self.mach_range = len(tables), (float(mach[0]), float(mach[-1]))
         data = np.stack([t.corners(alpha, mach) for t in tables], axis=-1)  # (n_alpha, n_mach, 4, n_out)
-        x = ca.SX.sym("x", 2)
-        m = ca.fmin(ca.fmax(x[1], mach[0]), mach[-1]) if len(mach) > 1 else ca.SX(0.0)
-        c = _cell(name, alpha, mach, cell_rows(alpha, mach, data), x[0], m)
-        t, u = (x[0] - c[-4]) * c[-3], (m - c[-2]) * c[-1]
+        angle, mach_number = ca.MX.sym("alpha"), ca.MX.sym("mach")
+        m = clamp(mach_number, mach[0], mach[-1]) if len(mach) > 1 else ca.MX(0.0)
+        c = _cell(alpha, mach, cell_rows(alpha, mach, data), angle, m)
+        t, u = (angle - c[-4]) * c[-3], (m - c[-2]) * c[-1]
         out = [_horner([_horner([c[16 * o + 4 * a + b] for b in range(4)], u) if len(mach) > 1 else c[16 * o + 4 * a]
                         for a in range(4)], t) for o in range(self.size)]
-        self.function = ca.Function(name, [x], [ca.vertcat(*out)])
+        self.function = ca.Function(f"{name}_cells{COPIED_SUFFIX}", [angle, mach_number], [ca.vertcat(*out)],
+                                    {"never_inline": True})
 
     def __call__(self, alpha, mach):
-        """The coefficients (n_out,) at ``alpha`` (rad, within ±π) and Mach number ``mach``
-        (held at the merged tables' end values outside their Mach range); inlined into an SX graph."""
-        return self.function(ca.vertcat(alpha, mach))
+        """The coefficients (n_out,) at ``alpha`` (rad, within ±π; beyond it the cubics of the cells
+        at ±π are extended; NaN gives NaN) and Mach number ``mach`` (held at the merged tables' end
+        values outside their Mach range): one call node in an SX graph."""
+        return self.function(alpha, mach)
 
 
-def _cell(name: str, alpha: np.ndarray, mach: np.ndarray, rows: np.ndarray, a, m):
-    """The row of :func:`cell_rows` of the cell holding ``(a, m)`` (SX): one call node on aligned
-    grids (:func:`lattice`), two otherwise (the bin's interval, then the cell)."""
-    bins, cells = Bins(f"{name}_bins", alpha), max(len(mach) - 1, 1)
-    mach_bins = Bins(f"{name}_mach", mach) if len(mach) > 2 else None
-    if bins.aligned and mach_bins is not None and mach_bins.aligned:
-        return cells_by_bin(f"{name}_cells", bins, rows, cells, mach_bins)(bins.bin(a), mach_bins.bin(m))
-    k = sum(m >= v for v in mach[1:-1]) if len(mach) > 2 else 0
-    if bins.aligned:
-        return cells_by_bin(f"{name}_cells", bins, rows, cells)(bins.bin(a), k)
-    return lookup(f"{name}_cells", rows)(bins.interval(a) * cells + k)
+def _cell(alpha: np.ndarray, mach: np.ndarray, rows: np.ndarray, a, m):
+    """The row of :func:`cell_rows` of the cell holding ``(a, m)`` (MX; ``m`` within the Mach
+    grid; ``a`` beyond the angles reads the cell at the nearer end, NaN the first)."""
+    bins, cells = Bins(alpha), max(len(mach) - 1, 1)
+    k = 0
+    if len(mach) > 2:
+        mach_bins = Bins(mach)
+        k = mach_bins.interval(m, mach_bins.position(m))
+    return _read(rows, bins.interval(a, clamp(bins.position(a), 0, bins.count)) * cells + k)
 
 
 def _horner(coefficients: list, t):
