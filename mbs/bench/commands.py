@@ -17,7 +17,9 @@ def _scene_lines(res: dict) -> list[str]:
     if t:
         lines.append(f"  {t['scene']}: the rotors' sections as C81 tables, {t['real_time_factor_cpu']:.1f}x real time "
                      f"in CPU time against {t['analytic_real_time_factor_cpu']:.1f}x analytic: RK4 step "
-                     f"x{t['ratio_rk4_step_to_analytic']:.2f}")
+                     f"x{t['ratio_rk4_step_to_analytic']:.2f}; trim {t['trim_s']:.1f} s against "
+                     f"{t['analytic_trim_s']:.1f} s (Newton, {t['trim_iterations']} and {t['analytic_trim_iterations']} "
+                     f"iterations): x{t['ratio_trim_to_analytic']:.2f} (medians of {t['repeats']} interleaved runs)")
     return lines
 
 

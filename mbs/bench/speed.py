@@ -226,11 +226,18 @@ def scene_speed(name, steps_per_rev: int = STEPS_PER_REV, run_steps: int = 200) 
             "rk4_step_in_run_cpu_us": 1e6 * in_run_cpu, "real_time_factor_cpu": h / in_run_cpu}
 
 
-def tables_speed() -> dict:
+TABLES_REPEATS = 3
+"""Runs of each variant in the row ``forward-flight-tables``, interleaved (tables, analytic, ...)."""
+
+
+def tables_speed(repeats: int = TABLES_REPEATS) -> dict:
     """Row ``forward-flight-tables``: the forward-flight scene of a Bo105 whose rotors' sections
     are C81 tables (91 angles x 12 Mach numbers, sampled from its analytic sections with their
-    compressibility corrections; :func:`mbs.aero.tables.sample.with_sampled_tables`), with its
-    RK4 step and real-time factor over the analytic scene's, both measured here."""
+    compressibility corrections; :func:`mbs.aero.tables.sample.with_sampled_tables`) against the
+    analytic scene, both measured here, interleaved ``repeats`` times (other jobs on the machine
+    then load both alike): the tables' :func:`scene_speed` of the median run, its RK4 step and
+    real-time factor over the analytic scene's (CPU time, medians), and the trims' Newton time
+    (s, wall, median; evaluators built and compiled beforehand, not counted) and its ratio."""
     import tempfile
     from pathlib import Path
 
@@ -240,10 +247,35 @@ def tables_speed() -> dict:
     base = scenes.get("forward-flight")
     with tempfile.TemporaryDirectory() as folder:
         craft = with_sampled_tables(aircraft.load(), Path(folder))
-        tables = scene_speed(replace(base.with_aircraft(craft), name="forward-flight-tables"))
-    analytic = scene_speed(base)
-    return {**tables, "ratio_rk4_step_to_analytic": tables["rk4_step_in_run_cpu_us"] / analytic["rk4_step_in_run_cpu_us"],
-            "analytic_real_time_factor_cpu": analytic["real_time_factor_cpu"]}
+        tabled = replace(base.with_aircraft(craft), name="forward-flight-tables")
+        runs = [[scene_speed(sc) for sc in (tabled, base)] for _ in range(repeats)]
+        trims = _trim_times((tabled, base), repeats)
+    step = [float(np.median([r[k]["rk4_step_in_run_cpu_us"] for r in runs])) for k in range(2)]
+    tables = sorted((r[0] for r in runs), key=lambda r: r["rk4_step_in_run_cpu_us"])[len(runs) // 2]
+    return {**tables, "rk4_step_in_run_cpu_us": step[0], "real_time_factor_cpu": tables["h_s"] / step[0] * 1e6,
+            "analytic_rk4_step_in_run_cpu_us": step[1], "ratio_rk4_step_to_analytic": step[0] / step[1],
+            "analytic_real_time_factor_cpu": tables["h_s"] / step[1] * 1e6, "repeats": repeats,
+            "trim_s": trims[0]["newton_s"], "analytic_trim_s": trims[1]["newton_s"],
+            "ratio_trim_to_analytic": trims[0]["newton_s"] / trims[1]["newton_s"],
+            "trim_iterations": trims[0]["iterations"], "analytic_trim_iterations": trims[1]["iterations"]}
+
+
+def _trim_times(scenes: tuple, repeats: int) -> list[dict]:
+    """For each scene: the median wall time (s) of its trim's Newton iterations over ``repeats``
+    trims, the scenes' trims interleaved, and the iterations of the last; the evaluators are built
+    (and compiled, when not cached) first."""
+    from mbs.analysis.trim import evaluators, trim
+
+    built = [evaluators(sc) for sc in scenes]
+    times: list[list[float]] = [[] for _ in scenes]
+    last = [None] * len(scenes)
+    for _ in range(repeats):
+        for k, (sc, (system, stepper)) in enumerate(zip(scenes, built)):
+            last[k] = trim(sc, system=system, stepper=stepper)
+            if not last[k].converged:
+                raise RuntimeError(f"scene {sc.name}: the trim did not converge: {last[k].reason}")
+            times[k].append(last[k].wall_s)
+    return [{"newton_s": float(np.median(t)), "iterations": r.iterations} for t, r in zip(times, last)]
 
 
 def run(progress: Callable[[int, int], None] | None = None) -> dict:
