@@ -6,7 +6,9 @@ Rules, in the order they are checked (each problem is one line, ``section.key: w
 2. Every section and entry is known (:data:`mbs.aircraft.schema.ENTRIES`); a typo names the
    closest known name.
 3. Every entry is a table ``{ value, unit, source[, note][, override] }``: no other fields;
-   ``source`` says where the value comes from (``EST`` for an estimate).
+   ``source`` says where the value comes from (``EST`` for an estimate). A position from the
+   CG may give ``station`` instead of ``value``, with ``aircraft.cg_station``
+   (:mod:`mbs.aircraft.stations`).
 4. ``unit`` is given for every number and is of the entry's kind (a length for a radius, an
    angle for a twist): it is converted to SI (``ft``, ``lb``, ``slug ft^2``, ``deg``,
    ``rpm`` ...).
@@ -27,7 +29,7 @@ import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from mbs.aircraft import units
+from mbs.aircraft import stations, units
 from mbs.aircraft.schema import DERIVED, ENTRIES, OPTIONAL_SECTIONS, Entry
 
 if sys.version_info >= (3, 11):
@@ -35,7 +37,7 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover
     import tomli as tomllib
 
-FIELDS = ("value", "unit", "source", "note", "override")
+FIELDS = ("value", "unit", "source", "note", "override", "station")
 
 
 @dataclass
@@ -46,6 +48,7 @@ class Reading:
     values: dict = field(default_factory=dict)
     meta: dict = field(default_factory=dict)
     problems: list[str] = field(default_factory=list)
+    stations: list[stations.Given] = field(default_factory=list)
 
     def put(self, section: str, key: str, value, meta: dict) -> None:
         self.values.setdefault(section, {})[key] = value
@@ -69,6 +72,7 @@ def read(text: str, base: Path | None = None) -> Reading:
         else:
             for key, entry in entries.items():
                 _entry(out, section, key, entry, base)
+    _place_stations(out)
     _missing(out, raw)
     return out
 
@@ -84,6 +88,9 @@ def _entry(out: Reading, section: str, key: str, entry, base: Path | None = None
     if spec is None and derived is None:
         known = [*ENTRIES.get(section, {}), *DERIVED.get(section, {})]
         out.problems.append(f"{where}: unknown entry{_suggest(key, known)}")
+        return
+    if isinstance(entry, dict) and "station" in entry:
+        _station_entry(out, section, key, entry, spec)
         return
     if not isinstance(entry, dict) or "value" not in entry:
         out.problems.append(f"{where}: write it as {{ value = ..., unit = \"...\", source = \"...\" }}")
@@ -102,6 +109,70 @@ def _entry(out: Reading, section: str, key: str, entry, base: Path | None = None
     origin = "override" if entry.get("override") else "file"
     out.put(section, key, value, {"unit": entry.get("unit", ""), "source": entry["source"],
                                   "note": entry.get("note", ""), "origin": origin, "value": entry["value"]})
+
+
+def _station_entry(out: Reading, section: str, key: str, entry: dict, spec: Entry | None) -> None:
+    """A position given as its station(s): kept until the CG's stations are read."""
+    where = f"{section}.{key}"
+    if spec is None or not spec.axis:
+        positions = [f"{s}.{k}" for s, e in ENTRIES.items() for k, v in e.items() if v.axis]
+        out.problems.append(f"{where}: only a position from the CG may be given as a station ({', '.join(positions)}); "
+                            "give value = ...")
+        return
+    problem = ("give value or station, not both" if "value" in entry else _fields(entry)
+               or ("override applies to derived entries only; this one is plain data" if "override" in entry else None))
+    if problem:
+        out.problems.append(f"{where}: {problem}")
+        return
+    try:
+        station = _station(entry["station"], entry.get("unit"), spec)
+    except ValueError as exc:
+        out.problems.append(f"{where}: {exc}")
+        return
+    meta = {"unit": entry.get("unit", ""), "source": entry["source"], "note": entry.get("note", ""), "origin": "file",
+            "value": entry["station"]}
+    out.stations.append(stations.Given(section, key, spec.axis, station, meta))
+
+
+def _station(value, unit, spec: Entry):
+    """A station (m): one number, or three (FS, BL, WL) for a point."""
+    if unit is None:
+        raise ValueError('no unit: give unit = "in" (or another length unit) for the station')
+    factor = units.factor_to(str(unit), "m")
+    if spec.axis == "xyz":
+        if not (isinstance(value, list) and len(value) == 3):
+            raise ValueError("station must be a list of 3 numbers: FS, BL, WL")
+        return [_number(v) * factor for v in value]
+    if isinstance(value, list):
+        raise ValueError(f"station must be one number, the {stations.AXES[spec.axis][1]} of the point")
+    return _number(value) * factor
+
+
+def _place_stations(out: Reading) -> None:
+    """Each position given as a station, in body axes from the CG (:func:`mbs.aircraft.stations.position`)."""
+    cg = out.values.get("aircraft", {}).get("cg_station")
+    if out.values.get("fuselage_aero", {}).get("cg_station") and cg:
+        out.problems.append("fuselage_aero.cg_station: the CG's stations are given as aircraft.cg_station too; "
+                            "give them once, in [aircraft]")
+    if not out.stations:
+        return
+    if not cg:
+        first = out.stations[0]
+        out.problems.append(f"{first.section}.{first.key}: given as a station; give the CG's stations too: [aircraft] "
+                            "cg_station = { value = [FS, BL, WL], unit = \"in\", source = \"...\" }")
+        return
+    side = out.values.get("conventions", {}).get("butt_line_positive", "starboard")
+    cg_meta = out.meta["aircraft"]["cg_station"]
+    for given in out.stations:
+        spec = ENTRIES[given.section][given.key]
+        value = stations.position(given.axis, given.station, cg, side)
+        try:
+            value = [_bounded(v, spec) for v in value] if isinstance(value, list) else _bounded(value, spec)
+        except ValueError as exc:
+            out.problems.append(f"{given.section}.{given.key}: the station gives {exc}")
+            continue
+        text = stations.how(given.axis, given.meta["value"], given.meta["unit"], cg_meta["value"], cg_meta["unit"], side)
+        out.put(given.section, given.key, value, {**given.meta, "how": text})
 
 
 def _fields(entry: dict) -> str | None:

@@ -20,7 +20,9 @@ class Entry:
     """One entry: SI ``unit`` ("-" a pure number, "1/rev" per revolution), ``kind`` (number,
     integer, choice, text, vector, table, airfoils: rows of r/R and a C81 file), ``low``/``high`` bounds (inclusive unless
     ``open_low``/``open_high``), ``choices``, ``length`` of a vector, ``columns`` (units) of
-    a table, ``default`` (None: required) and the meaning ``text``."""
+    a table, ``default`` (None: required), the meaning ``text``, and for a position from the CG
+    the body ``axis`` (or axes) it lies along, so that it may be written as a station
+    (:mod:`mbs.aircraft.stations`)."""
 
     unit: str
     text: str
@@ -35,6 +37,7 @@ class Entry:
     columns: tuple = ()
     only_if: tuple = ()  # (key, value): the entry applies only when that entry of the section has that value
     replaces: str = ""  # the entry of the section this one gives instead (a distribution instead of a number)
+    axis: str = ""  # a position from the CG along these body axes ("x", "z", "xyz"): it may be given as stations
 
 
 def num(unit, text, low=-math.inf, high=math.inf, **kw) -> Entry:
@@ -127,8 +130,8 @@ def _controls(prefix: str, what: str) -> dict[str, Entry]:
 
 def _surface(what: str, arg: str = "alpha", flow: str = "downwash") -> dict[str, Entry]:
     return {"area": positive("m^2", f"{what} area"), "incidence": angle(f"{what} incidence", 30),
-            "x": num("m", f"{what} aerodynamic centre, x (forward) from the CG"),
-            "z": num("m", f"{what} aerodynamic centre, z (down) from the CG"),
+            "x": num("m", f"{what} aerodynamic centre, x (forward) from the CG", axis="x"),
+            "z": num("m", f"{what} aerodynamic centre, z (down) from the CG", axis="z"),
             "chord": positive("m", f"{what} chord (display only)"), **_airfoil(what, cd2_default=0.0),
             **_interference(what, arg, flow)}
 
@@ -164,7 +167,7 @@ def _fuselage_tables() -> dict[str, Entry]:
                        "pitch, yaw; wind axes turned by alpha and beta from the body axes, stability by alpha only)",
                        *AIRFRAME_AXES, only_if=tables),
         "reference_point": Entry("m", "point the moments are about: x (forward), y (starboard), z (down) from the CG",
-                                 "vector", length=3, default=(), only_if=tables),
+                                 "vector", length=3, default=(), only_if=tables, axis="xyz"),
         "reference_station": Entry("m", "point the moments are about as fuselage station (aft), butt line "
                                    "(starboard), water line (up); with cg_station", "vector", length=3, default=(),
                                    only_if=tables),
@@ -227,6 +230,11 @@ ENTRIES: dict[str, dict[str, Entry]] = {
         "Iyy": positive("kg m^2", "pitch moment of inertia (of what: see inertia)"),
         "Izz": positive("kg m^2", "yaw moment of inertia (of what: see inertia)"),
         "Ixz": num("kg m^2", "product of inertia: tensor [[Ixx, 0, -Ixz], [0, Iyy, 0], [-Ixz, 0, Izz]]", default=0.0),
+        "cg_station": Entry("m", "the CG as fuselage station (aft), butt line (see conventions.butt_line_positive), "
+                            "water line (up): with it, the positions from the CG (the hubs, the tail surfaces, the "
+                            "fuselage tables' reference point) may be written as their stations, "
+                            "{ station = ..., unit, source } instead of { value = ... }", "vector", length=3,
+                            default=()),
     },
     "environment": {
         "rho": positive("kg/m^3", "air density", default=1.225),
@@ -239,8 +247,8 @@ ENTRIES: dict[str, dict[str, Entry]] = {
         "omega": positive("rad/s", "nominal main-rotor speed"),
         "omega_min": positive("rad/s", "least rotor speed the omega parameter accepts", default="0.5 omega"),
         "omega_max": positive("rad/s", "largest rotor speed the omega parameter accepts", default="1.2 omega"),
-        "hub_x": num("m", "hub position x (forward) from the CG"),
-        "hub_z": num("m", "hub position z (down) from the CG; negative above it"),
+        "hub_x": num("m", "hub position x (forward) from the CG", axis="x"),
+        "hub_z": num("m", "hub position z (down) from the CG; negative above it", axis="z"),
         "shaft_tilt": angle("forward tilt of the shaft", 30),
         "I_flap": positive("kg m^2", "blade moment of inertia about the flap hinge"),
         "mass_table": Entry("-, kg/m", "blade mass per length along the span: rows r/R, mass per length (linear "
@@ -268,9 +276,9 @@ ENTRIES: dict[str, dict[str, Entry]] = {
                            "or rigid (blades on pitch bearings only)", "teetering", "rigid", "flapping"),
         "upper_blade": choice("which way the upper tail-rotor blade moves", "aft", "forward"),
         "gear_ratio": positive("-", "tail-rotor speed per main-rotor speed"),
-        "hub_x": num("m", "tail-rotor hub x (forward) from the CG"),
-        "hub_y": num("m", "tail-rotor hub y (starboard) from the CG"),
-        "hub_z": num("m", "tail-rotor hub z (down) from the CG"),
+        "hub_x": num("m", "tail-rotor hub x (forward) from the CG", axis="x"),
+        "hub_y": num("m", "tail-rotor hub y (starboard) from the CG", axis="y"),
+        "hub_z": num("m", "tail-rotor hub z (down) from the CG", axis="z"),
         "blade_mass": positive("kg", "tail-rotor blade mass"),
         "hub_size": positive("m", "tail-rotor hub, a cube (inertia only)"),
         "seesaw_mass": positive("kg", "seesaw mass", only_if=("hub_type", "teetering")),
@@ -315,6 +323,8 @@ ENTRIES: dict[str, dict[str, Entry]] = {
         "collective_radius": ratio("where published main-rotor collective pitch is measured, fraction of R (0: "
                                    "the blade root, the model's collective; 0.75 for theta_0.75)", 0.0, 1.0,
                                    default=0.0),
+        "butt_line_positive": choice("the side to which butt lines count positive in this file's stations",
+                                     "starboard", "port", default="starboard"),
     },
     "lag_damper": {
         "hub_point": Entry("m", "the lag damper's end on the hub, in its blade's rotating frame at zero azimuth: "
