@@ -129,3 +129,49 @@ def test_a_point_needs_three_stations():
     out = read(_with_cg(_bo105()).replace(
         "[fuselage_aero]\n", '[fuselage_aero]\nreference_point = { station = [1.0, 2.0], unit = "in", source = "R2" }\n'))
     assert "fuselage_aero.reference_point: station must be a list of 3 numbers: FS, BL, WL" in out.problems
+
+
+# -- blade tables against radial stations -----------------------------------------------------------
+
+RADIUS = 4.91  # m, the Bo105's main-rotor radius
+TIP_IN = RADIUS / INCH  # the tip's radial station, in
+
+
+def _chord(rows: str, unit: str) -> str:
+    text = re.sub(r"^chord = .*\n", "", _bo105().replace("[main_rotor]\n", "[main_rotor]\n" + (
+        f'chord_table = {{ value = {rows}, unit = "{unit}", source = "R3 Fig. 2" }}\n'), 1), count=1, flags=re.M)
+    return text
+
+
+def test_span_tables_against_radial_stations_equal_those_against_r_over_r():
+    """A chord table printed against radial stations in inches gives the same r/R rows as the
+    hand division by the radius; the tip's station becomes r/R = 1 exactly."""
+    stations = [0.2 * TIP_IN, 0.6 * TIP_IN, TIP_IN]
+    by_station, problems = evaluate(_chord(f"[[{stations[0]!r}, 11.0], [{stations[1]!r}, 10.6], [{stations[2]!r}, 10.0]]",
+                                           "in, in"))
+    assert not problems, problems
+    by_ratio, problems = evaluate(_chord("[[0.2, 11.0], [0.6, 10.6], [1.0, 10.0]]", "-, in"))
+    assert not problems, problems
+    flat = [x for row in by_ratio["main_rotor"]["chord_table"] for x in row]
+    assert [x for row in by_station["main_rotor"]["chord_table"] for x in row] == pytest.approx(flat, abs=1e-12)
+    assert by_station["main_rotor"]["chord_table"][-1][0] == 1.0
+    assert by_station["main_rotor"]["chord"] == pytest.approx(by_ratio["main_rotor"]["chord"], rel=1e-12)
+
+
+def test_aircraft_check_lists_the_radial_stations_over_the_radius(tmp_path):
+    path = tmp_path / "craft.toml"
+    path.write_text(_chord("[[19.0, 0.27], [193.0, 0.26]]", "in, m"))
+    report = aircraft.check(path)
+    assert report.ok, report.problems
+    entry, value, unit, how, source = next(r for r in report.converted if r[0] == "main_rotor.chord_table")
+    assert value[1][0] == pytest.approx(193.0 * INCH / RADIUS, rel=1e-12) and source == "R3 Fig. 2"
+    assert how.startswith("r/R from the radial stations in in over main_rotor.radius 4.91 m")
+
+
+@pytest.mark.parametrize("rows,unit,expected", [
+    ("[[19.0, 0.27], [194.0, 0.26]]", "in, m", "main_rotor.chord_table: the stations r/R (0.0982892, 1.00358)"),
+    ("[[19.0, 0.27], [194.0, 0.26]]", "deg, m", "main_rotor.chord_table: unit 'deg'"),
+])
+def test_radial_stations_beyond_the_tip_or_not_a_length_are_problems(rows, unit, expected):
+    _, problems = evaluate(_chord(rows, unit))
+    assert any(p.startswith(expected) for p in problems), problems

@@ -26,7 +26,7 @@ from __future__ import annotations
 import difflib
 import math
 import sys
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from mbs.aircraft import stations, units
@@ -49,6 +49,7 @@ class Reading:
     meta: dict = field(default_factory=dict)
     problems: list[str] = field(default_factory=list)
     stations: list[stations.Given] = field(default_factory=list)
+    radial: list[tuple[str, str]] = field(default_factory=list)  # span tables given in radial stations (m)
 
     def put(self, section: str, key: str, value, meta: dict) -> None:
         self.values.setdefault(section, {})[key] = value
@@ -73,6 +74,7 @@ def read(text: str, base: Path | None = None) -> Reading:
             for key, entry in entries.items():
                 _entry(out, section, key, entry, base)
     _place_stations(out)
+    _radial_stations(out)
     _missing(out, raw)
     return out
 
@@ -100,15 +102,54 @@ def _entry(out: Reading, section: str, key: str, entry, base: Path | None = None
         out.problems.append(f"{where}: {problem}")
         return
     spec = spec or Entry(derived.unit, derived.text)
+    unit, length = entry.get("unit"), _radial_length(spec, entry.get("unit"))
+    if length:  # radial stations: in metres here, over the radius once every entry is read
+        unit = ", ".join(["m", *str(unit).split(",")[1:]])
     try:
-        value = (airfoil_segments(entry["value"], entry.get("unit"), base) if spec.kind == "airfoils"
-                 else convert(entry["value"], entry.get("unit"), spec))
+        value = (airfoil_segments(entry["value"], unit, base) if spec.kind == "airfoils"
+                 else convert(entry["value"], unit, replace(spec, columns=("m", *spec.columns[1:])) if length else spec))
     except ValueError as exc:
         out.problems.append(f"{where}: {exc}")
         return
+    if length:
+        value = [[row[0] * length, *row[1:]] for row in value]
+        out.radial.append((section, key))
     origin = "override" if entry.get("override") else "file"
     out.put(section, key, value, {"unit": entry.get("unit", ""), "source": entry["source"],
                                   "note": entry.get("note", ""), "origin": origin, "value": entry["value"]})
+
+
+def _radial_length(spec: Entry, unit) -> float | None:
+    """The factor to metres of a span table's first column given as radial stations (a length),
+    else None (r/R, or not a span table)."""
+    if not (spec.radial and isinstance(unit, str) and "," in unit):
+        return None
+    first = unit.split(",")[0].strip()
+    try:
+        parsed = units.parse(first)
+    except ValueError:
+        return None
+    return parsed.factor if parsed.dims == (1, 0, 0, 0) and not parsed.per_rev else None
+
+
+ROUND_OFF = 1e-9
+"""A radial station this close to r/R = 1 (relative) is the tip: unit conversions leave such residues."""
+
+
+def _radial_stations(out: Reading) -> None:
+    """Span tables given in radial stations (now m) as r/R of their rotor's radius."""
+    for section, key in out.radial:
+        radius = out.values.get(section, {}).get("radius")
+        if not radius:
+            continue  # the missing radius is a problem of its own
+        rows = out.values[section][key]
+        ratios = [row[0] / radius for row in rows]
+        ratios = [1.0 if abs(r - 1.0) <= ROUND_OFF else r for r in ratios]
+        out.values[section][key] = [[r, *row[1:]] for r, row in zip(ratios, rows)]
+        written = out.meta[section][key]["unit"].split(",")[0].strip()
+        out.meta[section][key]["how"] = (f"r/R from the radial stations in {written} over {section}.radius "
+                                         f"{radius:.6g} m; from {out.meta[section][key]['value']} "
+                                         f"{out.meta[section][key]['unit']}")
 
 
 def _station_entry(out: Reading, section: str, key: str, entry: dict, spec: Entry | None) -> None:

@@ -22,7 +22,8 @@ class Entry:
     ``open_low``/``open_high``), ``choices``, ``length`` of a vector, ``columns`` (units) of
     a table, ``default`` (None: required), the meaning ``text``, and for a position from the CG
     the body ``axis`` (or axes) it lies along, so that it may be written as a station
-    (:mod:`mbs.aircraft.stations`)."""
+    (:mod:`mbs.aircraft.stations`); a ``radial`` table's first column is r/R, or radial
+    stations in a length unit that the reader divides by the rotor's radius."""
 
     unit: str
     text: str
@@ -38,6 +39,7 @@ class Entry:
     only_if: tuple = ()  # (key, value): the entry applies only when that entry of the section has that value
     replaces: str = ""  # the entry of the section this one gives instead (a distribution instead of a number)
     axis: str = ""  # a position from the CG along these body axes ("x", "z", "xyz"): it may be given as stations
+    radial: bool = False  # a table along the span: its first column r/R, or radial stations in a length unit
 
 
 def num(unit, text, low=-math.inf, high=math.inf, **kw) -> Entry:
@@ -88,13 +90,15 @@ def _rotor(what: str) -> dict[str, Entry]:
         "mach_dd": ratio(f"{what} drag-divergence Mach number of the section (with compressibility)", 0.3, 1.0),
         "mach_limit": ratio(f"{what} bound of the Mach number in the Prandtl-Glauert factor", 0.3, 0.95, default=0.8),
         **_airfoil(what),
-        "chord_table": Entry("-, m", f"{what} chord along the span: rows r/R, chord (linear between stations, held "
-                             "beyond); replaces chord, which becomes the thrust-weighted chord", "table",
-                             columns=("-", "m"), default=(), replaces="chord"),
-        "twist_table": Entry("-, rad", f"{what} twist along the span: rows r/R, twist angle added to the collective "
-                             "(the collective is the pitch where the table reads 0; linear between stations, held "
-                             "beyond); replaces twist, which becomes the r^2-weighted straight line through it",
-                             "table", columns=("-", "rad"), default=(), replaces="twist"),
+        "chord_table": Entry("-, m", f"{what} chord along the span: rows r/R (or the radial station, a length), "
+                             "chord (linear between stations, held beyond); replaces chord, which becomes the "
+                             "thrust-weighted chord", "table", columns=("-", "m"), default=(), replaces="chord",
+                             radial=True),
+        "twist_table": Entry("-, rad", f"{what} twist along the span: rows r/R (or the radial station, a length), "
+                             "twist angle added to the collective (the collective is the pitch where the table reads "
+                             "0; linear between stations, held beyond); replaces twist, which becomes the "
+                             "r^2-weighted straight line through it", "table", columns=("-", "rad"), default=(),
+                             replaces="twist", radial=True),
         "tip_sweep": angle(f"{what} sweep of the blade tip: the quarter-chord line swept aft by this angle beyond "
                            "sweep_start (simple sweep theory: the air velocity normal to the swept line loads the "
                            "sections)", 45, default=0.0),
@@ -251,14 +255,15 @@ ENTRIES: dict[str, dict[str, Entry]] = {
         "hub_z": num("m", "hub position z (down) from the CG; negative above it", axis="z"),
         "shaft_tilt": angle("forward tilt of the shaft", 30),
         "I_flap": positive("kg m^2", "blade moment of inertia about the flap hinge"),
-        "mass_table": Entry("-, kg/m", "blade mass per length along the span: rows r/R, mass per length (linear "
-                            "between stations, zero beyond), the last at r/R = 1; replaces I_flap: the blade's mass, "
-                            "first moment and flap inertia are integrated from it (outboard of the flap hinge)",
-                            "table", columns=("-", "kg/m"), default=(), replaces="I_flap"),
+        "mass_table": Entry("-, kg/m", "blade mass per length along the span: rows r/R (or the radial station, a "
+                            "length), mass per length (linear between stations, zero beyond), the last at r/R = 1; "
+                            "replaces I_flap: the blade's mass, first moment and flap inertia are integrated from it "
+                            "(outboard of the flap hinge)", "table", columns=("-", "kg/m"), default=(), replaces="I_flap", radial=True),
         "section_inertia_table": Entry("-, kg m, kg m, kg m", "section mass moments of inertia per length along the "
-                                       "span (with mass_table): rows r/R, flap (about the chord), lag (about the "
-                                       "normal), torsion (about the span); default: a box of the chord and "
-                                       "blade_thickness", "table", columns=("-", "kg m", "kg m", "kg m"), default=()),
+                                       "span (with mass_table): rows r/R (or the radial station), flap "
+                                       "(about the chord), lag (about the normal), torsion (about the span); "
+                                       "default: a box of the chord and blade_thickness", "table", columns=("-", "kg m", "kg m", "kg m"), default=(),
+                                       radial=True),
         "flap_hinge_offset": num("m", "flap hinge (or equivalent hinge) distance from the rotor axis", 0.0),
         "flap_stiffness": num("N m/rad", "flap spring (centre-spring equivalent of a hingeless rotor)", 0.0),
         "lag_frequency": positive("1/rev", "first rotating lag frequency"),
