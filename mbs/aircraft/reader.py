@@ -8,7 +8,8 @@ Rules, in the order they are checked (each problem is one line, ``section.key: w
 3. Every entry is a table ``{ value, unit, source[, note][, override] }``: no other fields;
    ``source`` says where the value comes from (``EST`` for an estimate). A position from the
    CG may give ``station`` instead of ``value``, with ``aircraft.cg_station``
-   (:mod:`mbs.aircraft.stations`).
+   (:mod:`mbs.aircraft.stations`). A mixing row may carry a common ``gain`` that multiplies its
+   four control gains, as reports print ``offset + K (k1 x1 + ... + k4 x4)``.
 4. ``unit`` is given for every number and is of the entry's kind (a length for a radius, an
    angle for a twist): it is converted to SI (``ft``, ``lb``, ``slug ft^2``, ``deg``,
    ``rpm`` ...).
@@ -37,7 +38,7 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover
     import tomli as tomllib
 
-FIELDS = ("value", "unit", "source", "note", "override", "station")
+FIELDS = ("value", "unit", "source", "note", "override", "station", "gain")
 
 
 @dataclass
@@ -97,7 +98,7 @@ def _entry(out: Reading, section: str, key: str, entry, base: Path | None = None
     if not isinstance(entry, dict) or "value" not in entry:
         out.problems.append(f"{where}: write it as {{ value = ..., unit = \"...\", source = \"...\" }}")
         return
-    problem = _fields(entry) or _override(entry, derived)
+    problem = _fields(entry) or _override(entry, derived) or _gain(entry, spec)
     if problem:
         out.problems.append(f"{where}: {problem}")
         return
@@ -114,9 +115,26 @@ def _entry(out: Reading, section: str, key: str, entry, base: Path | None = None
     if length:
         value = [[row[0] * length, *row[1:]] for row in value]
         out.radial.append((section, key))
-    origin = "override" if entry.get("override") else "file"
-    out.put(section, key, value, {"unit": entry.get("unit", ""), "source": entry["source"],
-                                  "note": entry.get("note", ""), "origin": origin, "value": entry["value"]})
+    meta = {"unit": entry.get("unit", ""), "source": entry["source"], "note": entry.get("note", ""),
+            "origin": "override" if entry.get("override") else "file", "value": entry["value"]}
+    if "gain" in entry:
+        value = [value[0], *(entry["gain"] * v for v in value[1:])]
+        meta["how"] = f"the offset, and the gain {entry['gain']:g} times each factor: from {entry['value']} {meta['unit']}"
+    out.put(section, key, value, meta)
+
+
+def _gain(entry: dict, spec: Entry | None) -> str | None:
+    """A ``gain`` only on a mixing row, and a finite number there."""
+    if "gain" not in entry:
+        return None
+    if spec is None or spec.kind != "mixing":
+        return "gain applies to the mixing rows of [controls] only (collective, longitudinal_cyclic, lateral_cyclic, "\
+               "tail_collective)"
+    try:
+        _number(entry["gain"])
+    except ValueError as exc:
+        return f"gain: {exc}"
+    return None
 
 
 def _radial_length(spec: Entry, unit) -> float | None:

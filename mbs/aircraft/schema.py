@@ -328,6 +328,12 @@ ENTRIES: dict[str, dict[str, Entry]] = {
         "collective_radius": ratio("where published main-rotor collective pitch is measured, fraction of R (0: "
                                    "the blade root, the model's collective; 0.75 for theta_0.75)", 0.0, 1.0,
                                    default=0.0),
+        "cyclic_pitch": choice("how this file's rigging and published data state cyclic pitch: the model's theta_1c, "
+                               "theta_1s (pitch = theta_0 + theta_1c cos psi + theta_1s sin psi) or A1, B1 (pitch = "
+                               "theta_0 - A1 cos psi - B1 sin psi, as NASA math-model reports print it; psi from the "
+                               "tail in the sense of rotation in both): the mixing rows longitudinal_cyclic and "
+                               "lateral_cyclic then give B1 and A1", "theta_1c, theta_1s", "A1, B1",
+                               default="theta_1c, theta_1s"),
         "butt_line_positive": choice("the side to which butt lines count positive in this file's stations",
                                      "starboard", "port", default="starboard"),
     },
