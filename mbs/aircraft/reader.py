@@ -31,7 +31,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from mbs.aircraft import stations, units
-from mbs.aircraft.schema import DERIVED, ENTRIES, OPTIONAL_SECTIONS, Entry
+from mbs.aircraft.schema import DERIVED, ENTRIES, FROM_TABLES, OPTIONAL_SECTIONS, Entry
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -393,12 +393,13 @@ def _missing(out: Reading, raw: dict) -> None:
         if section not in raw and section in OPTIONAL_SECTIONS:
             continue
         given = raw.get(section, {}) if isinstance(raw.get(section), dict) else {}
-        replaced = {spec.replaces: key for key, spec in entries.items() if spec.replaces and key in given}
+        replaced = {name: key for key, spec in entries.items() if spec.replaces and key in given
+                    for name in spec.replaces.split()}
         for key, spec in entries.items():
             applies = _applies(spec, out.values.get(section, {}), entries)
             if key in replaced and key in given:
-                out.problems.append(f"{section}.{replaced[key]}: replaces {section}.{key}, which is computed from "
-                                    f"it; leave {key} out")
+                computed = ", which is computed from it" if key in FROM_TABLES.get(section, {}) else ""
+                out.problems.append(f"{section}.{replaced[key]}: replaces {section}.{key}{computed}; leave {key} out")
             elif key not in given and spec.default is None and applies and key not in replaced:
                 out.problems.append(f"{section}.{key}: missing ({spec.text}, in {spec.unit})")
             elif key in given and not applies:

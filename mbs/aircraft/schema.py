@@ -37,7 +37,7 @@ class Entry:
     length: int = 0
     columns: tuple = ()
     only_if: tuple = ()  # (key, value): the entry applies only when that entry of the section has that value
-    replaces: str = ""  # the entry of the section this one gives instead (a distribution instead of a number)
+    replaces: str = ""  # the entries (space-separated) of the section this one gives instead (a table instead of numbers)
     axis: str = ""  # a position from the CG along these body axes ("x", "z", "xyz"): it may be given as stations
     radial: bool = False  # a table along the span: its first column r/R, or radial stations in a length unit
 
@@ -137,6 +137,13 @@ def _surface(what: str, arg: str = "alpha", flow: str = "downwash") -> dict[str,
             "x": num("m", f"{what} aerodynamic centre, x (forward) from the CG", axis="x"),
             "z": num("m", f"{what} aerodynamic centre, z (down) from the CG", axis="z"),
             "chord": positive("m", f"{what} chord (display only)"), **_airfoil(what, cd2_default=0.0),
+            "coefficient_table": Entry("rad, -, -", f"{what} lift and drag coefficients as published: rows angle of "
+                                       "attack (within +-90 deg: flow from the trailing edge is folded onto it, as "
+                                       "for the analytic section), c_L, c_D; natural cubic splines through the rows, "
+                                       "continued linearly beyond the first and last (a trim there warns); replaces "
+                                       "lift_slope, cd0, cd2, alpha_stall and cd_stalled", "table",
+                                       columns=("rad", "-", "-"), default=(),
+                                       replaces="lift_slope cd0 cd2 alpha_stall cd_stalled"),
             **_interference(what, arg, flow)}
 
 
