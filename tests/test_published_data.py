@@ -339,3 +339,44 @@ def test_a_banked_trim_is_not_written_where_simulate_would_start_from_it(tmp_pat
     assert code == 2 and "a trim with --bank or --turn-rate is not stored" in err
     assert not (tmp_path / "t.toml").exists()
 
+
+
+def test_a_lock_number_as_published_gives_the_flap_inertia(tmp_path):
+    """``lock_number`` in place of ``I_flap``: I_flap = rho a c R^4 / gamma, listed as derived;
+    the Bo105's own gamma gives back its I_flap to round-off, and with a mass table it is a problem."""
+    from mbs.aircraft import performance
+
+    d = aircraft.load("bo105").data
+    gamma = performance.lock_number(d["main_rotor"], d["environment"]["rho"])
+    raw = entries("bo105")
+    del raw["main_rotor"]["I_flap"]
+    raw["main_rotor"]["lock_number"] = {"value": gamma, "unit": "-", "source": "report"}
+    report = aircraft.check(write(raw, tmp_path / "lock.toml"))
+    assert report.ok, report.problems
+    derived = {e: (v, how) for e, v, _, how in report.derived}
+    assert derived["main_rotor.I_flap"][0] == pytest.approx(d["main_rotor"]["I_flap"], rel=1e-12)
+    assert "from lock_number" in derived["main_rotor.I_flap"][1]
+    raw["main_rotor"]["I_flap"] = {"value": 231.7, "unit": "kg m^2", "source": "report"}
+    both = aircraft.check(write(raw, tmp_path / "both.toml"))
+    assert "main_rotor.lock_number: replaces main_rotor.I_flap, which is computed from it; leave I_flap out" \
+        in both.problems
+
+
+def test_a_length_as_a_fraction_of_the_radius(tmp_path):
+    """``unit = "R"`` on a rotor's length (a hinge offset printed as e/R) is that fraction of its
+    rotor's radius; on the radius itself or outside the rotors it is a problem."""
+    raw = entries("bo105")
+    raw["main_rotor"]["flap_hinge_offset"] = {"value": 0.14, "unit": "R", "source": "report", "note": "e/R"}
+    raw["tail_rotor"]["hub_size"] = {"value": 0.2, "unit": "R", "source": "report"}
+    craft = aircraft.load(write(raw, tmp_path / "fractions.toml"))
+    d = craft.data
+    assert d["main_rotor"]["flap_hinge_offset"] == pytest.approx(0.14 * d["main_rotor"]["radius"], rel=1e-15)
+    assert d["tail_rotor"]["hub_size"] == pytest.approx(0.2 * d["tail_rotor"]["radius"], rel=1e-15)
+    listed = {r[0]: r[3] for r in aircraft.check(craft.path).converted}
+    assert listed["main_rotor.flap_hinge_offset"] == "times main_rotor.radius 4.91 m: from 0.14 R"
+    for section, key in (("main_rotor", "radius"), ("horizontal_tail", "x")):
+        bad = entries("bo105")
+        bad[section][key] = {"value": 0.5, "unit": "R", "source": "report"}
+        report = aircraft.check(write(bad, tmp_path / "bad.toml"))
+        assert f"{section}.{key}: unit 'R' (a fraction of the rotor's radius) applies to the lengths of [main_rotor] " \
+               "and [tail_rotor] only" in report.problems

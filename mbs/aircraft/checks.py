@@ -256,6 +256,9 @@ def _distributions(v: dict) -> list[str]:
             out.append(f"{name}.sweep_start: {v[name]['sweep_start']:g} starts a tip sweep of 0 deg; give "
                        f"{name}.tip_sweep or leave sweep_start out")
     mr = v["main_rotor"]
+    if mr.get("lock_number") and mr.get("mass_table"):
+        out.append("main_rotor.lock_number: the mass table gives the flap inertia (and so the Lock number); give one "
+                   "of lock_number and mass_table")
     if mr.get("section_inertia_table") and not mr.get("mass_table"):
         out.append("main_rotor.section_inertia_table: applies with main_rotor.mass_table only (the blade without a "
                    "mass table is the uniform box of I_flap)")

@@ -106,14 +106,21 @@ def _entry(out: Reading, section: str, key: str, entry, base: Path | None = None
     unit, length = entry.get("unit"), _radial_length(spec, entry.get("unit"))
     if length:  # radial stations: in metres here, over the radius once every entry is read
         unit = ", ".join(["m", *str(unit).split(",")[1:]])
+    per_radius = str(unit).strip() == "R"
+    if per_radius and not (section in ROTORS and key != "radius" and spec.unit == "m" and spec.kind == "number"):
+        out.problems.append(f"{where}: unit 'R' (a fraction of the rotor's radius) applies to the lengths of "
+                            "[main_rotor] and [tail_rotor] only")
+        return
+    if per_radius:  # a fraction of the radius: times the radius once every entry is read
+        unit = "m"
     try:
         value = (airfoil_segments(entry["value"], unit, base) if spec.kind == "airfoils"
                  else convert(entry["value"], unit, replace(spec, columns=("m", *spec.columns[1:])) if length else spec))
     except ValueError as exc:
         out.problems.append(f"{where}: {exc}")
         return
-    if length:
-        value = [[row[0] * length, *row[1:]] for row in value]
+    if length or per_radius:
+        value = [[row[0] * length, *row[1:]] for row in value] if length else value
         out.radial.append((section, key))
     meta = {"unit": entry.get("unit", ""), "source": entry["source"], "note": entry.get("note", ""),
             "origin": "override" if entry.get("override") else "file", "value": entry["value"]}
@@ -154,12 +161,21 @@ ROUND_OFF = 1e-9
 """A radial station this close to r/R = 1 (relative) is the tip: unit conversions leave such residues."""
 
 
+ROTORS = ("main_rotor", "tail_rotor")
+
+
 def _radial_stations(out: Reading) -> None:
-    """Span tables given in radial stations (now m) as r/R of their rotor's radius."""
+    """Span tables given in radial stations (now m) as r/R of their rotor's radius; lengths
+    given as fractions of it (unit ``R``) in metres."""
     for section, key in out.radial:
         radius = out.values.get(section, {}).get("radius")
         if not radius:
             continue  # the missing radius is a problem of its own
+        meta = out.meta[section][key]
+        if not isinstance(out.values[section][key], list):
+            out.values[section][key] *= radius
+            meta["how"] = f"times {section}.radius {radius:.6g} m: from {meta['value']} R"
+            continue
         rows = out.values[section][key]
         ratios = [row[0] / radius for row in rows]
         ratios = [1.0 if abs(r - 1.0) <= ROUND_OFF else r for r in ratios]

@@ -262,6 +262,9 @@ ENTRIES: dict[str, dict[str, Entry]] = {
         "hub_z": num("m", "hub position z (down) from the CG; negative above it", axis="z"),
         "shaft_tilt": angle("forward tilt of the shaft", 30),
         "I_flap": positive("kg m^2", "blade moment of inertia about the flap hinge"),
+        "lock_number": num("-", "Lock number as published, gamma = rho a c R^4 / I_flap at the file's density, "
+                           "lift_slope, chord and radius; replaces I_flap, which is computed from it (0: not given)",
+                           0.0, 100.0, default=0.0, replaces="I_flap"),
         "mass_table": Entry("-, kg/m", "blade mass per length along the span: rows r/R (or the radial station, a "
                             "length), mass per length (linear between stations, zero beyond), the last at r/R = 1; "
                             "replaces I_flap: the blade's mass, first moment and flap inertia are integrated from it "
@@ -500,7 +503,8 @@ FROM_TABLES: dict[str, dict[str, Derived]] = {
               "twist": Derived("rad", "slope of the r^2-weighted straight line through twist_table over the "
                                "aerodynamic blade (estimates, wake geometry)"),
               **({"I_flap": Derived("kg m^2", "integral of mass per length times (r - e)^2 plus the sections' flap "
-                                    "inertia, outboard of the flap hinge, from mass_table")}
+                                    "inertia, outboard of the flap hinge, from mass_table; or rho a c R^4 / gamma "
+                                    "from lock_number")}
                  if section == "main_rotor" else {})}
     for section in ("main_rotor", "tail_rotor")
 }
