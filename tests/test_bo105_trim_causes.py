@@ -47,7 +47,12 @@ shipped (2200 kg, ISA sea level, every aerodynamics switch on); "ours - flight" 
 |                                             | tail rotor): the tail-wake switch moves ours < 0.1 deg there. The   |
 |                                             | usual cause of such a step, the main rotor's wake and tip vortices  |
 |                                             | passing off the tail rotor, is an interaction the model does not    |
-|                                             | have (not measured here: no model of it to switch).                 |
+|                                             | have. Adding the wake tube's velocity at the tail hub to the air    |
+|                                             | the tail rotor sees (an experiment, not shipped) changes no trim    |
+|                                             | control by 0.0005 deg at 2.4-101 kt: the tube does not reach the    |
+|                                             | hub, 6.08 m aft of the shaft and about 0.1 m below the disc plane,  |
+|                                             | beyond the tube's 4.91 m edge. The step needs the tip vortices'     |
+|                                             | passage near the disc's rear edge, not modelled.                    |
 | pitch -1.24 / +1.81 at 26.7 / 38.6 kt       | the flight data's own scatter: a cubic through all 12 flight points |
 |                                             | (rms residual 0.71 deg) leaves +1.12 and -1.38 deg at these two;    |
 |                                             | ours is within 0.5 deg of that curve at both.                       |

@@ -141,6 +141,44 @@ def test_rigging_maps_pilot_controls_to_blade_angles_and_back(tmp_path):
     assert np.abs(jac - rig.matrix()).max() <= 1e-8
 
 
+def test_a_mixing_as_printed_with_a_common_gain_and_a1_b1_cyclic_is_the_same_rigging(tmp_path):
+    """A report's ``B1 = K (k1 x1 + ... )`` with pitch ``theta_0 - A1 cos psi - B1 sin psi``,
+    written with ``gain`` and ``cyclic_pitch = "A1, B1"``, gives the rigging of the hand-multiplied,
+    sign-turned rows to round-off; trims report their cyclic in A1, B1."""
+    plain = rigging.rigging(_rigged(tmp_path).data)
+    raw = entries("bo105")
+    raw["controls"] = {k: dict(v) for k, v in RIG.items()}
+    for row, gain in (("longitudinal_cyclic", -1.6), ("lateral_cyclic", -1.0)):  # the rows negated: B1, A1
+        value = RIG[row]["value"]
+        raw["controls"][row] = {**RIG[row], "value": [-value[0], *(-v / gain for v in value[1:])], "gain": gain}
+    raw["conventions"] = {"cyclic_pitch": {"value": "A1, B1", "unit": "-", "source": "t"}}
+    printed = aircraft.load(write(raw, tmp_path / "printed.toml"))
+    rig = rigging.rigging(printed.data)
+    assert np.abs(rig.matrix() - plain.matrix()).max() <= 1e-15
+    pilot = {"collective_lever": 0.127, "longitudinal_stick": 0.0254, "lateral_stick": -0.02, "pedals": 0.01}
+    assert all(rig.blade(pilot)[k] == pytest.approx(v, abs=1e-15) for k, v in plain.blade(pilot).items())
+    conv = rigging.conventions(printed.data)
+    published = conv.to_published({"collective": 0.1, "longitudinal_cyclic": 0.02, "lateral_cyclic": -0.03,
+                                    "tail_collective": 0.2})
+    assert (published["longitudinal_cyclic"], published["lateral_cyclic"]) == (-0.02, 0.03)  # B1, A1
+    assert list(conv.scale()) == [1.0, -1.0, -1.0, 1.0]
+    listed = {r[0]: r for r in aircraft.check(printed.path).converted}
+    assert listed["controls.longitudinal_cyclic"][3].startswith("the offset, and the gain -1.6 times each factor")
+
+
+@pytest.mark.parametrize("where, gain, words", [
+    ("main_rotor.radius", 2.0, "gain applies to the mixing rows of [controls] only"),
+    ("controls.collective", "x", "gain: 'x' is not a number"),
+])
+def test_a_gain_off_a_mixing_row_or_not_a_number_is_refused(tmp_path, where, gain, words):
+    raw = entries("bo105")
+    raw["controls"] = {k: dict(v) for k, v in RIG.items()}
+    section, key = where.split(".")
+    raw[section][key] = {**raw[section][key], "gain": gain}
+    report = aircraft.check(write(raw, tmp_path / "bad.toml"))
+    assert any(p.startswith(f"{where}: {words}") for p in report.problems), report.problems
+
+
 @pytest.mark.parametrize("row, unit, words", [
     ("collective", "deg, deg/%, deg/in, deg/in, deg/in", "give it in deg/in"),
     ("pedals", "kg", "a control's position is a length"),
@@ -301,3 +339,44 @@ def test_a_banked_trim_is_not_written_where_simulate_would_start_from_it(tmp_pat
     assert code == 2 and "a trim with --bank or --turn-rate is not stored" in err
     assert not (tmp_path / "t.toml").exists()
 
+
+
+def test_a_lock_number_as_published_gives_the_flap_inertia(tmp_path):
+    """``lock_number`` in place of ``I_flap``: I_flap = rho a c R^4 / gamma, listed as derived;
+    the Bo105's own gamma gives back its I_flap to round-off, and with a mass table it is a problem."""
+    from mbs.aircraft import performance
+
+    d = aircraft.load("bo105").data
+    gamma = performance.lock_number(d["main_rotor"], d["environment"]["rho"])
+    raw = entries("bo105")
+    del raw["main_rotor"]["I_flap"]
+    raw["main_rotor"]["lock_number"] = {"value": gamma, "unit": "-", "source": "report"}
+    report = aircraft.check(write(raw, tmp_path / "lock.toml"))
+    assert report.ok, report.problems
+    derived = {e: (v, how) for e, v, _, how in report.derived}
+    assert derived["main_rotor.I_flap"][0] == pytest.approx(d["main_rotor"]["I_flap"], rel=1e-12)
+    assert "from lock_number" in derived["main_rotor.I_flap"][1]
+    raw["main_rotor"]["I_flap"] = {"value": 231.7, "unit": "kg m^2", "source": "report"}
+    both = aircraft.check(write(raw, tmp_path / "both.toml"))
+    assert "main_rotor.lock_number: replaces main_rotor.I_flap, which is computed from it; leave I_flap out" \
+        in both.problems
+
+
+def test_a_length_as_a_fraction_of_the_radius(tmp_path):
+    """``unit = "R"`` on a rotor's length (a hinge offset printed as e/R) is that fraction of its
+    rotor's radius; on the radius itself or outside the rotors it is a problem."""
+    raw = entries("bo105")
+    raw["main_rotor"]["flap_hinge_offset"] = {"value": 0.14, "unit": "R", "source": "report", "note": "e/R"}
+    raw["tail_rotor"]["hub_size"] = {"value": 0.2, "unit": "R", "source": "report"}
+    craft = aircraft.load(write(raw, tmp_path / "fractions.toml"))
+    d = craft.data
+    assert d["main_rotor"]["flap_hinge_offset"] == pytest.approx(0.14 * d["main_rotor"]["radius"], rel=1e-15)
+    assert d["tail_rotor"]["hub_size"] == pytest.approx(0.2 * d["tail_rotor"]["radius"], rel=1e-15)
+    listed = {r[0]: r[3] for r in aircraft.check(craft.path).converted}
+    assert listed["main_rotor.flap_hinge_offset"] == "times main_rotor.radius 4.91 m: from 0.14 R"
+    for section, key in (("main_rotor", "radius"), ("horizontal_tail", "x")):
+        bad = entries("bo105")
+        bad[section][key] = {"value": 0.5, "unit": "R", "source": "report"}
+        report = aircraft.check(write(bad, tmp_path / "bad.toml"))
+        assert f"{section}.{key}: unit 'R' (a fraction of the rotor's radius) applies to the lengths of [main_rotor] " \
+               "and [tail_rotor] only" in report.problems

@@ -77,8 +77,14 @@ def test_every_value_given_in_other_units_is_listed_as_converted_with_its_source
     assert [r[0] for r in rows["aircraft.Ixx"]][0] == pytest.approx(5629 * SLUG_FT2, rel=1e-9)
     assert "whole aircraft" in rows["aircraft.Ixx"][1][2]
     # FS 345.5, WL 234.0 about the CG at STA 360.4, WL 247.2: 14.9 in forward, 13.2 in below
-    point = next(v for v, _, how, _ in rows["fuselage_aero.reference_station"] if "from the CG" in how)
+    point = next(v for v, _, how, _ in rows["fuselage_aero.reference_point"] if "CG at FS 360.4" in how)
     assert point == pytest.approx([14.9 * INCH, 0.0, 13.2 * INCH], abs=1e-12)
+    # every position as printed: G2's and G3's stations less the CG's, the butt line port-positive
+    for entry, inches in (("main_rotor.hub_x", 19.2), ("main_rotor.hub_z", -67.8), ("tail_rotor.hub_x", -371.6),
+                          ("tail_rotor.hub_y", 14.0), ("tail_rotor.hub_z", -77.5), ("horizontal_tail.x", -339.6),
+                          ("horizontal_tail.z", 3.2), ("vertical_fin.x", -334.6), ("vertical_fin.z", -25.8)):
+        assert values[entry] == pytest.approx(inches * INCH, abs=1e-12), entry
+        assert "from station" in rows[entry][0][2], rows[entry]
     drag = next(v for v, *_ in rows["fuselage_aero (alpha = beta = 0)"])
     assert -drag[0] == pytest.approx(28.0 * 0.3048**2, abs=1e-6)  # D/q of the wind table, the body's -X/q (6 decimals)
 

@@ -121,6 +121,43 @@ def test_entries_of_a_compare_with_their_units(tmp_path):
         derivative_value(point.derivatives, "A[w,x]")
 
 
+def test_controls_compare_in_the_published_conventions_and_pilot_positions_in_si():
+    """A trim's control is read in the aircraft file's published convention (``Trim.published``:
+    B1 = -θ1s with cyclic_pitch "A1, B1"), a pilot control from its file unit to SI, and a
+    control derivative per published control angle."""
+    from mbs.validate.quantities import derivative_value, trim_value
+
+    trim = SimpleNamespace(controls={"longitudinal_cyclic": 0.02}, published={"longitudinal_cyclic": -0.02},
+                           pilot={"longitudinal_stick": 1.5, "pedals": 40.0}, pilot_units={"longitudinal_stick": "in",
+                                                                                         "pedals": "%"},
+                           flapping={}, output_means={})
+    assert trim_value(trim, "longitudinal_cyclic") == (-0.02, "rad")
+    assert trim_value(trim, "longitudinal_stick") == (pytest.approx(1.5 * 0.0254), "m")
+    assert trim_value(trim, "pedals") == (pytest.approx(0.4), "-")
+    der = SimpleNamespace(table={"M_θ1s": 3.0}, published={"M_θ1s": -3.0}, units={"M_θ1s": "1/s^2"})
+    assert derivative_value(der, "M_theta1s") == (-3.0, "1/s^2")
+
+
+def test_a_report_aircraft_validates_in_its_own_pilot_controls():
+    """The UH-60A written from its reports (stick rigging, A1/B1 cyclic) against G2 Table 4 at
+    1 kt as printed, stick inches: every row within the loose tolerances the file states, the
+    pilot rows equal to the trim's pilot positions, and the report says how the model states
+    its controls."""
+    from mbs.validate import report
+    from mbs.validate.runner import validate
+
+    res = validate(load(Path(__file__).parent / "data" / "uh60a_g2_hover.toml"))
+    assert res.all_within, report.lines(res)
+    point = res.model.at(1.0 * 1852 / 3600)
+    rows = {r.quantity: r for r in res.rows}
+    for stick in ("collective_lever", "longitudinal_stick", "lateral_stick", "pedals"):
+        assert rows[stick].ours == pytest.approx(point.trim.pilot[stick], rel=1e-12)
+    assert rows["longitudinal_stick"].ours == pytest.approx(0.64, abs=0.05)  # G2: 0.127 in
+    text = "\n".join(report.lines(res))
+    assert "model's controls: blade angles in the aircraft file's conventions" in text
+    assert "cyclic as A1, B1; pilot controls through its rigging" in text
+
+
 def test_eigenvalues_pair_by_least_distance_and_judge_stability_and_size():
     tol = EigenTolerance(frequency=0.25, neutral=0.02, min_frequency=0.05)
     published = np.array([-14.2, 0.28 + 0.49j, 0.28 - 0.49j, 0.01])

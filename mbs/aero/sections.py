@@ -10,6 +10,8 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
+from mbs.aero.interpolation import Spline
+
 EPS = 1e-9  # m/s; keeps derivatives finite at exactly zero airspeed
 
 
@@ -53,6 +55,29 @@ class Airfoil:
         a = soft_clip(alpha, self.alpha_stall)
         cd = self.cd0 + self.cd2 * a**2 + self.cd_stalled * (sin2_alpha - ca.sin(a) ** 2)
         return self.lift_slope * a, cd
+
+
+@dataclass
+class TableSection:
+    """Section coefficients as published: ``c_L`` and ``c_D`` against the angle of attack
+    ``alpha`` (rad, increasing, within ±π/2), natural cubic splines through the rows
+    (:class:`mbs.aero.interpolation.Spline`: C², continued linearly beyond the ends). Used as
+    :class:`Airfoil` is, at the folded angle of :func:`flow_angle`."""
+
+    alpha: tuple
+    lift: tuple
+    drag: tuple
+
+    def __post_init__(self):
+        self.spline = Spline(self.alpha, np.column_stack([self.lift, self.drag]))
+
+    def coefficients(self, alpha):
+        """``(c_L, c_D)`` at angle of attack ``alpha`` (rad)."""
+        return tuple(self.spline(alpha))
+
+    def coefficients_of(self, alpha, sin2_alpha):
+        """:meth:`coefficients` (``sin2_alpha`` unused: the table carries the drag at every angle)."""
+        return self.coefficients(alpha)
 
 
 def flow_angle(w_c, w_n):

@@ -26,7 +26,7 @@ def problems(values: dict) -> list[str]:
     from mbs.aircraft.airframe_data import table_problems, tail_problems
 
     for check in (_inertia, _blades, _controls, _rotor_speed, _tail_hub, _airframe_mass, _tip_mach, _airframe_inertia,
-                  _rigging, _lag_damper, _airfoils, _distributions, table_problems, tail_problems):
+                  _rigging, _lag_damper, _airfoils, _distributions, _surface_tables, table_problems, tail_problems):
         out += check(values)
     return out
 
@@ -217,6 +217,21 @@ SPAN_TABLES = {"main_rotor": ("chord_table", "twist_table", "mass_table", "secti
 POSITIVE_COLUMNS = {"chord_table": "the chord", "mass_table": "the mass per length"}
 
 
+def _surface_tables(v: dict) -> list[str]:
+    """A tail surface's coefficient table: two rows or more, the angles increasing within ±90 deg."""
+    out = []
+    for section in ("horizontal_tail", "vertical_fin"):
+        rows = np.asarray(v[section].get("coefficient_table") or np.zeros((0, 3)), float)
+        if not len(rows):
+            continue
+        alpha = rows[:, 0]
+        if len(alpha) < 2 or np.any(np.diff(alpha) <= 0) or np.abs(alpha).max() > np.pi / 2 + 1e-12:
+            shown = ", ".join(f"{x:.4g}" for x in np.degrees(alpha))
+            out.append(f"{section}.coefficient_table: the angles of attack ({shown} deg) must be at least two, "
+                       "increasing, within -90..90 deg (flow from the trailing edge is folded onto that range)")
+    return out
+
+
 def _distributions(v: dict) -> list[str]:
     """Stations r/R within [0, 1] and increasing; chords and masses positive; a mass table that
     reaches the tip; section inertias only with a mass table."""
@@ -241,6 +256,9 @@ def _distributions(v: dict) -> list[str]:
             out.append(f"{name}.sweep_start: {v[name]['sweep_start']:g} starts a tip sweep of 0 deg; give "
                        f"{name}.tip_sweep or leave sweep_start out")
     mr = v["main_rotor"]
+    if mr.get("lock_number") and mr.get("mass_table"):
+        out.append("main_rotor.lock_number: the mass table gives the flap inertia (and so the Lock number); give one "
+                   "of lock_number and mass_table")
     if mr.get("section_inertia_table") and not mr.get("mass_table"):
         out.append("main_rotor.section_inertia_table: applies with main_rotor.mass_table only (the blade without a "
                    "mass table is the uniform box of I_flap)")

@@ -124,6 +124,9 @@ def _distributions(values: dict) -> None:
         if sec.get("twist_table"):
             _set(sec, "twist", lambda: equivalent_twist(sec["twist_table"], sec["root_cutout"]))
     mr = values["main_rotor"]
+    if mr.get("lock_number") and not mr.get("mass_table"):
+        rho = values["environment"]["rho"]
+        _set(mr, "I_flap", lambda: rho * mr["lift_slope"] * mr["chord"] * mr["radius"] ** 4 / mr["lock_number"])
     if mr.get("mass_table"):
         blade = Distribution(mr)
         _set(mr, "I_flap", lambda: blade.flap_inertia)

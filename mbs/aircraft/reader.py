@@ -6,7 +6,10 @@ Rules, in the order they are checked (each problem is one line, ``section.key: w
 2. Every section and entry is known (:data:`mbs.aircraft.schema.ENTRIES`); a typo names the
    closest known name.
 3. Every entry is a table ``{ value, unit, source[, note][, override] }``: no other fields;
-   ``source`` says where the value comes from (``EST`` for an estimate).
+   ``source`` says where the value comes from (``EST`` for an estimate). A position from the
+   CG may give ``station`` instead of ``value``, with ``aircraft.cg_station``
+   (:mod:`mbs.aircraft.stations`). A mixing row may carry a common ``gain`` that multiplies its
+   four control gains, as reports print ``offset + K (k1 x1 + ... + k4 x4)``.
 4. ``unit`` is given for every number and is of the entry's kind (a length for a radius, an
    angle for a twist): it is converted to SI (``ft``, ``lb``, ``slug ft^2``, ``deg``,
    ``rpm`` ...).
@@ -24,18 +27,18 @@ from __future__ import annotations
 import difflib
 import math
 import sys
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
-from mbs.aircraft import units
-from mbs.aircraft.schema import DERIVED, ENTRIES, OPTIONAL_SECTIONS, Entry
+from mbs.aircraft import stations, units
+from mbs.aircraft.schema import DERIVED, ENTRIES, FROM_TABLES, OPTIONAL_SECTIONS, Entry
 
 if sys.version_info >= (3, 11):
     import tomllib
 else:  # pragma: no cover
     import tomli as tomllib
 
-FIELDS = ("value", "unit", "source", "note", "override")
+FIELDS = ("value", "unit", "source", "note", "override", "station", "gain")
 
 
 @dataclass
@@ -46,6 +49,8 @@ class Reading:
     values: dict = field(default_factory=dict)
     meta: dict = field(default_factory=dict)
     problems: list[str] = field(default_factory=list)
+    stations: list[stations.Given] = field(default_factory=list)
+    radial: list[tuple[str, str]] = field(default_factory=list)  # span tables given in radial stations (m)
 
     def put(self, section: str, key: str, value, meta: dict) -> None:
         self.values.setdefault(section, {})[key] = value
@@ -69,6 +74,8 @@ def read(text: str, base: Path | None = None) -> Reading:
         else:
             for key, entry in entries.items():
                 _entry(out, section, key, entry, base)
+    _place_stations(out)
+    _radial_stations(out)
     _missing(out, raw)
     return out
 
@@ -85,23 +92,162 @@ def _entry(out: Reading, section: str, key: str, entry, base: Path | None = None
         known = [*ENTRIES.get(section, {}), *DERIVED.get(section, {})]
         out.problems.append(f"{where}: unknown entry{_suggest(key, known)}")
         return
+    if isinstance(entry, dict) and "station" in entry:
+        _station_entry(out, section, key, entry, spec)
+        return
     if not isinstance(entry, dict) or "value" not in entry:
         out.problems.append(f"{where}: write it as {{ value = ..., unit = \"...\", source = \"...\" }}")
         return
-    problem = _fields(entry) or _override(entry, derived)
+    problem = _fields(entry) or _override(entry, derived) or _gain(entry, spec)
     if problem:
         out.problems.append(f"{where}: {problem}")
         return
     spec = spec or Entry(derived.unit, derived.text)
+    unit, length = entry.get("unit"), _radial_length(spec, entry.get("unit"))
+    if length:  # radial stations: in metres here, over the radius once every entry is read
+        unit = ", ".join(["m", *str(unit).split(",")[1:]])
+    per_radius = str(unit).strip() == "R"
+    if per_radius and not (section in ROTORS and key != "radius" and spec.unit == "m" and spec.kind == "number"):
+        out.problems.append(f"{where}: unit 'R' (a fraction of the rotor's radius) applies to the lengths of "
+                            "[main_rotor] and [tail_rotor] only")
+        return
+    if per_radius:  # a fraction of the radius: times the radius once every entry is read
+        unit = "m"
     try:
-        value = (airfoil_segments(entry["value"], entry.get("unit"), base) if spec.kind == "airfoils"
-                 else convert(entry["value"], entry.get("unit"), spec))
+        value = (airfoil_segments(entry["value"], unit, base) if spec.kind == "airfoils"
+                 else convert(entry["value"], unit, replace(spec, columns=("m", *spec.columns[1:])) if length else spec))
     except ValueError as exc:
         out.problems.append(f"{where}: {exc}")
         return
-    origin = "override" if entry.get("override") else "file"
-    out.put(section, key, value, {"unit": entry.get("unit", ""), "source": entry["source"],
-                                  "note": entry.get("note", ""), "origin": origin, "value": entry["value"]})
+    if length or per_radius:
+        value = [[row[0] * length, *row[1:]] for row in value] if length else value
+        out.radial.append((section, key))
+    meta = {"unit": entry.get("unit", ""), "source": entry["source"], "note": entry.get("note", ""),
+            "origin": "override" if entry.get("override") else "file", "value": entry["value"]}
+    if "gain" in entry:
+        value = [value[0], *(entry["gain"] * v for v in value[1:])]
+        meta["how"] = f"the offset, and the gain {entry['gain']:g} times each factor: from {entry['value']} {meta['unit']}"
+    out.put(section, key, value, meta)
+
+
+def _gain(entry: dict, spec: Entry | None) -> str | None:
+    """A ``gain`` only on a mixing row, and a finite number there."""
+    if "gain" not in entry:
+        return None
+    if spec is None or spec.kind != "mixing":
+        return "gain applies to the mixing rows of [controls] only (collective, longitudinal_cyclic, lateral_cyclic, "\
+               "tail_collective)"
+    try:
+        _number(entry["gain"])
+    except ValueError as exc:
+        return f"gain: {exc}"
+    return None
+
+
+def _radial_length(spec: Entry, unit) -> float | None:
+    """The factor to metres of a span table's first column given as radial stations (a length),
+    else None (r/R, or not a span table)."""
+    if not (spec.radial and isinstance(unit, str) and "," in unit):
+        return None
+    first = unit.split(",")[0].strip()
+    try:
+        parsed = units.parse(first)
+    except ValueError:
+        return None
+    return parsed.factor if parsed.dims == (1, 0, 0, 0) and not parsed.per_rev else None
+
+
+ROUND_OFF = 1e-9
+"""A radial station this close to r/R = 1 (relative) is the tip: unit conversions leave such residues."""
+
+
+ROTORS = ("main_rotor", "tail_rotor")
+
+
+def _radial_stations(out: Reading) -> None:
+    """Span tables given in radial stations (now m) as r/R of their rotor's radius; lengths
+    given as fractions of it (unit ``R``) in metres."""
+    for section, key in out.radial:
+        radius = out.values.get(section, {}).get("radius")
+        if not radius:
+            continue  # the missing radius is a problem of its own
+        meta = out.meta[section][key]
+        if not isinstance(out.values[section][key], list):
+            out.values[section][key] *= radius
+            meta["how"] = f"times {section}.radius {radius:.6g} m: from {meta['value']} R"
+            continue
+        rows = out.values[section][key]
+        ratios = [row[0] / radius for row in rows]
+        ratios = [1.0 if abs(r - 1.0) <= ROUND_OFF else r for r in ratios]
+        out.values[section][key] = [[r, *row[1:]] for r, row in zip(ratios, rows)]
+        written = out.meta[section][key]["unit"].split(",")[0].strip()
+        out.meta[section][key]["how"] = (f"r/R from the radial stations in {written} over {section}.radius "
+                                         f"{radius:.6g} m; from {out.meta[section][key]['value']} "
+                                         f"{out.meta[section][key]['unit']}")
+
+
+def _station_entry(out: Reading, section: str, key: str, entry: dict, spec: Entry | None) -> None:
+    """A position given as its station(s): kept until the CG's stations are read."""
+    where = f"{section}.{key}"
+    if spec is None or not spec.axis:
+        positions = [f"{s}.{k}" for s, e in ENTRIES.items() for k, v in e.items() if v.axis]
+        out.problems.append(f"{where}: only a position from the CG may be given as a station ({', '.join(positions)}); "
+                            "give value = ...")
+        return
+    problem = ("give value or station, not both" if "value" in entry else _fields(entry)
+               or ("override applies to derived entries only; this one is plain data" if "override" in entry else None))
+    if problem:
+        out.problems.append(f"{where}: {problem}")
+        return
+    try:
+        station = _station(entry["station"], entry.get("unit"), spec)
+    except ValueError as exc:
+        out.problems.append(f"{where}: {exc}")
+        return
+    meta = {"unit": entry.get("unit", ""), "source": entry["source"], "note": entry.get("note", ""), "origin": "file",
+            "value": entry["station"]}
+    out.stations.append(stations.Given(section, key, spec.axis, station, meta))
+
+
+def _station(value, unit, spec: Entry):
+    """A station (m): one number, or three (FS, BL, WL) for a point."""
+    if unit is None:
+        raise ValueError('no unit: give unit = "in" (or another length unit) for the station')
+    factor = units.factor_to(str(unit), "m")
+    if spec.axis == "xyz":
+        if not (isinstance(value, list) and len(value) == 3):
+            raise ValueError("station must be a list of 3 numbers: FS, BL, WL")
+        return [_number(v) * factor for v in value]
+    if isinstance(value, list):
+        raise ValueError(f"station must be one number, the {stations.AXES[spec.axis][1]} of the point")
+    return _number(value) * factor
+
+
+def _place_stations(out: Reading) -> None:
+    """Each position given as a station, in body axes from the CG (:func:`mbs.aircraft.stations.position`)."""
+    cg = out.values.get("aircraft", {}).get("cg_station")
+    if out.values.get("fuselage_aero", {}).get("cg_station") and cg:
+        out.problems.append("fuselage_aero.cg_station: the CG's stations are given as aircraft.cg_station too; "
+                            "give them once, in [aircraft]")
+    if not out.stations:
+        return
+    if not cg:
+        first = out.stations[0]
+        out.problems.append(f"{first.section}.{first.key}: given as a station; give the CG's stations too: [aircraft] "
+                            "cg_station = { value = [FS, BL, WL], unit = \"in\", source = \"...\" }")
+        return
+    side = out.values.get("conventions", {}).get("butt_line_positive", "starboard")
+    cg_meta = out.meta["aircraft"]["cg_station"]
+    for given in out.stations:
+        spec = ENTRIES[given.section][given.key]
+        value = stations.position(given.axis, given.station, cg, side)
+        try:
+            value = [_bounded(v, spec) for v in value] if isinstance(value, list) else _bounded(value, spec)
+        except ValueError as exc:
+            out.problems.append(f"{given.section}.{given.key}: the station gives {exc}")
+            continue
+        text = stations.how(given.axis, given.meta["value"], given.meta["unit"], cg_meta["value"], cg_meta["unit"], side)
+        out.put(given.section, given.key, value, {**given.meta, "how": text})
 
 
 def _fields(entry: dict) -> str | None:
@@ -263,12 +409,13 @@ def _missing(out: Reading, raw: dict) -> None:
         if section not in raw and section in OPTIONAL_SECTIONS:
             continue
         given = raw.get(section, {}) if isinstance(raw.get(section), dict) else {}
-        replaced = {spec.replaces: key for key, spec in entries.items() if spec.replaces and key in given}
+        replaced = {name: key for key, spec in entries.items() if spec.replaces and key in given
+                    for name in spec.replaces.split()}
         for key, spec in entries.items():
             applies = _applies(spec, out.values.get(section, {}), entries)
             if key in replaced and key in given:
-                out.problems.append(f"{section}.{replaced[key]}: replaces {section}.{key}, which is computed from "
-                                    f"it; leave {key} out")
+                computed = ", which is computed from it" if key in FROM_TABLES.get(section, {}) else ""
+                out.problems.append(f"{section}.{replaced[key]}: replaces {section}.{key}{computed}; leave {key} out")
             elif key not in given and spec.default is None and applies and key not in replaced:
                 out.problems.append(f"{section}.{key}: missing ({spec.text}, in {spec.unit})")
             elif key in given and not applies:

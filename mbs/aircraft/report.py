@@ -87,11 +87,12 @@ def converted_rows(data: Data) -> list[tuple]:
             kind = getattr(spec, "kind", "number")  # tables (lookup) are listed by airframe_data.converted
             if meta.get("origin") not in ("file", "override") or spec is None or kind in ("text", "choice", "lookup"):
                 continue
-            if written.replace(" ", "") == spec.unit.replace(" ", "") or written in ("-", "1", ""):
+            plain = written.replace(" ", "") == spec.unit.replace(" ", "") or written in ("-", "1", "")
+            if plain and "how" not in meta:
                 continue
             unit = {"travel": "m, rad or -", "mixing": "rad, rad per position"}.get(kind, spec.unit)
             rows.append((f"{section}.{key}", data[section][key], unit,
-                         f"from {meta.get('value', '')} {written}".strip(), meta.get("source", "")))
+                         meta.get("how") or f"from {meta.get('value', '')} {written}".strip(), meta.get("source", "")))
     return rows + _inertia_conversion(data)
 
 

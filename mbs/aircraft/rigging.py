@@ -4,7 +4,8 @@ A file's ``[controls]`` section gives each pilot control's travel (collective le
 and lateral stick, pedals; in inches, degrees or per cent) and each blade angle as an affine
 function of them: ``blade = offset + G pilot`` (the mixing), then the swashplate phase turns the
 cyclic pair. ``[conventions]`` says how published blade angles are stated: the tail-rotor pitch's
-sign (``tail_collective_positive``) and the radius of the collective (``collective_radius``).
+sign (``tail_collective_positive``), the radius of the collective (``collective_radius``) and the
+cyclic's sign (``cyclic_pitch``: the model's θ1c, θ1s, or A1, B1 of θ = θ0 − A1 cos ψ − B1 sin ψ).
 
 Blade angles here are the model's controls (rad): ``collective`` (at the blade root),
 ``longitudinal_cyclic`` θ1s, ``lateral_cyclic`` θ1c, ``tail_collective`` (positive against the
@@ -26,32 +27,37 @@ BLADE = ("collective", "longitudinal_cyclic", "lateral_cyclic", "tail_collective
 class Conventions:
     """How published blade angles are stated. ``tail_sign``: published tail-rotor pitch times it is
     the model's ``tail_collective``; ``collective_offset`` (rad): published collective minus the
-    model's root collective (``twist · collective_radius`` of a linearly twisted blade, negated)."""
+    model's root collective (``twist · collective_radius`` of a linearly twisted blade, negated);
+    ``cyclic_sign``: published cyclic pitch (θ1s, θ1c or B1, A1) times it is the model's."""
 
     tail_sign: float = 1.0
     collective_offset: float = 0.0
+    cyclic_sign: float = 1.0
 
     def to_model(self, published: dict) -> dict:
         """Model blade angles (rad) of published ones (``BLADE`` keys present are converted)."""
         out = dict(published)
         if "collective" in out:
             out["collective"] = out["collective"] - self.collective_offset
-        if "tail_collective" in out:
-            out["tail_collective"] = self.tail_sign * out["tail_collective"]
-        return out
+        return self._signs(out)
+
+    def _signs(self, angles: dict) -> dict:
+        """``angles`` with the tail-rotor pitch and the cyclic pair times their signs (each its own inverse)."""
+        for key, sign in zip(BLADE[1:], self.scale()[1:]):
+            if key in angles:
+                angles[key] = sign * angles[key]
+        return angles
 
     def to_published(self, model: dict) -> dict:
         """Published blade angles of the model's."""
         out = dict(model)
         if "collective" in out:
             out["collective"] = out["collective"] + self.collective_offset
-        if "tail_collective" in out:
-            out["tail_collective"] = self.tail_sign * out["tail_collective"]
-        return out
+        return self._signs(out)
 
     def scale(self) -> np.ndarray:
         """d(published)/d(model) of the blade angles in ``BLADE`` order (4,)."""
-        return np.array([1.0, 1.0, 1.0, self.tail_sign])
+        return np.array([1.0, self.cyclic_sign, self.cyclic_sign, self.tail_sign])
 
 
 def conventions(d) -> Conventions:
@@ -60,7 +66,8 @@ def conventions(d) -> Conventions:
     positive = c.get("tail_collective_positive", "anti-torque")
     anti_torque = "starboard" if geo.main_sense(d) > 0 else "port"
     sign = 1.0 if positive in ("anti-torque", anti_torque) else -1.0
-    return Conventions(sign, d["main_rotor"]["twist"] * c.get("collective_radius", 0.0))
+    cyclic = -1.0 if c.get("cyclic_pitch", "theta_1c, theta_1s") == "A1, B1" else 1.0
+    return Conventions(sign, d["main_rotor"]["twist"] * c.get("collective_radius", 0.0), cyclic)
 
 
 @dataclass(frozen=True)

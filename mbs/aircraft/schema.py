@@ -20,7 +20,10 @@ class Entry:
     """One entry: SI ``unit`` ("-" a pure number, "1/rev" per revolution), ``kind`` (number,
     integer, choice, text, vector, table, airfoils: rows of r/R and a C81 file), ``low``/``high`` bounds (inclusive unless
     ``open_low``/``open_high``), ``choices``, ``length`` of a vector, ``columns`` (units) of
-    a table, ``default`` (None: required) and the meaning ``text``."""
+    a table, ``default`` (None: required), the meaning ``text``, and for a position from the CG
+    the body ``axis`` (or axes) it lies along, so that it may be written as a station
+    (:mod:`mbs.aircraft.stations`); a ``radial`` table's first column is r/R, or radial
+    stations in a length unit that the reader divides by the rotor's radius."""
 
     unit: str
     text: str
@@ -34,7 +37,9 @@ class Entry:
     length: int = 0
     columns: tuple = ()
     only_if: tuple = ()  # (key, value): the entry applies only when that entry of the section has that value
-    replaces: str = ""  # the entry of the section this one gives instead (a distribution instead of a number)
+    replaces: str = ""  # the entries (space-separated) of the section this one gives instead (a table instead of numbers)
+    axis: str = ""  # a position from the CG along these body axes ("x", "z", "xyz"): it may be given as stations
+    radial: bool = False  # a table along the span: its first column r/R, or radial stations in a length unit
 
 
 def num(unit, text, low=-math.inf, high=math.inf, **kw) -> Entry:
@@ -85,13 +90,15 @@ def _rotor(what: str) -> dict[str, Entry]:
         "mach_dd": ratio(f"{what} drag-divergence Mach number of the section (with compressibility)", 0.3, 1.0),
         "mach_limit": ratio(f"{what} bound of the Mach number in the Prandtl-Glauert factor", 0.3, 0.95, default=0.8),
         **_airfoil(what),
-        "chord_table": Entry("-, m", f"{what} chord along the span: rows r/R, chord (linear between stations, held "
-                             "beyond); replaces chord, which becomes the thrust-weighted chord", "table",
-                             columns=("-", "m"), default=(), replaces="chord"),
-        "twist_table": Entry("-, rad", f"{what} twist along the span: rows r/R, twist angle added to the collective "
-                             "(the collective is the pitch where the table reads 0; linear between stations, held "
-                             "beyond); replaces twist, which becomes the r^2-weighted straight line through it",
-                             "table", columns=("-", "rad"), default=(), replaces="twist"),
+        "chord_table": Entry("-, m", f"{what} chord along the span: rows r/R (or the radial station, a length), "
+                             "chord (linear between stations, held beyond); replaces chord, which becomes the "
+                             "thrust-weighted chord", "table", columns=("-", "m"), default=(), replaces="chord",
+                             radial=True),
+        "twist_table": Entry("-, rad", f"{what} twist along the span: rows r/R (or the radial station, a length), "
+                             "twist angle added to the collective (the collective is the pitch where the table reads "
+                             "0; linear between stations, held beyond); replaces twist, which becomes the "
+                             "r^2-weighted straight line through it", "table", columns=("-", "rad"), default=(),
+                             replaces="twist", radial=True),
         "tip_sweep": angle(f"{what} sweep of the blade tip: the quarter-chord line swept aft by this angle beyond "
                            "sweep_start (simple sweep theory: the air velocity normal to the swept line loads the "
                            "sections)", 45, default=0.0),
@@ -127,9 +134,16 @@ def _controls(prefix: str, what: str) -> dict[str, Entry]:
 
 def _surface(what: str, arg: str = "alpha", flow: str = "downwash") -> dict[str, Entry]:
     return {"area": positive("m^2", f"{what} area"), "incidence": angle(f"{what} incidence", 30),
-            "x": num("m", f"{what} aerodynamic centre, x (forward) from the CG"),
-            "z": num("m", f"{what} aerodynamic centre, z (down) from the CG"),
+            "x": num("m", f"{what} aerodynamic centre, x (forward) from the CG", axis="x"),
+            "z": num("m", f"{what} aerodynamic centre, z (down) from the CG", axis="z"),
             "chord": positive("m", f"{what} chord (display only)"), **_airfoil(what, cd2_default=0.0),
+            "coefficient_table": Entry("rad, -, -", f"{what} lift and drag coefficients as published: rows angle of "
+                                       "attack (within +-90 deg: flow from the trailing edge is folded onto it, as "
+                                       "for the analytic section), c_L, c_D; natural cubic splines through the rows, "
+                                       "continued linearly beyond the first and last (a trim there warns); replaces "
+                                       "lift_slope, cd0, cd2, alpha_stall and cd_stalled", "table",
+                                       columns=("rad", "-", "-"), default=(),
+                                       replaces="lift_slope cd0 cd2 alpha_stall cd_stalled"),
             **_interference(what, arg, flow)}
 
 
@@ -164,7 +178,7 @@ def _fuselage_tables() -> dict[str, Entry]:
                        "pitch, yaw; wind axes turned by alpha and beta from the body axes, stability by alpha only)",
                        *AIRFRAME_AXES, only_if=tables),
         "reference_point": Entry("m", "point the moments are about: x (forward), y (starboard), z (down) from the CG",
-                                 "vector", length=3, default=(), only_if=tables),
+                                 "vector", length=3, default=(), only_if=tables, axis="xyz"),
         "reference_station": Entry("m", "point the moments are about as fuselage station (aft), butt line "
                                    "(starboard), water line (up); with cg_station", "vector", length=3, default=(),
                                    only_if=tables),
@@ -227,6 +241,11 @@ ENTRIES: dict[str, dict[str, Entry]] = {
         "Iyy": positive("kg m^2", "pitch moment of inertia (of what: see inertia)"),
         "Izz": positive("kg m^2", "yaw moment of inertia (of what: see inertia)"),
         "Ixz": num("kg m^2", "product of inertia: tensor [[Ixx, 0, -Ixz], [0, Iyy, 0], [-Ixz, 0, Izz]]", default=0.0),
+        "cg_station": Entry("m", "the CG as fuselage station (aft), butt line (see conventions.butt_line_positive), "
+                            "water line (up): with it, the positions from the CG (the hubs, the tail surfaces, the "
+                            "fuselage tables' reference point) may be written as their stations, "
+                            "{ station = ..., unit, source } instead of { value = ... }", "vector", length=3,
+                            default=()),
     },
     "environment": {
         "rho": positive("kg/m^3", "air density", default=1.225),
@@ -239,18 +258,22 @@ ENTRIES: dict[str, dict[str, Entry]] = {
         "omega": positive("rad/s", "nominal main-rotor speed"),
         "omega_min": positive("rad/s", "least rotor speed the omega parameter accepts", default="0.5 omega"),
         "omega_max": positive("rad/s", "largest rotor speed the omega parameter accepts", default="1.2 omega"),
-        "hub_x": num("m", "hub position x (forward) from the CG"),
-        "hub_z": num("m", "hub position z (down) from the CG; negative above it"),
+        "hub_x": num("m", "hub position x (forward) from the CG", axis="x"),
+        "hub_z": num("m", "hub position z (down) from the CG; negative above it", axis="z"),
         "shaft_tilt": angle("forward tilt of the shaft", 30),
         "I_flap": positive("kg m^2", "blade moment of inertia about the flap hinge"),
-        "mass_table": Entry("-, kg/m", "blade mass per length along the span: rows r/R, mass per length (linear "
-                            "between stations, zero beyond), the last at r/R = 1; replaces I_flap: the blade's mass, "
-                            "first moment and flap inertia are integrated from it (outboard of the flap hinge)",
-                            "table", columns=("-", "kg/m"), default=(), replaces="I_flap"),
+        "lock_number": num("-", "Lock number as published, gamma = rho a c R^4 / I_flap at the file's density, "
+                           "lift_slope, chord and radius; replaces I_flap, which is computed from it (0: not given)",
+                           0.0, 100.0, default=0.0, replaces="I_flap"),
+        "mass_table": Entry("-, kg/m", "blade mass per length along the span: rows r/R (or the radial station, a "
+                            "length), mass per length (linear between stations, zero beyond), the last at r/R = 1; "
+                            "replaces I_flap: the blade's mass, first moment and flap inertia are integrated from it "
+                            "(outboard of the flap hinge)", "table", columns=("-", "kg/m"), default=(), replaces="I_flap", radial=True),
         "section_inertia_table": Entry("-, kg m, kg m, kg m", "section mass moments of inertia per length along the "
-                                       "span (with mass_table): rows r/R, flap (about the chord), lag (about the "
-                                       "normal), torsion (about the span); default: a box of the chord and "
-                                       "blade_thickness", "table", columns=("-", "kg m", "kg m", "kg m"), default=()),
+                                       "span (with mass_table): rows r/R (or the radial station), flap "
+                                       "(about the chord), lag (about the normal), torsion (about the span); "
+                                       "default: a box of the chord and blade_thickness", "table", columns=("-", "kg m", "kg m", "kg m"), default=(),
+                                       radial=True),
         "flap_hinge_offset": num("m", "flap hinge (or equivalent hinge) distance from the rotor axis", 0.0),
         "flap_stiffness": num("N m/rad", "flap spring (centre-spring equivalent of a hingeless rotor)", 0.0),
         "lag_frequency": positive("1/rev", "first rotating lag frequency"),
@@ -268,9 +291,9 @@ ENTRIES: dict[str, dict[str, Entry]] = {
                            "or rigid (blades on pitch bearings only)", "teetering", "rigid", "flapping"),
         "upper_blade": choice("which way the upper tail-rotor blade moves", "aft", "forward"),
         "gear_ratio": positive("-", "tail-rotor speed per main-rotor speed"),
-        "hub_x": num("m", "tail-rotor hub x (forward) from the CG"),
-        "hub_y": num("m", "tail-rotor hub y (starboard) from the CG"),
-        "hub_z": num("m", "tail-rotor hub z (down) from the CG"),
+        "hub_x": num("m", "tail-rotor hub x (forward) from the CG", axis="x"),
+        "hub_y": num("m", "tail-rotor hub y (starboard) from the CG", axis="y"),
+        "hub_z": num("m", "tail-rotor hub z (down) from the CG", axis="z"),
         "blade_mass": positive("kg", "tail-rotor blade mass"),
         "hub_size": positive("m", "tail-rotor hub, a cube (inertia only)"),
         "seesaw_mass": positive("kg", "seesaw mass", only_if=("hub_type", "teetering")),
@@ -315,6 +338,14 @@ ENTRIES: dict[str, dict[str, Entry]] = {
         "collective_radius": ratio("where published main-rotor collective pitch is measured, fraction of R (0: "
                                    "the blade root, the model's collective; 0.75 for theta_0.75)", 0.0, 1.0,
                                    default=0.0),
+        "cyclic_pitch": choice("how this file's rigging and published data state cyclic pitch: the model's theta_1c, "
+                               "theta_1s (pitch = theta_0 + theta_1c cos psi + theta_1s sin psi) or A1, B1 (pitch = "
+                               "theta_0 - A1 cos psi - B1 sin psi, as NASA math-model reports print it; psi from the "
+                               "tail in the sense of rotation in both): the mixing rows longitudinal_cyclic and "
+                               "lateral_cyclic then give B1 and A1", "theta_1c, theta_1s", "A1, B1",
+                               default="theta_1c, theta_1s"),
+        "butt_line_positive": choice("the side to which butt lines count positive in this file's stations",
+                                     "starboard", "port", default="starboard"),
     },
     "lag_damper": {
         "hub_point": Entry("m", "the lag damper's end on the hub, in its blade's rotating frame at zero azimuth: "
@@ -472,7 +503,8 @@ FROM_TABLES: dict[str, dict[str, Derived]] = {
               "twist": Derived("rad", "slope of the r^2-weighted straight line through twist_table over the "
                                "aerodynamic blade (estimates, wake geometry)"),
               **({"I_flap": Derived("kg m^2", "integral of mass per length times (r - e)^2 plus the sections' flap "
-                                    "inertia, outboard of the flap hinge, from mass_table")}
+                                    "inertia, outboard of the flap hinge, from mass_table; or rho a c R^4 / gamma "
+                                    "from lock_number")}
                  if section == "main_rotor" else {})}
     for section in ("main_rotor", "tail_rotor")
 }

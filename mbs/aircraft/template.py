@@ -25,7 +25,8 @@ HEADER = """\
 # loading: m, ft, in; kg, lb, slug; kg m^2, slug ft^2; rad, deg; rad/s, rpm; N, lbf; N m/rad, ft lbf/rad ...
 # The values below are the Bo105's (source "{source}"): replace each with your aircraft's and its source
 # (a reference, DER for a value you derived, EST for an estimate). Frame: body axes at the centre of
-# gravity, x forward, y starboard, z down. Check the file with:  heli aircraft check FILE
+# gravity, x forward, y starboard, z down; a position may be written as its station instead,
+# {{ station = ..., unit = "in", source = "..." }}, with aircraft.cg_station. Check the file with:  heli aircraft check FILE
 """
 
 COMMENTED = ("elastic_blade", "swashplate", "stabilator", "controls", "conventions", "envelope", "lag_damper")

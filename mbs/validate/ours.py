@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from mbs.analysis.derivatives import Derivatives, linearise
+from mbs.analysis.derivatives import Derivatives, in_pilot_controls, linearise
 
 
 @dataclass
@@ -36,6 +36,7 @@ class Model:
     aircraft: str
     points: dict[float, Point] = field(default_factory=dict)
     wall_s: float = 0.0
+    controls: str = ""  # the conventions of the model's control angles and pilot controls, in words
 
     def at(self, speed: float) -> Point:
         return self.points[round(float(speed), 9)]
@@ -78,23 +79,43 @@ def run(scene, trim_speeds: list[float], derivative_speeds: list[float], method:
         check(system.info)
     held = HeldStepper(scene.model(), method, backend) if derivative_speeds else None
     speeds = sorted(set(trim_speeds) | set(derivative_speeds))
-    out = Model(scene.name, scene.aircraft.name if scene.aircraft else "")
+    out = Model(scene.name, scene.aircraft.name if scene.aircraft else "",
+                controls=controls_convention(scene.aircraft.data) if scene.aircraft else "")
     for k, v in enumerate(speeds):
         sol = periodic_solution(scene, v, method=method, steps_per_rev=steps_per_rev, backend=backend,
                                 system=system, stepper=stepper)
-        out.points[round(v, 9)] = _point(v, sol, system, held, v in derivative_speeds)
+        out.points[round(v, 9)] = _point(v, sol, system, held, v in derivative_speeds, scene.aircraft)
         if progress:
             progress(k + 1, len(speeds))
     out.wall_s = time.perf_counter() - start
     return out
 
 
-def _point(speed: float, sol, system, held, with_derivatives: bool) -> Point:
+def controls_convention(d) -> str:
+    """How the model states its controls for the comparison: the aircraft file's ``[conventions]``
+    (defaults included) and whether a rigging gives the pilot's controls."""
+    from mbs.aircraft import rigging
+
+    c = d.get("conventions", {})
+    cyclic = c.get("cyclic_pitch", "theta_1c, theta_1s")
+    out = (f"blade angles in the aircraft file's conventions: tail_collective positive "
+           f"{c.get('tail_collective_positive', 'anti-torque')}, collective at r/R = {c.get('collective_radius', 0.0):g}, "
+           f"cyclic as {cyclic}")
+    rig = rigging.rigging(d)
+    return out + ("; pilot controls through its rigging ([controls])" if rig is not None else "; no rigging")
+
+
+def _point(speed: float, sol, system, held, with_derivatives: bool, aircraft=None) -> Point:
+    """The trim at ``speed`` and, when asked, its derivatives (per published control angle and per
+    pilot position too, with ``aircraft``'s conventions and rigging)."""
     if not sol.converged:
         return Point(speed, sol, problem=f"no trim: {sol.reason}")
     if not with_derivatives:
         return Point(speed, sol)
     try:
-        return Point(speed, sol, linearise(sol, system, held, sol.radius))
+        res = linearise(sol, system, held, sol.radius)
     except RuntimeError as exc:
         return Point(speed, sol, problem=f"no derivatives: {exc}")
+    if aircraft is not None:
+        in_pilot_controls(res, aircraft.data)
+    return Point(speed, sol, res)

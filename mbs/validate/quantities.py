@@ -2,14 +2,17 @@
 derivatives there, and its conversion to the published unit.
 
 Trim quantities: the controls by name (``collective``, ``longitudinal_cyclic``,
-``lateral_cyclic``, ``tail_collective``, rad), ``pitch`` and ``roll`` (rad), the main-rotor
-flapping ``beta0``, ``beta1c``, ``beta1s`` (rad) and every period-mean output of the trim
-(``engine.power``, ``main_rotor.power`` ...). Derivative quantities: the names of
+``lateral_cyclic``, ``tail_collective``, rad, in the aircraft file's published conventions:
+``[conventions]``), with a rigging the pilot's controls (``collective_lever``,
+``longitudinal_stick``, ``lateral_stick``, ``pedals``: m, rad or a fraction of travel),
+``pitch`` and ``roll`` (rad), the main-rotor flapping ``beta0``, ``beta1c``, ``beta1s`` (rad)
+and every period-mean output of the trim (``engine.power``, ``main_rotor.power`` ...). Derivative quantities: the names of
 :attr:`mbs.analysis.derivatives.Derivatives.table` (``X_u``, ``M_q``, ``L_θ1c``, ``N_θ0T`` ...;
 ``theta0``, ``theta1s``, ``theta1c``, ``theta0T`` may be written for the Greek symbols), and the
 entries of the state matrix ``A[row,column]`` with Padfield's states ``u w q θ v p φ r``
 (``theta``, ``phi`` may be written): the derivatives with the kinematic and gravity terms of
-the linearised equations (``A[w,q] = Z_q + U_e``), as some publications chart them.
+the linearised equations (``A[w,q] = Z_q + U_e``), as some publications chart them. Control
+derivatives are per published control angle (the aircraft file's conventions).
 """
 from __future__ import annotations
 
@@ -33,14 +36,16 @@ def canonical(quantity: str) -> str:
 def trim_value(trim, quantity: str) -> tuple[float, str]:
     """``(value, SI unit)`` of the trim quantity ``quantity`` at the converged ``trim``."""
     if quantity in trim.controls:
-        return trim.controls[quantity], "rad"
+        return getattr(trim, "published", {}).get(quantity, trim.controls[quantity]), "rad"
+    if quantity in getattr(trim, "pilot", {}):
+        return pilot_si(trim, quantity)
     if quantity in ANGLES:
         return getattr(trim, quantity), "rad"
     if quantity in trim.flapping:
         return trim.flapping[quantity], "rad"
     if quantity in trim.output_means:
         return trim.output_means[quantity], trim.output_units.get(quantity, "-")
-    known = [*trim.controls, *ANGLES, *trim.flapping, *trim.output_means]
+    known = [*trim.controls, *getattr(trim, "pilot", {}), *ANGLES, *trim.flapping, *trim.output_means]
     raise ValidationError(f"trim quantity {quantity!r} is not one of the model's: {', '.join(known)}")
 
 
@@ -88,7 +93,7 @@ def derivative_value(derivatives, quantity: str) -> tuple[float, str]:
     name = canonical(quantity)
     if name not in derivatives.table:
         raise ValidationError(f"derivative {quantity!r} is not one of the model's: {', '.join(derivatives.table)}")
-    return derivatives.table[name], derivatives.units[name]
+    return getattr(derivatives, "published", {}).get(name, derivatives.table[name]), derivatives.units[name]
 
 
 def converter(si_unit: str, unit: str, where: str):
@@ -106,10 +111,19 @@ def converter(si_unit: str, unit: str, where: str):
 FLAPPING = ("beta0", "beta1c", "beta1s")
 
 
-def model_units(info) -> dict[str, dict[str, str]]:
+def pilot_si(trim, quantity: str) -> tuple[float, str]:
+    """A pilot control's trim position in SI (m, rad, or a fraction of travel) and that unit."""
+    unit = units.parse(trim.pilot_units[quantity])
+    return trim.pilot[quantity] * unit.factor, PILOT_SI[unit.dims]
+
+
+PILOT_SI = {(1, 0, 0, 0): "m", (0, 0, 0, 1): "rad", (0, 0, 0, 0): "-"}
+
+
+def model_units(info, aircraft=None) -> dict[str, dict[str, str]]:
     """The model's quantities and their SI units before any trim: ``{"trim": {...}, "derivative":
     {...}}`` from the system's description ``info`` (controls, attitude, flapping, outputs; the
-    derivative table's names)."""
+    derivative table's names) and, with a rigging in ``aircraft``'s file, its pilot controls."""
     from mbs.analysis.derivatives import CONTROL_SYMBOLS, FORCES, VELOCITIES, _unit
     from mbs.analysis.shooting import TrimLayout
 
@@ -118,7 +132,16 @@ def model_units(info) -> dict[str, dict[str, str]]:
             **{o["name"]: o["unit"] for o in info.outputs if not o["name"].endswith(".azimuth")}}
     deriv = {f"{f}_{v}": _unit(f, v) for f in FORCES for v in VELOCITIES}
     deriv.update({f"{f}_{CONTROL_SYMBOLS.get(c, c)}": _unit(f, "control") for f in FORCES for c in controls})
+    trim.update(_pilot_units(aircraft))
     return {"trim": trim, "derivative": deriv}
+
+
+def _pilot_units(aircraft) -> dict[str, str]:
+    """The pilot controls of ``aircraft``'s rigging and their SI units (none without one)."""
+    from mbs.aircraft import rigging
+
+    rig = rigging.rigging(aircraft.data) if aircraft is not None else None
+    return {} if rig is None else dict(zip(rigging.PILOT, rig.units))
 
 
 def _known_unit(known: dict, kind: str, quantity: str) -> str | None:
@@ -131,10 +154,10 @@ def _known_unit(known: dict, kind: str, quantity: str) -> str | None:
     return known[kind].get(canonical(quantity) if kind == "derivative" else quantity)
 
 
-def check(validation, info) -> None:
+def check(validation, info, aircraft=None) -> None:
     """Every series of ``validation`` names a quantity of the model in a unit of its dimension
     (:class:`ValidationError` naming the first that does not), before any trim is run."""
-    known = model_units(info)
+    known = model_units(info, aircraft)
     for s in validation.series:
         unit = _known_unit(known, s.kind, s.quantity)
         if unit is None:

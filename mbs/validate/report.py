@@ -17,6 +17,7 @@ def lines(res) -> list[str]:
     out = [f"{v.title}", f"  data: {v.path}", f"  model: {res.model.aircraft or 'default aircraft'}, scene {v.scene}; "
            f"{len(res.model.points)} speeds in {res.model.wall_s:.1f} s",
            *[f"  convention, {k}: {t}" for k, t in v.conventions.items()],
+           *([f"  model's controls: {res.model.controls}"] if res.model.controls else []),
            *[f"  source {k}: {t}" for k, t in v.sources.items()]]
     problems = [p for p in res.model.points.values() if not p.ok]
     out += [f"  at {p.speed:g} m/s: {p.problem}" for p in problems]
@@ -102,6 +103,7 @@ def summary(res) -> dict:
                         "tolerance": None if s.tolerance is None else vars(s.tolerance)} for s in v.series],
             "rows": [r.summary() for r in res.rows], "eigenvalues": [p.summary() for p in res.pairs],
             "model": {"speeds_m_s": sorted(res.model.points), "wall_s": res.model.wall_s,
+                      "controls": res.model.controls,
                       "problems": {str(p.speed): p.problem for p in res.model.points.values() if not p.ok}},
             "counts": res.counts(), "all_within": res.all_within,
             "worst": {"trim_abs": worst([r for r in res.rows if r.kind == "trim"], False),

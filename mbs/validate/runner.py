@@ -40,7 +40,7 @@ def validate(validation: Validation, aircraft=None, aero: str | None = None, met
     the published data of ``validation``."""
     scene = scene_of(validation, aircraft, aero)
     model = run(scene, validation.speeds("trim"), validation.speeds("derivative", "eigenvalues"), method,
-                steps_per_rev, backend, progress, check=lambda info: quantities.check(validation, info))
+                steps_per_rev, backend, progress, check=lambda info: quantities.check(validation, info, scene.aircraft))
     out = Result(validation, model)
     for s in validation.series:
         out.blocks.append((s, compare.rows(s, model)))

@@ -43,6 +43,15 @@ def _stall(values: dict, d) -> list[str]:
     out = []
     for section, key, what in (("horizontal_tail", "horizontal_tail", "horizontal tail"), ("vertical_fin", "fin", "fin")):
         alpha = values.get(f"{key}.alpha", _estimated_alpha(values, d, section))
+        table = d[section].get("coefficient_table")
+        if table and alpha is not None and not table[0][0] <= alpha <= table[-1][0]:
+            out.append(f"{what}: angle of attack {np.degrees(alpha):+.1f} deg beyond its coefficient table "
+                       f"[{np.degrees(table[0][0]):.4g}, {np.degrees(table[-1][0]):.4g}] deg "
+                       f"({section}.coefficient_table); the table is continued linearly there: give it over the "
+                       "range flown")
+            continue
+        if table:
+            continue  # the table models the stall
         stall = d[section]["alpha_stall"]
         if alpha is not None and abs(alpha) >= stall:
             out.append(f"{what}: angle of attack {np.degrees(alpha):+.1f} deg at or beyond its stall angle "
