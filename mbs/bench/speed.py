@@ -236,8 +236,8 @@ def tables_speed(repeats: int = TABLES_REPEATS) -> dict:
     compressibility corrections; :func:`mbs.aero.tables.sample.with_sampled_tables`) against the
     analytic scene, both measured here, interleaved ``repeats`` times (other jobs on the machine
     then load both alike): the tables' :func:`scene_speed` of the median run, its RK4 step and
-    real-time factor over the analytic scene's (CPU time, medians), and the trims' Newton time
-    (s, wall, median; evaluators built and compiled beforehand, not counted) and its ratio."""
+    real-time factor over the analytic scene's (CPU time, medians), and the trims' times (s, wall,
+    medians, :func:`_trim_times`: Newton alone and with the set-up) and their ratios."""
     import tempfile
     from pathlib import Path
 
@@ -257,25 +257,33 @@ def tables_speed(repeats: int = TABLES_REPEATS) -> dict:
             "analytic_real_time_factor_cpu": tables["h_s"] / step[1] * 1e6, "repeats": repeats,
             "trim_s": trims[0]["newton_s"], "analytic_trim_s": trims[1]["newton_s"],
             "ratio_trim_to_analytic": trims[0]["newton_s"] / trims[1]["newton_s"],
+            "trim_with_setup_s": trims[0]["total_s"], "analytic_trim_with_setup_s": trims[1]["total_s"],
+            "ratio_trim_with_setup_to_analytic": trims[0]["total_s"] / trims[1]["total_s"],
             "trim_iterations": trims[0]["iterations"], "analytic_trim_iterations": trims[1]["iterations"]}
 
 
 def _trim_times(scenes: tuple, repeats: int) -> list[dict]:
-    """For each scene: the median wall time (s) of its trim's Newton iterations over ``repeats``
-    trims, the scenes' trims interleaved, and the iterations of the last; the evaluators are built
-    (and compiled, when not cached) first."""
+    """For each scene, medians over ``repeats`` trims (the scenes' trims interleaved): the wall time
+    (s) of the Newton iterations and of the whole trim with its set-up (the evaluators built from
+    the scene, their libraries found in the cache), and the iterations of the last. Each scene's
+    libraries are built (compiled when not cached) once before, not counted."""
     from mbs.analysis.trim import evaluators, trim
 
-    built = [evaluators(sc) for sc in scenes]
-    times: list[list[float]] = [[] for _ in scenes]
+    for sc in scenes:
+        evaluators(sc)
+    times: list[dict] = [{"newton_s": [], "total_s": []} for _ in scenes]
     last = [None] * len(scenes)
     for _ in range(repeats):
-        for k, (sc, (system, stepper)) in enumerate(zip(scenes, built)):
+        for k, sc in enumerate(scenes):
+            start = time.perf_counter()
+            system, stepper = evaluators(sc)
             last[k] = trim(sc, system=system, stepper=stepper)
             if not last[k].converged:
                 raise RuntimeError(f"scene {sc.name}: the trim did not converge: {last[k].reason}")
-            times[k].append(last[k].wall_s)
-    return [{"newton_s": float(np.median(t)), "iterations": r.iterations} for t, r in zip(times, last)]
+            times[k]["newton_s"].append(last[k].wall_s)
+            times[k]["total_s"].append(time.perf_counter() - start)
+    return [{**{key: float(np.median(v)) for key, v in t.items()}, "iterations": r.iterations}
+            for t, r in zip(times, last)]
 
 
 def run(progress: Callable[[int, int], None] | None = None) -> dict:
