@@ -252,9 +252,10 @@ def tables_speed(repeats: int = TABLES_REPEATS) -> dict:
         trims = _trim_times((tabled, base), repeats)
     step = [float(np.median([r[k]["rk4_step_in_run_cpu_us"] for r in runs])) for k in range(2)]
     tables = sorted((r[0] for r in runs), key=lambda r: r["rk4_step_in_run_cpu_us"])[len(runs) // 2]
-    return {**tables, "rk4_step_in_run_cpu_us": step[0], "real_time_factor_cpu": tables["h_s"] / step[0] * 1e6,
+    h = float(tables["h_s"])
+    return {**tables, "rk4_step_in_run_cpu_us": step[0], "real_time_factor_cpu": h / step[0] * 1e6,
             "analytic_rk4_step_in_run_cpu_us": step[1], "ratio_rk4_step_to_analytic": step[0] / step[1],
-            "analytic_real_time_factor_cpu": tables["h_s"] / step[1] * 1e6, "repeats": repeats,
+            "analytic_real_time_factor_cpu": h / step[1] * 1e6, "repeats": repeats,
             "trim_s": trims[0]["newton_s"], "analytic_trim_s": trims[1]["newton_s"],
             "ratio_trim_to_analytic": trims[0]["newton_s"] / trims[1]["newton_s"],
             "trim_with_setup_s": trims[0]["total_s"], "analytic_trim_with_setup_s": trims[1]["total_s"],
