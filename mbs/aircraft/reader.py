@@ -103,31 +103,41 @@ def _entry(out: Reading, section: str, key: str, entry, base: Path | None = None
         out.problems.append(f"{where}: {problem}")
         return
     spec = spec or Entry(derived.unit, derived.text)
-    unit, length = entry.get("unit"), _radial_length(spec, entry.get("unit"))
-    if length:  # radial stations: in metres here, over the radius once every entry is read
-        unit = ", ".join(["m", *str(unit).split(",")[1:]])
-    per_radius = str(unit).strip() == "R"
-    if per_radius and not (section in ROTORS and key != "radius" and spec.unit == "m" and spec.kind == "number"):
-        out.problems.append(f"{where}: unit 'R' (a fraction of the rotor's radius) applies to the lengths of "
-                            "[main_rotor] and [tail_rotor] only")
-        return
-    if per_radius:  # a fraction of the radius: times the radius once every entry is read
-        unit = "m"
     try:
+        unit, radial = _radius_unit(section, key, spec, entry.get("unit"))
         value = (airfoil_segments(entry["value"], unit, base) if spec.kind == "airfoils"
-                 else convert(entry["value"], unit, replace(spec, columns=("m", *spec.columns[1:])) if length else spec))
+                 else convert(entry["value"], unit, replace(spec, columns=("m", *spec.columns[1:])) if radial and
+                              spec.kind == "table" else spec))
     except ValueError as exc:
         out.problems.append(f"{where}: {exc}")
         return
-    if length or per_radius:
-        value = [[row[0] * length, *row[1:]] for row in value] if length else value
+    if radial:  # over or times the radius once every entry is read
         out.radial.append((section, key))
     meta = {"unit": entry.get("unit", ""), "source": entry["source"], "note": entry.get("note", ""),
             "origin": "override" if entry.get("override") else "file", "value": entry["value"]}
-    if "gain" in entry:
-        value = [value[0], *(entry["gain"] * v for v in value[1:])]
-        meta["how"] = f"the offset, and the gain {entry['gain']:g} times each factor: from {entry['value']} {meta['unit']}"
-    out.put(section, key, value, meta)
+    out.put(section, key, _with_gain(value, entry, meta), meta)
+
+
+def _radius_unit(section: str, key: str, spec: Entry, unit) -> tuple:
+    """``(unit to convert with, radial)``: a span table's radial stations (a length in its first
+    column, converted to metres) and a rotor's length in ``R`` (read as metres) are ``radial``,
+    over or times the radius later; ValueError for ``R`` elsewhere."""
+    if _radial_length(spec, unit):
+        return unit, True
+    if str(unit).strip() != "R":
+        return unit, False
+    if not (section in ROTORS and key != "radius" and spec.unit == "m" and spec.kind == "number"):
+        raise ValueError("unit 'R' (a fraction of the rotor's radius) applies to the lengths of [main_rotor] and "
+                         "[tail_rotor] only")
+    return "m", True
+
+
+def _with_gain(value, entry: dict, meta: dict):
+    """A mixing row with its common ``gain`` (if given) multiplied into its four gains."""
+    if "gain" not in entry:
+        return value
+    meta["how"] = f"the offset, and the gain {entry['gain']:g} times each factor: from {entry['value']} {meta['unit']}"
+    return [value[0], *(entry["gain"] * v for v in value[1:])]
 
 
 def _gain(entry: dict, spec: Entry | None) -> str | None:
@@ -166,24 +176,28 @@ ROTORS = ("main_rotor", "tail_rotor")
 
 def _radial_stations(out: Reading) -> None:
     """Span tables given in radial stations (now m) as r/R of their rotor's radius; lengths
-    given as fractions of it (unit ``R``) in metres."""
+    given as fractions of it (unit ``R``) in metres, within their bounds."""
     for section, key in out.radial:
         radius = out.values.get(section, {}).get("radius")
         if not radius:
             continue  # the missing radius is a problem of its own
-        meta = out.meta[section][key]
-        if not isinstance(out.values[section][key], list):
-            out.values[section][key] *= radius
-            meta["how"] = f"times {section}.radius {radius:.6g} m: from {meta['value']} R"
+        meta, value = out.meta[section][key], out.values[section][key]
+        if isinstance(value, list):
+            out.values[section][key] = _over_radius(value, radius)
+            meta["how"] = (f"r/R from the radial stations in {meta['unit'].split(',')[0].strip()} over "
+                           f"{section}.radius {radius:.6g} m; from {meta['value']} {meta['unit']}")
             continue
-        rows = out.values[section][key]
-        ratios = [row[0] / radius for row in rows]
-        ratios = [1.0 if abs(r - 1.0) <= ROUND_OFF else r for r in ratios]
-        out.values[section][key] = [[r, *row[1:]] for r, row in zip(ratios, rows)]
-        written = out.meta[section][key]["unit"].split(",")[0].strip()
-        out.meta[section][key]["how"] = (f"r/R from the radial stations in {written} over {section}.radius "
-                                         f"{radius:.6g} m; from {out.meta[section][key]['value']} "
-                                         f"{out.meta[section][key]['unit']}")
+        try:
+            out.values[section][key] = _bounded(value * radius, ENTRIES[section][key])
+        except ValueError as exc:
+            out.problems.append(f"{section}.{key}: {meta['value']} R is {exc}")
+        meta["how"] = f"times {section}.radius {radius:.6g} m: from {meta['value']} R"
+
+
+def _over_radius(rows: list, radius: float) -> list:
+    """Rows whose first column (m) becomes r/R (a station within :data:`ROUND_OFF` of the tip is the tip)."""
+    ratios = [row[0] / radius for row in rows]
+    return [[1.0 if abs(r - 1.0) <= ROUND_OFF else r, *row[1:]] for r, row in zip(ratios, rows)]
 
 
 def _station_entry(out: Reading, section: str, key: str, entry: dict, spec: Entry | None) -> None:
