@@ -175,3 +175,40 @@ def test_aircraft_check_lists_the_radial_stations_over_the_radius(tmp_path):
 def test_radial_stations_beyond_the_tip_or_not_a_length_are_problems(rows, unit, expected):
     _, problems = evaluate(_chord(rows, unit))
     assert any(p.startswith(expected) for p in problems), problems
+
+
+def test_the_fuselage_reference_station_pair_follows_the_butt_line_convention():
+    """The older pair ``fuselage_aero.reference_station`` and ``cg_station`` takes its butt lines
+    as ``conventions.butt_line_positive`` says, like every other station."""
+    from mbs.aircraft.airframe_data import reference_point
+
+    text = _bo105().replace("[fuselage_aero]\n", '[fuselage_aero]\nmodel = { value = "tables", unit = "-", source = "R" }\n'
+                            'axes = { value = "body", unit = "-", source = "R" }\n'
+                            'reference_station = { value = [210.0, 5.0, 90.0], unit = "in", source = "R" }\n'
+                            'cg_station = { value = [200.0, 3.0, 100.0], unit = "in", source = "R" }\n'
+                            'alpha = { value = [-0.5, 0.5], unit = "rad", source = "R" }\n'
+                            'X_alpha = { value = [-1.0, -1.0], unit = "m^2", source = "R" }\n', 1)
+    text = re.sub(r"^(v_ref|X|Y|Z|M|N|angle_limit) = .*\n", "", text, flags=re.M)
+    for side, y in (("starboard", 2.0), ("port", -2.0)):
+        data, problems = evaluate(text + f'\n[conventions]\nbutt_line_positive = {{ value = "{side}", unit = "-", '
+                                         'source = "R" }\n')
+        assert not problems, problems
+        assert reference_point(data) == pytest.approx([-10 * INCH, y * INCH, 10 * INCH], abs=1e-14)
+
+
+@pytest.mark.parametrize("section, key, new, expected", [
+    ("main_rotor", "chord", 'chord_table = { value = [], unit = "-, m", source = "R" }',
+     "main_rotor.chord_table: an empty table, which would leave chord unset"),
+    ("main_rotor", "I_flap", 'lock_number = { value = 0.0, unit = "-", source = "R" }',
+     "main_rotor.lock_number: 0 is outside (0, 100]"),
+    ("tail_rotor", "hub_x", 'hub_x = { value = -1.2, unit = "R", source = "R" }',
+     "tail_rotor.hub_x: unit 'R' applies to a rotor's own lengths, not to a position from the CG"),
+])
+def test_an_entry_that_would_replace_nothing_or_mean_two_things_is_a_problem(section, key, new, expected):
+    """An empty table in place of the number it replaces, a Lock number of 0 and a position in R
+    (of which rotor's radius?) are each refused, naming the entry, not accepted and left unused."""
+    text = _bo105()
+    head, sep, rest = text.partition(f"[{section}]\n")
+    rest = re.sub(rf"^{key} = .*$", new, rest, count=1, flags=re.M)
+    _, problems = evaluate(head + sep + rest)
+    assert any(p.startswith(expected) for p in problems), problems

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from mbs.aircraft import units
+from mbs.aircraft import stations, units
 
 FORMS = {(2, 0, 0, 0): "per_q", (3, 0, 0, 0): "per_q", (1, 1, -2, 0): "load", (2, 1, -2, 0): "load",
          (0, 0, 0, 0): "coefficient"}
@@ -153,13 +153,18 @@ def tail_problems(values: dict) -> list[str]:
     return out
 
 
-def reference_point(fa: dict) -> np.ndarray:
-    """The moments' reference point (3,) (m, body axes from the CG): as given, or from the
-    stations (fuselage station aft, butt line starboard, water line up)."""
+def reference_point(d) -> np.ndarray:
+    """The moments' reference point (3,) (m, body axes from the CG) of the aircraft data ``d``:
+    as given, or from the stations ``reference_station`` and ``cg_station``
+    (:func:`mbs.aircraft.stations.position`, butt lines as ``conventions.butt_line_positive``)."""
+    fa = d["fuselage_aero"]
     if len(fa["reference_point"]):
         return np.asarray(fa["reference_point"], dtype=float)
-    ref, cg = np.asarray(fa["reference_station"]), np.asarray(fa["cg_station"])
-    return np.array([-(ref[0] - cg[0]), ref[1] - cg[1], -(ref[2] - cg[2])])
+    return np.asarray(stations.position("xyz", fa["reference_station"], fa["cg_station"], _butt_line(d)))
+
+
+def _butt_line(d) -> str:
+    return d.get("conventions", {}).get("butt_line_positive", "starboard")
 
 
 def scale(fa: dict, key: str, rho: float) -> float:
@@ -182,7 +187,7 @@ def fuselage_table(d):
         name, _, arg = key.partition("_")
         parts.setdefault(names.index(name), []).append((arg, scale(fa, key, rho) * np.asarray(table["values"])))
     grid = {a: np.asarray(fa[a]) if len(fa[a]) else None for a in ("alpha", "beta")}
-    return AirframeTable(fa["axes"], tuple(reference_point(fa)), grid["alpha"], grid["beta"], parts)
+    return AirframeTable(fa["axes"], tuple(reference_point(d)), grid["alpha"], grid["beta"], parts)
 
 
 def drag_area(d) -> float:
@@ -198,8 +203,9 @@ def converted(data) -> list[tuple]:
         return []
     meta, rho, rows = data.meta["fuselage_aero"], data["environment"]["rho"], []
     if not len(fa["reference_point"]):
-        rows.append(("fuselage_aero.reference_station", reference_point(fa).round(6).tolist(), "m",
-                     "x, y, z from the CG: -(FS - FS_cg), BL - BL_cg, -(WL - WL_cg)",
+        side = "-" if _butt_line(data) == "port" else ""
+        rows.append(("fuselage_aero.reference_station", reference_point(data).round(6).tolist(), "m",
+                     f"x, y, z from the CG: -(FS - FS_cg), {side}(BL - BL_cg), -(WL - WL_cg)",
                      meta["reference_station"]["source"]))
     for key, table in given(fa).items():
         factor = scale(fa, key, rho)
@@ -214,7 +220,7 @@ def converted(data) -> list[tuple]:
     rows.append(("fuselage_aero (alpha = beta = 0)", np.round(np.concatenate([force.full().ravel(),
                                                                               moment.full().ravel()]), 6).tolist(),
                  "m^2, m^3", f"X, Y, Z per q and L, M, N per q about the CG, body axes, from {fa['axes']} axes about "
-                 f"the reference point {np.round(reference_point(fa), 4).tolist()} m", "DER"))
+                 f"the reference point {np.round(reference_point(data), 4).tolist()} m", "DER"))
     return rows
 
 

@@ -111,6 +111,10 @@ def _entry(out: Reading, section: str, key: str, entry, base: Path | None = None
     except ValueError as exc:
         out.problems.append(f"{where}: {exc}")
         return
+    if spec.replaces and isinstance(value, list) and not value:
+        out.problems.append(f"{where}: an empty table, which would leave {', '.join(spec.replaces.split())} "
+                            "unset; give its rows, or leave it out")
+        return
     if radial:  # over or times the radius once every entry is read
         out.radial.append((section, key))
     meta = {"unit": entry.get("unit", ""), "source": entry["source"], "note": entry.get("note", ""),
@@ -129,6 +133,9 @@ def _radius_unit(section: str, key: str, spec: Entry, unit) -> tuple:
     if not (section in ROTORS and key != "radius" and spec.unit == "m" and spec.kind == "number"):
         raise ValueError("unit 'R' (a fraction of the rotor's radius) applies to the lengths of [main_rotor] and "
                          "[tail_rotor] only")
+    if spec.axis:  # a hub position in R would be ambiguous: of which rotor's radius?
+        raise ValueError("unit 'R' applies to a rotor's own lengths, not to a position from the CG; give it in a "
+                         "length unit or as a station")
     return "m", True
 
 
@@ -347,7 +354,8 @@ def _range(spec: Entry) -> str:
         return f"{'> ' if spec.open_low else '>= '}{_show(spec.low, spec.unit)}"
     if spec.low == -math.inf:
         return f"<= {_show(spec.high, spec.unit)}"
-    return f"[{_show(spec.low, spec.unit)}, {_show(spec.high, spec.unit)}]"
+    return (f"{'(' if spec.open_low else '['}{_show(spec.low, spec.unit)}, {_show(spec.high, spec.unit)}"
+            f"{')' if spec.open_high else ']'}")
 
 
 def _table(value, unit: str, spec: Entry) -> list:

@@ -264,7 +264,7 @@ ENTRIES: dict[str, dict[str, Entry]] = {
         "I_flap": positive("kg m^2", "blade moment of inertia about the flap hinge"),
         "lock_number": num("-", "Lock number as published, gamma = rho a c R^4 / I_flap at the file's density, "
                            "lift_slope, chord and radius; replaces I_flap, which is computed from it (0: not given)",
-                           0.0, 100.0, default=0.0, replaces="I_flap"),
+                           0.0, 100.0, open_low=True, default=0.0, replaces="I_flap"),
         "mass_table": Entry("-, kg/m", "blade mass per length along the span: rows r/R (or the radial station, a "
                             "length), mass per length (linear between stations, zero beyond), the last at r/R = 1; "
                             "replaces I_flap: the blade's mass, first moment and flap inertia are integrated from it "
