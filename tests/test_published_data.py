@@ -380,3 +380,64 @@ def test_a_length_as_a_fraction_of_the_radius(tmp_path):
         report = aircraft.check(write(bad, tmp_path / "bad.toml"))
         assert f"{section}.{key}: unit 'R' (a fraction of the rotor's radius) applies to the lengths of [main_rotor] " \
                "and [tail_rotor] only" in report.problems
+
+
+# -- units as reports print them -------------------------------------------------------------------
+
+LBF, FT = 4.4482216152605, 0.3048
+
+
+@pytest.mark.parametrize("printed, plain", [
+    ("ft-lb", "ft lbf"), ("FT-LB/RAD", "ft lbf/rad"), ("slug-ft2", "slug ft^2"), ("SLUG-FT2", "slug ft^2"),
+    ("in.", "in"), ("kn", "kt"), ("KTS", "kt"), ("knots", "kt"), ("deg/sec", "deg/s"), ("DEG", "deg"),
+    ("lb", "lbf"), ("lbs", "lbf"), ("lb/ft^2", "lbf/ft^2"), ("psf", "lbf/ft^2"), ("s-1", "s^-1"), ("feet", "ft"),
+])
+def test_a_unit_as_a_report_prints_it_reads_as_its_plain_form(printed, plain):
+    """Hyphens, powers without ``^``, capitals, trailing periods and common spellings; ``lb`` a
+    pound-force where a force, moment or pressure is wanted."""
+    from mbs.aircraft import units
+
+    si = {"ft lbf": "N m", "ft lbf/rad": "N m/rad", "slug ft^2": "kg m^2", "in": "m", "kt": "m/s", "deg/s": "rad/s",
+          "deg": "rad", "lbf": "N", "lbf/ft^2": "Pa", "s^-1": "1/s", "ft": "m"}[plain]
+    assert units.factor_to(printed, si) == pytest.approx(units.factor_to(plain, si), rel=1e-15)
+    assert units.pound_force(printed, si) == (printed in ("ft-lb", "FT-LB/RAD", "lb", "lbs", "lb/ft^2"))
+
+
+def test_pounds_are_a_mass_where_a_mass_is_wanted():
+    from mbs.aircraft import units
+
+    assert units.factor_to("lb", "kg") == 0.45359237 and not units.pound_force("lb", "kg")
+    assert units.factor_to("lb/ft", "kg/m") == pytest.approx(0.45359237 / FT, rel=1e-15)  # a blade's mass per length
+    assert units.factor_to("lb ft^2", "kg m^2") == pytest.approx(0.45359237 * FT**2, rel=1e-15)
+
+
+@pytest.mark.parametrize("unit, target, words", [
+    ("KN", "N", "'KN' could be kN or kn; write the symbol in its own case"),
+    ("lbm", "N", "unit 'lbm' is a mass, not a force"),  # the pound-mass said so: never a force
+    ("ft--lb", "N m", "cannot read 'ft--lb'"),
+    ("cubits", "m", "unknown symbol 'cubits'"),
+])
+def test_a_printed_unit_that_is_ambiguous_or_unreadable_is_refused(unit, target, words):
+    from mbs.aircraft import units
+
+    with pytest.raises(units.UnitError, match=words):
+        units.factor_to(unit, target)
+
+
+def test_loads_and_a_mass_in_pounds_as_printed_load_as_in_si_and_the_check_says_how(tmp_path):
+    """The Bo105's fuselage polynomials (N, N m) written in lb and ft-lb and its mass in LB give
+    the same aircraft to round-off; the check lists them as read with lb a pound-force."""
+    raw = entries("bo105")
+    fa = raw["fuselage_aero"]
+    fa["X"] = {**fa["X"], "value": [v / LBF for v in fa["X"]["value"]], "unit": "lb"}
+    fa["M"] = {**fa["M"], "value": [v / (LBF * FT) for v in fa["M"]["value"]], "unit": "ft-lb"}
+    raw["aircraft"]["mass"] = {**raw["aircraft"]["mass"], "value": raw["aircraft"]["mass"]["value"] / 0.45359237,
+                               "unit": "LB"}
+    printed, plain = aircraft.load(write(raw, tmp_path / "pounds.toml")), aircraft.load()
+    for section, key in (("fuselage_aero", "X"), ("fuselage_aero", "M")):
+        assert np.allclose(printed.data[section][key], plain.data[section][key], rtol=1e-14, atol=0)
+    assert printed.data["aircraft"]["mass"] == pytest.approx(plain.data["aircraft"]["mass"], rel=1e-15)
+    listed = {r[0]: r[3] for r in aircraft.check(printed.path).converted}
+    assert listed["fuselage_aero.X"].endswith("lb (lb as pound-force)")
+    assert listed["fuselage_aero.M"].endswith("ft-lb (lb as pound-force)")
+    assert "pound-force" not in listed["aircraft.mass"]

@@ -45,6 +45,8 @@ def read_lookup(value, unit: str, spec) -> dict:
     have = units.parse(str(unit))
     moment = spec.unit.startswith("m^3")
     allowed = MOMENT_DIMS if moment else FORCE_DIMS
+    if have.dims not in allowed | {(0, 0, 0, 0)} and units.parse(str(unit), pound_force=True).dims in allowed:
+        have = units.parse(str(unit), pound_force=True)  # lb printed for a force, ft lb for a moment
     if have.dims not in allowed | {(0, 0, 0, 0)} or have.per_rev:
         want = "a volume (M/q), a moment at reference_speed or -" if moment else \
             "an area (D/q), a force at reference_speed or -"
@@ -211,7 +213,8 @@ def converted(data) -> list[tuple]:
         factor = scale(fa, key, rho)
         unit = "m^3" if key.split("_")[0] in ("roll", "pitch", "yaw", "L", "M", "N") else "m^2"
         how = {"per_q": f"per dynamic pressure, from {table['unit']}",
-               "load": f"loads in {table['unit']} at {fa['reference_speed']:.4g} m/s over q = {1 / factor:.6g} Pa",
+               "load": f"loads in {table['unit']}{_pound_force(table['unit'])} at {fa['reference_speed']:.4g} m/s over "
+                       f"q = {1 / factor:.6g} Pa",
                "coefficient": f"coefficients times {factor:.6g} {unit}"}[table["form"]]
         values = np.asarray(table["values"]) * factor
         rows.append((f"fuselage_aero.{key}", [float(f"{v:.9g}") for v in values.ravel()], unit, how,
@@ -222,6 +225,11 @@ def converted(data) -> list[tuple]:
                  "m^2, m^3", f"X, Y, Z per q and L, M, N per q about the CG, body axes, from {fa['axes']} axes about "
                  f"the reference point {np.round(reference_point(data), 4).tolist()} m", "DER"))
     return rows
+
+
+def _pound_force(unit: str) -> str:
+    """What the check says of a load table's unit read with ``lb`` as the pound-force."""
+    return "" if units.parse(unit).dims in FORCE_DIMS | MOMENT_DIMS else " (lb as pound-force)"
 
 
 def stabilator_schedule(d):

@@ -91,9 +91,21 @@ def converted_rows(data: Data) -> list[tuple]:
             if plain and "how" not in meta:
                 continue
             unit = {"travel": "m, rad or -", "mixing": "rad, rad per position"}.get(kind, spec.unit)
-            rows.append((f"{section}.{key}", data[section][key], unit,
-                         meta.get("how") or f"from {meta.get('value', '')} {written}".strip(), meta.get("source", "")))
+            how = meta.get("how") or f"from {meta.get('value', '')} {written}".strip() + _pound_force(written, spec)
+            rows.append((f"{section}.{key}", data[section][key], unit, how, meta.get("source", "")))
     return rows + _inertia_conversion(data)
+
+
+def _pound_force(written: str, spec) -> str:
+    """What the check says of a unit read with ``lb`` as the pound-force (a force, moment or
+    pressure printed in ``lb``; per column of a table)."""
+    from mbs.aircraft import units
+
+    pairs = zip(written.split(","), spec.columns) if getattr(spec, "kind", "") == "table" else [(written, spec.unit)]
+    try:
+        return " (lb as pound-force)" if any(units.pound_force(w.strip(), u) for w, u in pairs) else ""
+    except units.UnitError:
+        return ""
 
 
 def _inertia_conversion(data: Data) -> list[tuple]:

@@ -6,6 +6,14 @@ product after it: ``kg m^2``, ``slug ft^2``, ``N m/rad``, ``N m s/rad``, ``kg/m^
 ``rpm`` converts to ``rad/s`` and ``1/deg`` to ``1/rad``, but an angle never passes for a
 number. ``-`` (or ``1``) is a pure number and ``1/rev`` a frequency ratio per revolution
 (which converts to nothing else).
+
+Units as reports print them are read too: a hyphen between symbols multiplies (``ft-lb``,
+``slug-ft2``), a power may follow its symbol without ``^`` (``ft2``), a trailing period is
+dropped (``in.``), common spellings are aliases (``sec``, ``kn``, ``kts``, ``knots``, ``lbs``,
+``degrees``, ``feet``, ``psf`` ...), and a symbol in capitals (``FT``, ``DEG``, ``SLUG``) is the
+one symbol it spells in any case (``KN``, kilonewton or knot, is refused as ambiguous). ``lb`` is
+a mass, and a pound-force where a force, moment or pressure is wanted (``lb``, ``ft lb``,
+``lb/ft^2``): :func:`factor_to` reads it so, and :func:`pound_force` says when it did.
 """
 from __future__ import annotations
 
@@ -30,6 +38,11 @@ SYMBOLS: dict[str, tuple[float, tuple[int, int, int, int]]] = {
     "percent": (0.01, (0, 0, 0, 0)),
     "kt": (1852.0 / 3600, (1, 0, -1, 0)), "rpm": (2 * math.pi / 60, (0, 0, -1, 1)), "Hz": (1.0, (0, 0, -1, 0)),
 }
+ALIASES = {"sec": "s", "secs": "s", "hr": "h", "kn": "kt", "kts": "kt", "knot": "kt", "knots": "kt", "lbs": "lb",
+           "degree": "deg", "degrees": "deg", "radian": "rad", "radians": "rad", "inch": "in",
+           "inches": "in", "foot": "ft", "feet": "ft", "revs": "rev"}
+"""Spellings of the symbols as reports print them."""
+SYMBOLS["psf"] = (_LB * _G0 / _FT**2, (-1, 1, -2, 0))  # pounds-force per square foot (disc loading)
 DIMENSIONLESS = ("-", "1", "")
 PER_REV = "1/rev"
 NAMES = {(1, 0, 0, 0): "a length", (0, 1, 0, 0): "a mass", (0, 0, 0, 1): "an angle",
@@ -39,7 +52,8 @@ NAMES = {(1, 0, 0, 0): "a length", (0, 1, 0, 0): "a mass", (0, 0, 0, 1): "an ang
          (0, 0, 0, -1): "a per-angle slope", (0, 0, 0, -2): "a per-angle-squared coefficient",
          (2, 1, -3, 0): "a power", (-3, 1, 0, 0): "a density", (1, 0, -2, 0): "an acceleration",
          (2, 0, 0, 0): "an area", (0, 0, 0, 0): "a pure number"}
-_TOKEN = re.compile(r"^([A-Za-z]+)(?:\^(-?\d+))?$")
+_TOKEN = re.compile(r"^([A-Za-z]+)(?:\^?(-?\d+))?$")
+_PRODUCT_HYPHEN = re.compile(r"(?<=[A-Za-z0-9])-(?=[A-Za-z])")
 
 
 class UnitError(ValueError):
@@ -59,8 +73,9 @@ class Unit:
         return "a frequency per revolution" if self.per_rev else NAMES.get(self.dims, f"dimension {self.dims}")
 
 
-def parse(text: str) -> Unit:
-    """The :class:`Unit` of ``text``; :class:`UnitError` naming the symbol it cannot read."""
+def parse(text: str, pound_force: bool = False) -> Unit:
+    """The :class:`Unit` of ``text``; :class:`UnitError` naming the symbol it cannot read.
+    ``pound_force``: ``lb`` is the pound-force (``lbf``), not the pound."""
     text = text.strip()
     if text in DIMENSIONLESS:
         return Unit(1.0, (0, 0, 0, 0))
@@ -69,33 +84,69 @@ def parse(text: str) -> Unit:
     upper, _, lower = text.partition("/")
     if "/" in lower:
         raise UnitError(f"unit {text!r}: write one '/' at most (e.g. 'N m s/rad')")
-    factor, dims = _product(upper, text, 1)
+    factor, dims = _product(upper, text, 1, pound_force)
     if lower:
-        f2, d2 = _product(lower, text, -1)
+        f2, d2 = _product(lower, text, -1, pound_force)
         factor, dims = factor * f2, tuple(a + b for a, b in zip(dims, d2))
     return Unit(factor, dims)
 
 
-def _product(part: str, text: str, sign: int) -> tuple[float, tuple[int, ...]]:
+def _product(part: str, text: str, sign: int, pound_force: bool = False) -> tuple[float, tuple[int, ...]]:
     factor, dims = 1.0, [0, 0, 0, 0]
-    for token in part.replace("*", " ").replace("·", " ").replace("%", " percent ").split():
+    part = _PRODUCT_HYPHEN.sub(" ", part.replace("*", " ").replace("·", " ").replace("%", " percent "))
+    for token in part.split():
+        token = token.rstrip(".")
         if token == "1":
             continue
         match = _TOKEN.match(token)
-        if not match or match.group(1) not in SYMBOLS:
-            raise UnitError(f"unit {text!r}: unknown symbol {token!r}; known: {', '.join(SYMBOLS)}")
+        if not match:
+            raise UnitError(f"unit {text!r}: cannot read {token!r}; write symbols with powers, e.g. 'slug ft^2'")
+        name = _symbol(match.group(1), text)
+        if pound_force and name == "lb":
+            name = "lbf"
         power = sign * int(match.group(2) or 1)
-        f, d = SYMBOLS[match.group(1)]
+        f, d = SYMBOLS[name]
         factor *= f**power
         dims = [a + power * b for a, b in zip(dims, d)]
     return factor, tuple(dims)
 
 
+def _symbol(name: str, text: str) -> str:
+    """The symbol ``name`` stands for: itself, an alias, or the one symbol or alias it spells in
+    another case; :class:`UnitError` when none or several."""
+    if name in SYMBOLS:
+        return name
+    if name in ALIASES:
+        return ALIASES[name]
+    spelled = sorted(k for k in (*SYMBOLS, *ALIASES) if k.lower() == name.lower())
+    meant = {ALIASES.get(k, k) for k in spelled}
+    if len(meant) == 1:
+        return meant.pop()
+    if spelled:
+        raise UnitError(f"unit {text!r}: {name!r} could be {' or '.join(spelled)}; write the symbol in its own case")
+    raise UnitError(f"unit {text!r}: unknown symbol {name!r}; known: {', '.join(SYMBOLS)} "
+                    f"(and {', '.join(ALIASES)})")
+
+
+def _matches(have: Unit, want: Unit) -> bool:
+    return have.dims == want.dims and have.per_rev == want.per_rev
+
+
+def pound_force(text: str, target: str) -> bool:
+    """Whether ``text`` is read with ``lb`` as the pound-force to be of ``target``'s kind (a
+    force, moment or pressure printed in ``lb``, ``ft lb``, ``lb/ft^2``)."""
+    want = parse(target)
+    return not _matches(parse(text), want) and _matches(parse(text, pound_force=True), want)
+
+
 def factor_to(text: str, target: str) -> float:
-    """The factor taking a value in the unit ``text`` to the unit ``target``; :class:`UnitError`
-    when the two are not of the same kind."""
+    """The factor taking a value in the unit ``text`` to the unit ``target`` (``lb`` a pound-force
+    where that makes it of ``target``'s kind: :func:`pound_force`); :class:`UnitError` when the
+    two are not of the same kind."""
     have, want = parse(text), parse(target)
-    if have.dims != want.dims or have.per_rev != want.per_rev:
+    if not _matches(have, want) and pound_force(text, target):
+        have = parse(text, pound_force=True)
+    if not _matches(have, want):
         raise UnitError(f"unit {text!r} is {have.describe()}, not {want.describe()} like {target!r}")
     return have.factor / want.factor
 
