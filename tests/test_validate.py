@@ -243,3 +243,12 @@ def test_a_quantity_the_model_lacks_is_refused_before_any_trim(tmp_path, capsys)
     path = toml(TRIM.replace("collective", "rotor_colour"), tmp_path)
     code, err = run_main(["validate", str(path), "--no-charts", "--quiet"], capsys)
     assert_one_line_error(code, err, ["trim 'rotor_colour' is not one of the model's trim quantities", "collective"])
+
+
+@pytest.mark.parametrize("si, printed, one", [("N", "lb", 4.4482216152605), ("N m", "ft-lb", 1.3558179483314004),
+                                              ("W", "hp", 745.69987158227022), ("m/s", "kts", 1852.0 / 3600)])
+def test_published_values_in_a_reports_units_compare_in_si(si, printed, one):
+    """A thrust in lb (a pound-force), a torque in ft-lb, a power in hp and a speed in kts."""
+    from mbs.validate.quantities import converter
+
+    assert converter(si, printed, "trim")(one) == pytest.approx(1.0, rel=1e-14)

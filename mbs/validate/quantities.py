@@ -100,6 +100,8 @@ def converter(si_unit: str, unit: str, where: str):
     """``f(value_in_si) -> value in unit``; :class:`ValidationError` when the dimensions differ."""
     try:
         ours, theirs = units.parse(_plain(si_unit)), units.parse(_plain(unit))
+        if units.pound_force(_plain(unit), _plain(si_unit)):  # thrust in lb, torque in ft-lb
+            theirs = units.parse(_plain(unit), pound_force=True)
     except units.UnitError as exc:
         raise ValidationError(f"{where}: {exc}") from None
     if ours.dims != theirs.dims:
