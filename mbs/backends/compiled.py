@@ -140,16 +140,12 @@ UNIT_SEPARATOR = "\n/* ---- next translation unit ---- */\n"
 """Between the translation units of one generated source (each compiled on its own, in parallel)."""
 
 
-COPIED_SUFFIX = "_lookup"
-"""Functions named so (an airfoil table's data reads) are small: each unit that calls one gets
-its own copy, so that they do not tie the right-hand side and the outputs into one unit."""
-
-
 def translation_units(functions: dict, methods) -> list[list[str]]:
     """The names of ``functions`` grouped into translation units: functions that call one
-    another or a common function share a unit (unless it is one of the small functions each
-    unit copies, :data:`COPIED_SUFFIX`), so that each generated function is compiled once; the
-    unit of the fixed-step drivers' functions (``incr_<method>``, ``project``) first."""
+    another or a common function share a unit, so that each generated function is generated and
+    compiled once (an airfoil table's interpolant, whose constant data is megabytes of C, ties the
+    right-hand side and the outputs into one unit); the unit of the fixed-step drivers' functions
+    (``incr_<method>``, ``project``) first."""
     root = {n: n for n in functions}
 
     def find(n: str) -> str:
@@ -158,7 +154,7 @@ def translation_units(functions: dict, methods) -> list[list[str]]:
         return n
     owner: dict[str, str] = {}
     for name, f in functions.items():
-        for callee in [name, *(g.name() for g in f.find_functions() if not g.name().endswith(COPIED_SUFFIX))]:
+        for callee in [name, *(g.name() for g in f.find_functions())]:
             root[find(owner.setdefault(callee, name))] = find(name)
     driven = [n for n in [*(f"incr_{m}" for m in methods), "project"] if n in functions and methods]
     for n in driven[1:]:

@@ -32,8 +32,6 @@ import casadi as ca
 import numpy as np
 from scipy.interpolate import BSpline
 
-from mbs.backends.compiled import COPIED_SUFFIX
-
 CLOSURE_TOLERANCE = 1e-9  # largest difference between the values at -180 and 180 deg
 
 
@@ -251,7 +249,7 @@ class TableSpline:
         t, u = (angle - c[-4]) * c[-3], (m - c[-2]) * c[-1]
         out = [_horner([_horner([c[16 * o + 4 * a + b] for b in range(4)], u) if len(mach) > 1 else c[16 * o + 4 * a]
                         for a in range(4)], t) for o in range(self.size)]
-        self.function = ca.Function(f"{name}_cells{COPIED_SUFFIX}", [angle, mach_number], [ca.vertcat(*out)],
+        self.function = ca.Function(f"{name}_cells", [angle, mach_number], [ca.vertcat(*out)],
                                     {"never_inline": True})
 
     def __call__(self, alpha, mach):
