@@ -206,3 +206,24 @@ def test_bad_tables_are_named(tmp_path, change, words):
 
     report = aircraft.check(_with_section(tmp_path, WIND_SECTION.replace(*change)))
     assert any(words in p for p in report.problems), report.problems
+
+
+def test_load_tables_printed_in_lb_and_ft_lb_are_pounds_force_and_listed_so(tmp_path):
+    """A drag table in ``lb`` and a pitching-moment table in ``ft-lb`` at the reference speed read
+    as the same tables in lbf and ft lbf (body loads equal to round-off); the check says how."""
+    from mbs import aircraft
+    from mbs.aircraft.airframe_data import fuselage_table
+
+    loads = WIND_SECTION + 'reference_speed = { value = 100.0, unit = "ft/s", source = "R1" }\n'
+    loads = loads.replace('[40.1, 35.2, 33.0, 35.9, 42.4], unit = "ft^2"', '[476.8, 418.5, 392.4, 426.8, 504.1], unit = "{f}"')
+    loads = loads.replace('[-1200, -600, 0, 600, 1200], unit = "ft^3"', '[-14266, -7133, 0, 7133, 14266], unit = "{m}"')
+    pounds = _with_section(tmp_path, loads.replace("{f}", "lb").replace("{m}", "ft-lb"), "pounds.toml")
+    plain = _with_section(tmp_path, loads.replace("{f}", "lbf").replace("{m}", "ft lbf"), "plain.toml")
+    tables = [fuselage_table(aircraft.load(p).data) for p in (pounds, plain)]
+    for a, b in RNG.uniform(-0.3, 0.3, (5, 2)):
+        got, want = (np.concatenate([x.full().ravel() for x in t.body_per_q(a, b)]) for t in tables)
+        assert np.abs(got - want).max() <= 1e-14 * np.abs(want).max()
+    how = {p: {r[0]: r[3] for r in aircraft.check(p).converted} for p in (pounds, plain)}
+    assert "loads in lb (lb as pound-force)" in how[pounds]["fuselage_aero.drag_alpha"]
+    assert "loads in ft-lb (lb as pound-force)" in how[pounds]["fuselage_aero.pitch_alpha"]
+    assert "pound-force" not in how[plain]["fuselage_aero.drag_alpha"]
