@@ -42,11 +42,9 @@ def read_curve(value, unit: str, spec) -> list[float]:
 def read_lookup(value, unit: str, spec) -> dict:
     """A component table (a list, or a list of rows) with its form: ``{"form", "unit", "values"}``
     (values in SI of that form: m², m³, N, N m or a pure number)."""
-    have = units.parse(str(unit))
     moment = spec.unit.startswith("m^3")
     allowed = MOMENT_DIMS if moment else FORCE_DIMS
-    if have.dims not in allowed | {(0, 0, 0, 0)} and units.parse(str(unit), pound_force=True).dims in allowed:
-        have = units.parse(str(unit), pound_force=True)  # lb printed for a force, ft lb for a moment
+    have = units.reading(str(unit), allowed)
     if have.dims not in allowed | {(0, 0, 0, 0)} or have.per_rev:
         want = "a volume (M/q), a moment at reference_speed or -" if moment else \
             "an area (D/q), a force at reference_speed or -"

@@ -132,20 +132,28 @@ def _matches(have: Unit, want: Unit) -> bool:
     return have.dims == want.dims and have.per_rev == want.per_rev
 
 
+def reading(text: str, kinds) -> Unit:
+    """The :class:`Unit` of ``text`` as one of ``kinds`` (dimension tuples) asks: :func:`parse`'s,
+    or with ``lb`` the pound-force when only that reading is of one of them (a force, moment or
+    pressure printed in ``lb``, ``ft lb``, ``lb/ft^2``); the caller checks the kind."""
+    have = parse(text)
+    if have.dims in kinds:
+        return have
+    force = parse(text, pound_force=True)
+    return force if force.dims in kinds and not force.per_rev else have
+
+
 def pound_force(text: str, target: str) -> bool:
-    """Whether ``text`` is read with ``lb`` as the pound-force to be of ``target``'s kind (a
-    force, moment or pressure printed in ``lb``, ``ft lb``, ``lb/ft^2``)."""
-    want = parse(target)
-    return not _matches(parse(text), want) and _matches(parse(text, pound_force=True), want)
+    """Whether ``text`` is read with ``lb`` as the pound-force to be of ``target``'s kind."""
+    return reading(text, [parse(target).dims]) != parse(text)
 
 
 def factor_to(text: str, target: str) -> float:
     """The factor taking a value in the unit ``text`` to the unit ``target`` (``lb`` a pound-force
-    where that makes it of ``target``'s kind: :func:`pound_force`); :class:`UnitError` when the
-    two are not of the same kind."""
-    have, want = parse(text), parse(target)
-    if not _matches(have, want) and pound_force(text, target):
-        have = parse(text, pound_force=True)
+    where that makes it of ``target``'s kind: :func:`reading`); :class:`UnitError` when the two
+    are not of the same kind."""
+    want = parse(target)
+    have = reading(text, [want.dims])
     if not _matches(have, want):
         raise UnitError(f"unit {text!r} is {have.describe()}, not {want.describe()} like {target!r}")
     return have.factor / want.factor

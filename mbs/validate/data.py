@@ -27,8 +27,6 @@ import numpy as np
 from mbs.aircraft import units
 
 KINDS = ("trim", "derivative")
-SPEED_UNITS = {"kn": "kt"}
-"""Speed unit names the aircraft-file unit reader does not know, and the one it does."""
 
 
 class ValidationError(ValueError):
@@ -154,7 +152,7 @@ def from_dict(raw: dict, path: Path) -> Validation:
 def speed_factor(unit: str, where: str) -> float:
     """m/s per unit of the speed unit ``unit``; :class:`ValidationError` for a unit that is no speed."""
     try:
-        u = units.parse(SPEED_UNITS.get(unit.strip(), unit))
+        u = units.parse(unit)
     except units.UnitError as exc:
         raise ValidationError(f"{where}: {exc}") from None
     if u.dims != (1, 0, -1, 0):

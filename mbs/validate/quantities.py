@@ -99,9 +99,8 @@ def derivative_value(derivatives, quantity: str) -> tuple[float, str]:
 def converter(si_unit: str, unit: str, where: str):
     """``f(value_in_si) -> value in unit``; :class:`ValidationError` when the dimensions differ."""
     try:
-        ours, theirs = units.parse(_plain(si_unit)), units.parse(_plain(unit))
-        if units.pound_force(_plain(unit), _plain(si_unit)):  # thrust in lb, torque in ft-lb
-            theirs = units.parse(_plain(unit), pound_force=True)
+        ours = units.parse(_plain(si_unit))
+        theirs = units.reading(_plain(unit), [ours.dims])  # a thrust in lb, a torque in ft-lb
     except units.UnitError as exc:
         raise ValidationError(f"{where}: {exc}") from None
     if ours.dims != theirs.dims:
