@@ -157,7 +157,8 @@ class Problem:
 def implicit_system(model, backend: str = "compiled", iterations: int = 4):
     """Build ``model``'s second library: ``rhs``, ``project``, ``rhs_jac`` and the
     ``mbs_run_midpoint`` driver (a :class:`mbs.System` whose only method is ``midpoint``)."""
-    from mbs.backends.compiled import CompiledSystem, compile_source, generate
+    from mbs.backends.compiled import CompiledSystem
+    from mbs.backends.index import library
     from mbs.backends.info import info_of
     from mbs.backends.vm import VMSystem
     from mbs.dynamics import symbolic
@@ -175,7 +176,7 @@ def implicit_system(model, backend: str = "compiled", iterations: int = 4):
         return vm
     info = info_of(sym, {"midpoint": iterations + 1})
     info.name = f"{info.name}-implicit{iterations}"
-    return CompiledSystem(compile_source(generate(functions, info, "float64"), info))
+    return CompiledSystem(library(functions, info))
 
 
 def _fixed_steps(t0: float, t_end: float, h: float) -> int:

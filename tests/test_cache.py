@@ -24,10 +24,10 @@ from mbs.backends.compiled import CompiledSystem, compile_source, generate, libr
 FAMILY = ("ground-run",)
 
 
-def pendulum() -> Model:
-    """The smallest model: one arm on a hinge, under gravity."""
+def pendulum(mass: float = 1.0) -> Model:
+    """The smallest model: one arm of ``mass`` (kg) on a hinge, under gravity."""
     m = Model("cache_pendulum", gravity=(0, 0, 9.81))
-    m.add_body("arm", "world", Hinge((0, 1, 0)), mass=1.0, com=(0.5, 0, 0), inertia=np.diag([0.01, 0.1, 0.1]))
+    m.add_body("arm", "world", Hinge((0, 1, 0)), mass=mass, com=(0.5, 0, 0), inertia=np.diag([0.01, 0.1, 0.1]))
     return m
 
 
@@ -108,6 +108,55 @@ def test_damaged_compiled_model_is_rebuilt_and_the_rebuild_runs(own_cache, damag
     x0 = vm.x0() + 0.1
     np.testing.assert_allclose(again.step(x0, 0.0, 1e-3, n=10), vm.step(x0, 0.0, 1e-3, n=10), rtol=1e-12, atol=1e-12)
     assert not [p for p in own_cache.iterdir() if p.name.startswith(".")]  # no build or stale folder left
+
+
+def test_a_built_model_is_found_again_from_its_functions_without_generating_code(own_cache, monkeypatch):
+    """The index (mbs.backends.index) maps a key of the serialized functions to the library: a
+    second build of the model generates no C; a changed model misses and is generated."""
+    from mbs.backends import compiled, index
+
+    first = mbs.build(pendulum(), "compiled")
+    entries = list((own_cache / "index").iterdir())
+    assert len(entries) == 1 and entries[0].read_text().strip() == first.folder.name
+    generated = []
+    real = compiled.generate
+    monkeypatch.setattr(compiled, "generate", lambda *a: generated.append(a) or real(*a))
+    again = mbs.build(pendulum(), "compiled")
+    assert again.folder == first.folder and not generated
+    heavier = pendulum(2.0)
+    other = mbs.build(heavier, "compiled")
+    assert len(generated) == 1 and other.folder != first.folder and len(list((own_cache / "index").iterdir())) == 2
+    vm = mbs.build(heavier, "vm")
+    x0 = vm.x0() + 0.1
+    np.testing.assert_allclose(other.step(x0, 0.0, 1e-3, n=10), vm.step(x0, 0.0, 1e-3, n=10), rtol=1e-12, atol=1e-12)
+    assert index.lookup("0" * 20) is None
+    single = mbs.build(pendulum(), "compiled", dtype="float32")
+    assert single.folder not in (first.folder, other.folder) and len(generated) == 2
+    functions = {n: f for n, f in vm.functions.items() if not n.startswith(("step_", "incr_"))}
+    keys = {index.key(functions, vm.info, "float64", (text,)) for text in ("rk4 as written", "rk4 changed")}
+    assert len(keys) == 2  # the steps' code enters the key in their place
+
+
+@pytest.mark.parametrize("entry", ["damaged library", "outside the cache", "empty"])
+def test_an_index_entry_that_is_not_a_good_library_is_rebuilt(own_cache, monkeypatch, entry):
+    from mbs.backends import compiled
+
+    model = pendulum()
+    folder, vm = compile_only(model)
+    mbs.build(model, "compiled")
+    (record,) = list((own_cache / "index").iterdir())
+    if entry == "damaged library":
+        truncate(folder / "model.so")
+    else:
+        record.write_text("../elsewhere\n" if entry == "outside the cache" else "")
+    generated = []
+    real = compiled.generate
+    monkeypatch.setattr(compiled, "generate", lambda *a: generated.append(a) or real(*a))
+    again = mbs.build(model, "compiled")
+    assert generated and again.folder == folder and library_problem(folder) is None
+    assert record.read_text().strip() == folder.name
+    x0 = vm.x0() + 0.1
+    np.testing.assert_allclose(again.step(x0, 0.0, 1e-3, n=10), vm.step(x0, 0.0, 1e-3, n=10), rtol=1e-12, atol=1e-12)
 
 
 def test_compiled_system_refuses_a_library_that_fails_its_digest(own_cache, tmp_path):

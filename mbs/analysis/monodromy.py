@@ -16,8 +16,8 @@ into its own library (cached on disk like the model's), or run in CasADi's virtu
 The cached library is found through a key computed without generating C: the SHA-256 of the
 serialized right-hand side and projection (``Function.serialize``), the tableau, the block
 width, the CasADi version, the compiler and the source of the modules that shape the
-generated code. An index in the cache maps the key to the library's folder; only without a
-valid entry is the C generated (and compiled, unless a library of that source is cached).
+generated code. The cache's index (:mod:`mbs.backends.index`) maps the key to the library's
+folder; only without a valid entry is the C generated (and compiled, unless a library of that source is cached).
 The step loop runs in Python, one call per step and block of directions (a few µs of
 overhead against the tenths of a millisecond of a block step), so that the number of steps
 and of directions is chosen at run time. Blocks are independent: compiled blocks run in
@@ -25,7 +25,6 @@ parallel threads (the generated code runs without Python's lock), one evaluator 
 """
 from __future__ import annotations
 
-import hashlib
 import os
 import time
 from concurrent.futures import ThreadPoolExecutor
@@ -232,82 +231,53 @@ def _vm_caller(fn: ca.Function):
     return call
 
 
-GENERATING_MODULES = ("mbs/analysis/monodromy.py", "mbs/integrators/__init__.py", "mbs/integrators/_tableau.py",
-                      "mbs/backends/compiled.py", "mbs/backends/info.py")
-"""Sources whose change can change the generated tangent library (they enter its key)."""
+GENERATING_MODULES = ("mbs/analysis/monodromy.py", "mbs/integrators/*.py")
+"""Sources besides the backends' (:data:`mbs.backends.index.GENERATING_MODULES`) whose change can
+change the generated tangent library (they enter its key)."""
 
 
 def library_key(sym, tab, block: int) -> str:
     """Hex key of the tangent library of ``sym`` (:func:`mbs.dynamics.symbolic`) for the
     tableau ``tab`` and ``block`` directions, from the serialized right-hand side and
     projection and everything else the generated C depends on; no code is generated."""
-    from mbs.backends.compiled import CFLAGS, LARGE_SOURCE_BYTES, find_compiler
+    from mbs.backends import index
 
-    root = Path(__file__).resolve().parents[2]
-    h = hashlib.sha256()
-    for part in (sym["rhs"].serialize(), sym["project"].serialize(), repr(tab), str(block), ca.__version__,
-                 find_compiler(), " ".join(CFLAGS), str(LARGE_SOURCE_BYTES),
-                 *((root / m).read_text() for m in GENERATING_MODULES)):
-        h.update(part.encode())
-        h.update(b"\0")
-    return h.hexdigest()[:16]
+    info = _library_info(sym, f"monodromy-tangent_{tab.name}")
+    return index.key({"rhs": sym["rhs"], "project": sym["project"]}, info, "float64",
+                     (repr(tab), str(block), *index.module_texts(GENERATING_MODULES)))
 
 
 def _compiled_keyed(sym, tab, block: int, workers: int) -> list:
     """``workers`` callers of the compiled tangent step (each with its own buffers), from the
     library that the index maps :func:`library_key` to; generated (and compiled unless a
     library of the same source is cached) only when the index has no valid entry."""
+    from mbs.backends import index
     from mbs.backends.compiled import CompiledSystem
 
     name, key = f"tangent_{tab.name}", library_key(sym, tab, block)
-    folder = _indexed(key)
+    folder = index.lookup(key)
     if folder is None:
         folder = _build(tangent_step(sym["rhs"], sym["project"], tab, block), sym, f"monodromy-{name}")
-        _index(key, folder)
+        index.record(key, folder)
     return [CompiledSystem(folder).function(name) for _ in range(workers)]
 
 
-def _index_file(key: str) -> Path:
-    from mbs.backends.compiled import cache_dir
+def _library_info(sym, name: str):
+    """The description of a tangent library of ``sym``: the library depends on the generated code
+    only, so scenes of one model that differ in their initial state or default parameters (hover,
+    forward flight) share it."""
+    from mbs.backends.info import info_of
 
-    return cache_dir() / "tangent-index" / key
-
-
-def _indexed(key: str) -> Path | None:
-    """The valid library folder recorded under ``key``, or None."""
-    from mbs.backends.compiled import cache_dir, library_problem
-
-    try:
-        folder = cache_dir() / _index_file(key).read_text().strip()
-    except OSError:
-        return None
-    return folder if folder.name and library_problem(folder) is None else None
-
-
-def _index(key: str, folder: Path) -> None:
-    """Record ``folder`` under ``key`` (atomically; skipped when the cache is read-only)."""
-    import tempfile
-
-    target = _index_file(key)
-    try:
-        target.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=".index-")
-        with os.fdopen(fd, "w") as f:
-            f.write(Path(folder).name + "\n")
-        os.replace(tmp, target)
-    except OSError:
-        pass
+    info = info_of(sym, {})
+    info.name, info.x0 = name, [0.0] * len(info.x0)
+    for q in info.parameters:
+        q["default"] = 0.0
+    return info
 
 
 def _build(fn: ca.Function, sym, prefix: str) -> Path:
     """Generate ``fn`` and compile it into ``<cache>/<prefix>-<source hash>``; returns the folder."""
     from mbs.backends.compiled import compile_source, generate
-    from mbs.backends.info import info_of
 
-    info = info_of(sym, {})
-    # the library depends on the generated code only: scenes of one model that differ in their
-    # initial state or default parameters (hover, forward flight) share it
-    info.name, info.x0 = prefix, [0.0] * len(info.x0)
-    for q in info.parameters:
-        q["default"] = 0.0
+    info = _library_info(sym, prefix)
     return compile_source(generate({fn.name(): fn}, info, "float64"), info)

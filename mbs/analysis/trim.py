@@ -203,9 +203,10 @@ def evaluators(sc, method: str = "rk4", backend: str = "compiled"):
     vm = VMSystem(sym)
     if stepper.backend == "vm":
         return vm, stepper
-    from mbs.backends.compiled import CompiledSystem, compile_source, generate
+    from mbs.backends import index
+    from mbs.backends.compiled import CompiledSystem
 
-    return CompiledSystem(compile_source(generate(vm.functions, vm.info, "float64"), vm.info)), stepper
+    return CompiledSystem(index.system_library(vm)), stepper
 
 
 def trimmable(scene) -> bool:

@@ -16,7 +16,8 @@ def build(model, backend: str = "compiled", dtype: str = "float64", path: str | 
     :data:`mbs.dynamics.PATHS` (default: the one with fewer operations). Raises
     :class:`mbs.CompilerNotFound` if the compiled evaluator is asked for and no C compiler exists.
     """
-    from mbs.backends.compiled import CompiledSystem, compile_source, generate
+    from mbs.backends.compiled import CompiledSystem
+    from mbs.backends.index import system_library
     from mbs.backends.vm import VMSystem
     from mbs.dynamics import symbolic
 
@@ -27,5 +28,4 @@ def build(model, backend: str = "compiled", dtype: str = "float64", path: str | 
     vm = VMSystem(symbolic(model, path), dtype if backend == "vm" else "float64")
     if backend == "vm":
         return vm
-    folder = compile_source(generate(vm.functions, vm.info, dtype), vm.info)
-    return CompiledSystem(folder, dtype)
+    return CompiledSystem(system_library(vm, dtype), dtype)

@@ -2,7 +2,8 @@
 
 The generated source (plus a small driver that loops fixed steps in C, so a whole
 communication step or simulation chunk is one call) is compiled with the machine's C
-compiler into a shared library, cached on disk under a hash of the source and flags.
+compiler into a shared library, cached on disk under a hash of the source and flags (and
+found again without generating the source through :mod:`mbs.backends.index`).
 The source is cut into translation units (functions that call one another stay together),
 compiled in parallel, each with the flags its size calls for, then linked. The library
 directory holds the sources (``model.c``, ``model_1.c``, ...), ``model.so`` and ``info.json``
