@@ -1,7 +1,7 @@
-"""The Puma's pitch damping M_q, speed stability M_u and heave control Z_θ0 at low speed against
-Helisim (Padfield, Helicopter Flight Dynamics, App. 4B charts, the packaged ``puma_helisim``
-validation file): why ours are more than 25 % stronger from hover to 40 kn, measured effect by
-effect.
+"""The Puma against Helisim (Padfield, Helicopter Flight Dynamics, App. 4B charts, the packaged
+``puma_helisim`` validation file): why its pitch damping M_q, speed stability M_u and heave control
+Z_θ0 are more than 25 % stronger from hover to 40 kn, and its short period too fast, measured
+effect by effect (the roll damping: test_roll_damping.py).
 
 Ratio ours/Helisim (the Puma file as shipped, Pitt-Peters inflow, quasi-static rotor), each row with
 one more of the model's effects that Helisim leaves out switched off:
@@ -30,6 +30,12 @@ one more of the model's effects that Helisim leaves out switched off:
    and 0.081). That growth is what is left above Helisim's at 20 and 40 kn (x1.25 with the
    rotor's wake at the tail, which takes 0.07 1/s of the tailplane's damping at 40 kn; x1.38
    without): a difference of inflow models, not of data.
+4. The modes: with Helisim's assumptions (compressibility, hub drag and download off, the rotor's
+   wake at the tail on) 37 of the 64 published eigenvalues are within tolerance against 22 as
+   shipped: the short period at all 10 of its points (6 of 14 as shipped), the roll subsidence at
+   4 of 4, the phugoid at 14 of 16. The Dutch roll stays ×1.29-1.96 too fast from 40 kn (2 of 14
+   within): the yaw group's tail rotor and fin (test_validate_published.py). 58 of 64 have
+   Helisim's stability either way (the spiral, from L_v).
 """
 from __future__ import annotations
 
@@ -38,7 +44,7 @@ import pytest
 from test_roll_damping import HELISIMS, KNOT, helisim_derivative
 
 SPEEDS_KN = (0, 20, 40)
-NO_DOWNLOAD = "pitt-peters,tip-loss"  # compressibility, hub drag, download and the wake at the tail off
+NO_DOWNLOAD = "pitt-peters,tip-loss,tail-wake"  # compressibility, hub drag and download off
 
 
 def derivatives_at(switches: str | None) -> dict:
@@ -90,7 +96,7 @@ def test_heave_control_in_hover_is_within_25_percent_without_compressibility(shi
 
 def test_pitch_damping_and_speed_stability_in_hover_are_within_25_percent_without_the_download(helisims, no_download):
     """M_q x1.36 and M_u x2.62 with compressibility and hub drag off; without the download panels
-    (and the rotor's wake at the tail, which does not reach it in hover) as well x1.08 and x1.05."""
+    as well x1.08 and x1.05."""
     assert ratio(helisims, "M_q", 0) > 1.25 and ratio(helisims, "M_u", 0) > 2.0
     for quantity in ("M_q", "M_u"):
         assert 0.75 <= ratio(no_download, quantity, 0) <= 1.15, (quantity, ratio(no_download, quantity, 0))
@@ -106,10 +112,28 @@ def test_helisims_pitch_damping_grows_from_hover_by_the_tailplanes_strip_damping
 
 
 def test_our_rotors_pitch_damping_grows_with_speed_where_helisims_does_not(no_download):
-    """Ours less its hover value and less the tailplane's strip damping: the rotor's own growth,
-    0.089 and 0.175 1/s at 20 and 40 kn (Helisim's: under 0.012 1/s)."""
+    """Ours less its hover value and less the tailplane's strip damping: 0.089 1/s at 20 kn, the
+    rotor's own growth (the wake does not reach the tailplane yet: M_q the same to 1e-4 without
+    it); 0.102 at 40 kn, the rotor's 0.175 (measured with the tailplane off) less the 0.073 the
+    wake takes from the tailplane. Helisim's: under 0.012 1/s."""
     published = helisim_derivative("M_q")
-    for kn, low, high in ((20, 0.06, 0.12), (40, 0.13, 0.22)):
+    for kn, low, high in ((20, 0.07, 0.11), (40, 0.08, 0.13)):
         ours = no_download[kn]["M_q"] - no_download[0]["M_q"] - tailplane_strip_damping(kn)
         theirs = published[kn] - published[0] - tailplane_strip_damping(kn)
         assert low <= -ours <= high and abs(theirs) < 0.012, (kn, ours, theirs)
+
+
+def test_short_period_within_25_percent_with_helisims_assumptions():
+    """Compressibility, hub drag and download off: every short-period and roll-subsidence pair
+    within tolerance, 37 of 64 eigenvalues in all (22 as shipped); the Dutch roll still out from
+    40 kn."""
+    from mbs.validate import load, validate
+
+    pairs = validate(load("puma_helisim"), aero=NO_DOWNLOAD).pairs
+    by_mode: dict[str, list] = {}
+    for p in pairs:
+        by_mode.setdefault(p.mode, []).append(p.within)
+    print({m: f"{sum(w)}/{len(w)}" for m, w in by_mode.items()})
+    assert len(pairs) == 64 and sum(p.within for p in pairs) >= 35
+    assert len(by_mode["short period"]) >= 8 and all(by_mode["short period"]) and all(by_mode["roll subsidence"])
+    assert sum(by_mode["Dutch roll"]) <= 4
