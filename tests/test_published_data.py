@@ -391,16 +391,23 @@ LBF, FT = 4.4482216152605, 0.3048
     ("ft-lb", "ft lbf"), ("FT-LB/RAD", "ft lbf/rad"), ("slug-ft2", "slug ft^2"), ("SLUG-FT2", "slug ft^2"),
     ("in.", "in"), ("kn", "kt"), ("KTS", "kt"), ("knots", "kt"), ("deg/sec", "deg/s"), ("DEG", "deg"),
     ("lb", "lbf"), ("lbs", "lbf"), ("lb/ft^2", "lbf/ft^2"), ("psf", "lbf/ft^2"), ("s-1", "s^-1"), ("feet", "ft"),
+    # copied from a typeset report
+    ("slug·ft²", "slug ft^2"), ("kg·m²", "kg m^2"), ("kg.m2", "kg m^2"), ("N.m", "N m"), ("lb·ft", "ft lbf"),
+    ("ft²", "ft^2"), ("ft**2", "ft^2"), ("sq ft", "ft^2"), ("SQ. FT.", "ft^2"), ("cu ft", "ft^3"), ("kg/m³", "kg/m^3"),
+    ("s⁻¹", "s^-1"), ("°", "deg"), ("°/s", "deg/s"), ("SHP", "hp"), ("kgf", "kg m/s^2"),
 ])
 def test_a_unit_as_a_report_prints_it_reads_as_its_plain_form(printed, plain):
-    """Hyphens, powers without ``^``, capitals, trailing periods and common spellings; ``lb`` a
-    pound-force where a force, moment or pressure is wanted."""
+    """Hyphens, powers without ``^``, capitals, trailing periods and common spellings, the forms of
+    a typeset report (superscripts, ``°``, a middle or full stop between symbols, ``sq ft``);
+    ``lb`` a pound-force where a force, moment or pressure is wanted."""
     from mbs.aircraft import units
 
     si = {"ft lbf": "N m", "ft lbf/rad": "N m/rad", "slug ft^2": "kg m^2", "in": "m", "kt": "m/s", "deg/s": "rad/s",
-          "deg": "rad", "lbf": "N", "lbf/ft^2": "Pa", "s^-1": "1/s", "ft": "m"}[plain]
-    assert units.factor_to(printed, si) == pytest.approx(units.factor_to(plain, si), rel=1e-15)
-    assert units.pound_force(printed, si) == (printed in ("ft-lb", "FT-LB/RAD", "lb", "lbs", "lb/ft^2"))
+          "deg": "rad", "lbf": "N", "lbf/ft^2": "Pa", "s^-1": "1/s", "ft": "m", "kg m^2": "kg m^2", "N m": "N m",
+          "ft^2": "m^2", "ft^3": "m^3", "kg/m^3": "kg/m^3", "hp": "W", "kg m/s^2": "N"}[plain]
+    want = 9.80665 if printed == "kgf" else units.factor_to(plain, si)
+    assert units.factor_to(printed, si) == pytest.approx(want, rel=1e-15)
+    assert units.pound_force(printed, si) == (printed in ("ft-lb", "FT-LB/RAD", "lb", "lbs", "lb/ft^2", "lb·ft"))
 
 
 def test_pounds_are_a_mass_where_a_mass_is_wanted():
@@ -416,6 +423,8 @@ def test_pounds_are_a_mass_where_a_mass_is_wanted():
     ("lbm", "N", "unit 'lbm' is a mass, not a force"),  # the pound-mass said so: never a force
     ("ft--lb", "N m", "cannot read 'ft--lb'"),
     ("cubits", "m", "unknown symbol 'cubits'"),
+    ("°F", "rad", "unknown symbol 'F'"),
+    ("ft³", "m^2", "unit 'ft³' is dimension"),
 ])
 def test_a_printed_unit_that_is_ambiguous_or_unreadable_is_refused(unit, target, words):
     from mbs.aircraft import units

@@ -11,7 +11,10 @@ Units as reports print them are read too: a hyphen between symbols multiplies (`
 ``slug-ft2``), a power may follow its symbol without ``^`` (``ft2``), a trailing period is
 dropped (``in.``), common spellings are aliases (``sec``, ``kn``, ``kts``, ``knots``, ``lbs``,
 ``degrees``, ``feet``, ``psf`` ...), and a symbol in capitals (``FT``, ``DEG``, ``SLUG``) is the
-one symbol it spells in any case (``KN``, kilonewton or knot, is refused as ambiguous). ``lb`` is
+one symbol it spells in any case (``KN``, kilonewton or knot, is refused as ambiguous). Text copied
+from a typeset report reads as well: superscript powers (``ft²``, ``s⁻¹``), ``°`` for degrees, a
+middle or full stop between symbols (``slug·ft²``, ``N.m``, ``kg.m2``), ``sq ft`` and ``cu ft``,
+``**`` for a power, ``shp`` (shaft horsepower) and ``kgf``. ``lb`` is
 a mass, and a pound-force where a force, moment or pressure is wanted (``lb``, ``ft lb``,
 ``lb/ft^2``): :func:`factor_to` reads it so, and :func:`pound_force` says when it did.
 """
@@ -40,9 +43,10 @@ SYMBOLS: dict[str, tuple[float, tuple[int, int, int, int]]] = {
 }
 ALIASES = {"sec": "s", "secs": "s", "hr": "h", "kn": "kt", "kts": "kt", "knot": "kt", "knots": "kt", "lbs": "lb",
            "degree": "deg", "degrees": "deg", "radian": "rad", "radians": "rad", "inch": "in",
-           "inches": "in", "foot": "ft", "feet": "ft", "revs": "rev"}
+           "inches": "in", "foot": "ft", "feet": "ft", "revs": "rev", "shp": "hp"}
 """Spellings of the symbols as reports print them."""
 SYMBOLS["psf"] = (_LB * _G0 / _FT**2, (-1, 1, -2, 0))  # pounds-force per square foot (disc loading)
+SYMBOLS["kgf"] = (_G0, (1, 1, -2, 0))  # kilogram-force (kilopond)
 DIMENSIONLESS = ("-", "1", "")
 PER_REV = "1/rev"
 NAMES = {(1, 0, 0, 0): "a length", (0, 1, 0, 0): "a mass", (0, 0, 0, 1): "an angle",
@@ -54,6 +58,10 @@ NAMES = {(1, 0, 0, 0): "a length", (0, 1, 0, 0): "a mass", (0, 0, 0, 1): "an ang
          (2, 0, 0, 0): "an area", (0, 0, 0, 0): "a pure number"}
 _TOKEN = re.compile(r"^([A-Za-z]+)(?:\^?(-?\d+))?$")
 _PRODUCT_HYPHEN = re.compile(r"(?<=[A-Za-z0-9])-(?=[A-Za-z])")
+_PRODUCT_STOP = re.compile(r"(?<=[A-Za-z0-9])\.(?=[A-Za-z])")
+_SUPERSCRIPT = re.compile("⁻?[⁰¹²³⁴⁵⁶⁷⁸⁹]+")
+_DIGITS = str.maketrans("⁰¹²³⁴⁵⁶⁷⁸⁹⁻", "0123456789-")
+_SQUARE_CUBE = re.compile(r"\b(sq|cu)(?:\.\s*|\s+)([A-Za-z]+)", re.IGNORECASE)
 
 
 class UnitError(ValueError):
@@ -76,12 +84,12 @@ class Unit:
 def parse(text: str, pound_force: bool = False) -> Unit:
     """The :class:`Unit` of ``text``; :class:`UnitError` naming the symbol it cannot read.
     ``pound_force``: ``lb`` is the pound-force (``lbf``), not the pound."""
-    text = text.strip()
-    if text in DIMENSIONLESS:
+    text, typed = text.strip(), _untypeset(text.strip())
+    if typed in DIMENSIONLESS:
         return Unit(1.0, (0, 0, 0, 0))
-    if text.replace(" ", "") == PER_REV:
+    if typed.replace(" ", "") == PER_REV:
         return Unit(1.0, (0, 0, 0, 0), per_rev=True)
-    upper, _, lower = text.partition("/")
+    upper, _, lower = typed.partition("/")
     if "/" in lower:
         raise UnitError(f"unit {text!r}: write one '/' at most (e.g. 'N m s/rad')")
     factor, dims = _product(upper, text, 1, pound_force)
@@ -89,6 +97,14 @@ def parse(text: str, pound_force: bool = False) -> Unit:
         f2, d2 = _product(lower, text, -1, pound_force)
         factor, dims = factor * f2, tuple(a + b for a, b in zip(dims, d2))
     return Unit(factor, dims)
+
+
+def _untypeset(text: str) -> str:
+    """``text`` with a typeset report's forms in the plain ones: superscript powers as ``^n``,
+    ``°`` as ``deg``, ``**`` as ``^``, a stop between symbols as a space, ``sq ft`` as ``ft^2``."""
+    text = _SUPERSCRIPT.sub(lambda m: "^" + m.group(0).translate(_DIGITS), text).replace("**", "^")
+    text = _PRODUCT_STOP.sub(" ", text.replace("°", " deg ").replace("º", " deg "))
+    return _SQUARE_CUBE.sub(lambda m: f"{m.group(2)}^{2 if m.group(1).lower() == 'sq' else 3}", text)
 
 
 def _product(part: str, text: str, sign: int, pound_force: bool = False) -> tuple[float, tuple[int, ...]]:
