@@ -158,6 +158,18 @@ def test_span_tables_against_radial_stations_equal_those_against_r_over_r():
     assert by_station["main_rotor"]["chord"] == pytest.approx(by_ratio["main_rotor"]["chord"], rel=1e-12)
 
 
+@pytest.mark.parametrize("rows, unit", [("[[0.2, 11.0], [0.6, 10.6], [1.0, 10.0]]", "r/R, in"),
+                                        ("[[20, 11.0], [60, 10.6], [100, 10.0]]", "% R, in"),
+                                        ("[[20, 11.0], [60, 10.6], [100, 10.0]]", "%R, in")])
+def test_a_span_tables_first_column_headed_r_over_r_or_per_cent_of_r_reads_as_printed(rows, unit):
+    by_ratio, problems = evaluate(_chord("[[0.2, 11.0], [0.6, 10.6], [1.0, 10.0]]", "-, in"))
+    assert not problems, problems
+    printed, problems = evaluate(_chord(rows, unit))
+    assert not problems, problems
+    flat = [x for row in by_ratio["main_rotor"]["chord_table"] for x in row]
+    assert [x for row in printed["main_rotor"]["chord_table"] for x in row] == pytest.approx(flat, abs=1e-15)
+
+
 def test_aircraft_check_lists_the_radial_stations_over_the_radius(tmp_path):
     path = tmp_path / "craft.toml"
     path.write_text(_chord("[[19.0, 0.27], [193.0, 0.26]]", "in, m"))

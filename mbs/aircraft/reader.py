@@ -358,8 +358,14 @@ def _range(spec: Entry) -> str:
             f"{')' if spec.open_high else ']'}")
 
 
+RADIAL_FRACTIONS = {"r/R": "-", "x/R": "-", "%R": "%", "percentR": "%"}
+"""A span table's first column as reports head it: r/R (or x/R) as a fraction, % R in per cent."""
+
+
 def _table(value, unit: str, spec: Entry) -> list:
     columns = [u.strip() for u in str(unit).split(",")]
+    if spec.radial:
+        columns[0] = RADIAL_FRACTIONS.get(columns[0].replace(" ", ""), columns[0])
     if len(columns) != len(spec.columns):
         raise ValueError(f"unit {unit!r}: give one unit per column ({spec.unit})")
     factors = [units.factor_to(u, want) for u, want in zip(columns, spec.columns)]
@@ -412,6 +418,7 @@ def airfoil_segments(value, unit, base: Path | None) -> tuple:
     and its interpolant built); ValueError naming the row or the file's line."""
     from mbs.aero.tables import AirfoilSegment
 
+    unit = RADIAL_FRACTIONS.get(str(unit).replace(" ", ""), unit) if unit is not None else None
     if unit is None or units.parse(str(unit)).dims != (0, 0, 0, 0) or units.parse(str(unit)).factor != 1.0:
         raise ValueError(f"unit {unit!r}: give unit = \"-\" (each segment's start is a fraction r/R of the radius)")
     rows = value if isinstance(value, list) and value else None
