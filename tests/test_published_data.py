@@ -395,6 +395,8 @@ LBF, FT = 4.4482216152605, 0.3048
     ("slug·ft²", "slug ft^2"), ("kg·m²", "kg m^2"), ("kg.m2", "kg m^2"), ("N.m", "N m"), ("lb·ft", "ft lbf"),
     ("ft²", "ft^2"), ("ft**2", "ft^2"), ("sq ft", "ft^2"), ("SQ. FT.", "ft^2"), ("cu ft", "ft^3"), ("kg/m³", "kg/m^3"),
     ("s⁻¹", "s^-1"), ("°", "deg"), ("°/s", "deg/s"), ("SHP", "hp"), ("kgf", "kg m/s^2"),
+    # successive slashes and parentheses
+    ("ft/sec²/in", "ft/s^2 in"), ("(ft/sec^2)/in", "ft/s^2 in"), ("ft/(sec^2 in)", "ft/s^2 in"), ("deg/(s/ft)", "deg ft/s"),
 ])
 def test_a_unit_as_a_report_prints_it_reads_as_its_plain_form(printed, plain):
     """Hyphens, powers without ``^``, capitals, trailing periods and common spellings, the forms of
@@ -404,7 +406,8 @@ def test_a_unit_as_a_report_prints_it_reads_as_its_plain_form(printed, plain):
 
     si = {"ft lbf": "N m", "ft lbf/rad": "N m/rad", "slug ft^2": "kg m^2", "in": "m", "kt": "m/s", "deg/s": "rad/s",
           "deg": "rad", "lbf": "N", "lbf/ft^2": "Pa", "s^-1": "1/s", "ft": "m", "kg m^2": "kg m^2", "N m": "N m",
-          "ft^2": "m^2", "ft^3": "m^3", "kg/m^3": "kg/m^3", "hp": "W", "kg m/s^2": "N"}[plain]
+          "ft^2": "m^2", "ft^3": "m^3", "kg/m^3": "kg/m^3", "hp": "W", "kg m/s^2": "N", "ft/s^2 in": "1/s^2",
+          "deg ft/s": "rad m/s"}[plain]
     want = 9.80665 if printed == "kgf" else units.factor_to(plain, si)
     assert units.factor_to(printed, si) == pytest.approx(want, rel=1e-15)
     assert units.pound_force(printed, si) == (printed in ("ft-lb", "FT-LB/RAD", "lb", "lbs", "lb/ft^2", "lb·ft"))
@@ -425,6 +428,8 @@ def test_pounds_are_a_mass_where_a_mass_is_wanted():
     ("cubits", "m", "unknown symbol 'cubits'"),
     ("°F", "rad", "unknown symbol 'F'"),
     ("ft³", "m^2", "unit 'ft³' is dimension"),
+    ("(ft/s", "m/s", "unit '\\(ft/s': unbalanced parentheses"),
+    ("ft/", "m", "a symbol is missing around '/'"),
 ])
 def test_a_printed_unit_that_is_ambiguous_or_unreadable_is_refused(unit, target, words):
     from mbs.aircraft import units

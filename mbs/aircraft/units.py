@@ -1,8 +1,9 @@
 """Units of the aircraft file: parse a unit text, check its dimension, convert to SI.
 
-A unit text is a product of symbols with optional integer powers, one ``/`` dividing the
-product after it: ``kg m^2``, ``slug ft^2``, ``N m/rad``, ``N m s/rad``, ``kg/m^3``,
-``1/rad^2``, ``ft lbf``, ``deg/in``, ``deg/%`` (``%`` a hundredth). Angles are a dimension of their own (``rad``, ``deg``, ``rev``), so
+A unit text is a product of symbols with optional integer powers, each ``/`` dividing by the
+product after it (left to right, parentheses grouping): ``kg m^2``, ``slug ft^2``, ``N m/rad``,
+``N m s/rad``, ``kg/m^3``, ``1/rad^2``, ``ft lbf``, ``deg/in``, ``deg/%`` (``%`` a hundredth),
+``ft/s^2/in`` and ``(ft/s^2)/in`` (both ``ft/(s^2 in)``). Angles are a dimension of their own (``rad``, ``deg``, ``rev``), so
 ``rpm`` converts to ``rad/s`` and ``1/deg`` to ``1/rad``, but an angle never passes for a
 number. ``-`` (or ``1``) is a pure number and ``1/rev`` a frequency ratio per revolution
 (which converts to nothing else).
@@ -89,13 +90,10 @@ def parse(text: str, pound_force: bool = False) -> Unit:
         return Unit(1.0, (0, 0, 0, 0))
     if typed.replace(" ", "") == PER_REV:
         return Unit(1.0, (0, 0, 0, 0), per_rev=True)
-    upper, _, lower = typed.partition("/")
-    if "/" in lower:
-        raise UnitError(f"unit {text!r}: write one '/' at most (e.g. 'N m s/rad')")
-    factor, dims = _product(upper, text, 1, pound_force)
-    if lower:
-        f2, d2 = _product(lower, text, -1, pound_force)
-        factor, dims = factor * f2, tuple(a + b for a, b in zip(dims, d2))
+    tokens = _tokens(typed)
+    factor, dims, end = _quotient(tokens, 0, text, pound_force)
+    if end != len(tokens):
+        raise UnitError(f"unit {text!r}: unbalanced parentheses")
     return Unit(factor, dims)
 
 
@@ -107,24 +105,57 @@ def _untypeset(text: str) -> str:
     return _SQUARE_CUBE.sub(lambda m: f"{m.group(2)}^{2 if m.group(1).lower() == 'sq' else 3}", text)
 
 
-def _product(part: str, text: str, sign: int, pound_force: bool = False) -> tuple[float, tuple[int, ...]]:
-    factor, dims = 1.0, [0, 0, 0, 0]
-    part = _PRODUCT_HYPHEN.sub(" ", part.replace("*", " ").replace("·", " ").replace("%", " percent "))
-    for token in part.split():
-        token = token.rstrip(".")
-        if token == "1":
-            continue
-        match = _TOKEN.match(token)
-        if not match:
-            raise UnitError(f"unit {text!r}: cannot read {token!r}; write symbols with powers, e.g. 'slug ft^2'")
-        name = _symbol(match.group(1), text)
-        if pound_force and name == "lb":
-            name = "lbf"
-        power = sign * int(match.group(2) or 1)
-        f, d = SYMBOLS[name]
-        factor *= f**power
-        dims = [a + power * b for a, b in zip(dims, d)]
-    return factor, tuple(dims)
+def _tokens(typed: str) -> list[str]:
+    """Symbols with their powers, ``/``, ``(`` and ``)``; a hyphen, ``*`` or ``·`` between symbols
+    multiplies like a space."""
+    typed = _PRODUCT_HYPHEN.sub(" ", typed.replace("*", " ").replace("·", " ").replace("%", " percent "))
+    for mark in "/()":
+        typed = typed.replace(mark, f" {mark} ")
+    return typed.split()
+
+
+def _quotient(tokens: list, i: int, text: str, pound_force: bool) -> tuple[float, tuple, int]:
+    """Products divided left to right (``a/b c/d`` is ``a/(b c d)``), from ``tokens[i]``; returns
+    the factor, the dimensions and the index after them."""
+    factor, dims, i = _product(tokens, i, text, pound_force)
+    while i < len(tokens) and tokens[i] == "/":
+        f, d, i = _product(tokens, i + 1, text, pound_force)
+        factor, dims = factor / f, tuple(a - b for a, b in zip(dims, d))
+    return factor, dims, i
+
+
+def _product(tokens: list, i: int, text: str, pound_force: bool) -> tuple[float, tuple, int]:
+    """Symbols (with powers) and parenthesised quotients multiplied, from ``tokens[i]`` to the next
+    ``/`` or ``)``."""
+    factor, dims, start = 1.0, (0, 0, 0, 0), i
+    while i < len(tokens) and tokens[i] not in ("/", ")"):
+        if tokens[i] == "(":
+            f, d, i = _quotient(tokens, i + 1, text, pound_force)
+            if i >= len(tokens) or tokens[i] != ")":
+                raise UnitError(f"unit {text!r}: unbalanced parentheses")
+            i += 1
+        else:
+            f, d = _power(tokens[i].rstrip("."), text, pound_force)
+            i += 1
+        factor, dims = factor * f, tuple(a + b for a, b in zip(dims, d))
+    if i == start:
+        raise UnitError(f"unit {text!r}: a symbol is missing around '/' or in '()'")
+    return factor, dims, i
+
+
+def _power(token: str, text: str, pound_force: bool) -> tuple[float, tuple]:
+    """The factor and dimensions of one symbol with its power (``ft^2``, ``ft2``, ``s-1``; ``1``)."""
+    if token == "1":
+        return 1.0, (0, 0, 0, 0)
+    match = _TOKEN.match(token)
+    if not match:
+        raise UnitError(f"unit {text!r}: cannot read {token!r}; write symbols with powers, e.g. 'slug ft^2'")
+    name = _symbol(match.group(1), text)
+    if pound_force and name == "lb":
+        name = "lbf"
+    power = int(match.group(2) or 1)
+    f, d = SYMBOLS[name]
+    return f**power, tuple(power * b for b in d)
 
 
 def _symbol(name: str, text: str) -> str:

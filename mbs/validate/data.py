@@ -255,14 +255,9 @@ def _strings(d, path: Path, section: str) -> dict[str, str]:
 
 def _unit(text: str, where: str) -> None:
     try:
-        units.parse(_plain(text))
+        units.parse(text)
     except units.UnitError as exc:
         raise ValidationError(f"{where}: {exc}") from None
-
-
-def _plain(unit: str) -> str:
-    """``"m/(s rad)"`` -> ``"m/s rad"``: the unit reader takes one '/' and no parentheses."""
-    return unit.replace("(", "").replace(")", "")
 
 
 def _is_number(x) -> bool:

@@ -20,7 +20,7 @@ import math
 import re
 
 from mbs.aircraft import units
-from mbs.validate.data import ValidationError, _plain
+from mbs.validate.data import ValidationError
 
 ANGLES = ("pitch", "roll")
 ASCII = (("theta0T", "θ0T"), ("theta1s", "θ1s"), ("theta1c", "θ1c"), ("theta0", "θ0"))
@@ -99,8 +99,8 @@ def derivative_value(derivatives, quantity: str) -> tuple[float, str]:
 def converter(si_unit: str, unit: str, where: str):
     """``f(value_in_si) -> value in unit``; :class:`ValidationError` when the dimensions differ."""
     try:
-        ours = units.parse(_plain(si_unit))
-        theirs = units.reading(_plain(unit), [ours.dims])  # a thrust in lb, a torque in ft-lb
+        ours = units.parse(si_unit)
+        theirs = units.reading(unit, [ours.dims])  # a thrust in lb, a torque in ft-lb
     except units.UnitError as exc:
         raise ValidationError(f"{where}: {exc}") from None
     if ours.dims != theirs.dims:
