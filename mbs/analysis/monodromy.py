@@ -17,7 +17,8 @@ The cached library is found through a key computed without generating C: the SHA
 serialized right-hand side and projection (``Function.serialize``), the tableau, the block
 width, the CasADi version, the compiler and the source of the modules that shape the
 generated code. The cache's index (:mod:`mbs.backends.index`) maps the key to the library's
-folder; only without a valid entry is the C generated (and compiled, unless a library of that source is cached).
+folder; only without a valid entry is the C generated (and compiled, unless a library of that
+source is cached).
 The step loop runs in Python, one call per step and block of directions (a few µs of
 overhead against the tenths of a millisecond of a block step), so that the number of steps
 and of directions is chosen at run time. Blocks are independent: compiled blocks run in

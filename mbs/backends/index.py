@@ -41,8 +41,8 @@ def key(functions: dict, info, dtype: str, extra: tuple = (), derived: tuple = (
 
     h = hashlib.sha256()
     names = sorted(n for n in functions if n not in NOT_GENERATED)
-    parts = (*names, *(functions[n].serialize() for n in names if n not in derived), info.to_json(), dtype, ca.__version__,
-             find_compiler(), " ".join(CFLAGS), str(LARGE_SOURCE_BYTES),
+    parts = (*names, *(functions[n].serialize() for n in names if n not in derived), info.to_json(), dtype,
+             ca.__version__, find_compiler(), " ".join(CFLAGS), str(LARGE_SOURCE_BYTES),
              *((_ROOT / m).read_text() for m in GENERATING_MODULES), *extra)
     for part in parts:
         h.update(part.encode())
