@@ -5,8 +5,8 @@ product after it (left to right, parentheses grouping): ``kg m^2``, ``slug ft^2`
 ``N m s/rad``, ``kg/m^3``, ``1/rad^2``, ``ft lbf``, ``deg/in``, ``deg/%`` (``%`` a hundredth),
 ``ft/s^2/in`` and ``(ft/s^2)/in`` (both ``ft/(s^2 in)``). Angles are a dimension of their own
 (``rad``, ``deg``, ``rev``), so ``rpm`` converts to ``rad/s`` and ``1/deg`` to ``1/rad``, but an
-angle never passes for a number. ``-`` (or ``1``) is a pure number and ``1/rev`` a frequency ratio per revolution
-(which converts to nothing else).
+angle never passes for a number. ``-`` (or ``1``) is a pure number and ``1/rev`` a frequency ratio
+per revolution (which converts to nothing else).
 
 Units as reports print them are read too: a hyphen between symbols multiplies (``ft-lb``,
 ``slug-ft2``), a power may follow its symbol without ``^`` (``ft2``), a trailing period is
