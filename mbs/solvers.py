@@ -157,8 +157,8 @@ class Problem:
 def implicit_system(model, backend: str = "compiled", iterations: int = 4):
     """Build ``model``'s second library: ``rhs``, ``project``, ``rhs_jac`` and the
     ``mbs_run_midpoint`` driver (a :class:`mbs.System` whose only method is ``midpoint``)."""
+    from mbs.backends import index
     from mbs.backends.compiled import CompiledSystem
-    from mbs.backends.index import library
     from mbs.backends.info import info_of
     from mbs.backends.vm import VMSystem
     from mbs.dynamics import symbolic
@@ -176,7 +176,10 @@ def implicit_system(model, backend: str = "compiled", iterations: int = 4):
         return vm
     info = info_of(sym, {"midpoint": iterations + 1})
     info.name = f"{info.name}-implicit{iterations}"
-    return CompiledSystem(library(functions, info))
+    # the Jacobian and the midpoint increment are keyed by the code that derives them from rhs:
+    # serializing them costs more than generating their C
+    derived = index.module_texts(("mbs/solvers.py", "mbs/linearize.py", "mbs/integrators/*.py"))
+    return CompiledSystem(index.library(functions, info, extra=derived, derived=("rhs_jac", "incr_midpoint")))
 
 
 def _fixed_steps(t0: float, t_end: float, h: float) -> int:
