@@ -418,8 +418,8 @@ def airfoil_segments(value, unit, base: Path | None) -> tuple:
     and its interpolant built); ValueError naming the row or the file's line."""
     from mbs.aero.tables import AirfoilSegment
 
-    unit = RADIAL_FRACTIONS.get(str(unit).replace(" ", ""), unit) if unit is not None else None
-    if unit is None or units.parse(str(unit)).dims != (0, 0, 0, 0) or units.parse(str(unit)).factor != 1.0:
+    plain = RADIAL_FRACTIONS.get(str(unit).replace(" ", ""), str(unit))
+    if unit is None or units.parse(plain).dims != (0, 0, 0, 0) or units.parse(plain).factor != 1.0:
         raise ValueError(f"unit {unit!r}: give unit = \"-\" (each segment's start is a fraction r/R of the radius)")
     rows = value if isinstance(value, list) and value else None
     if rows is None or not all(isinstance(r, list) and len(r) == 2 and isinstance(r[1], str) for r in rows):
