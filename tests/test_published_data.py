@@ -397,6 +397,9 @@ LBF, FT = 4.4482216152605, 0.3048
     ("s⁻¹", "s^-1"), ("°", "deg"), ("°/s", "deg/s"), ("SHP", "hp"), ("kgf", "kg m/s^2"),
     # successive slashes and parentheses
     ("ft/sec²/in", "ft/s^2 in"), ("(ft/sec^2)/in", "ft/s^2 in"), ("ft/(sec^2 in)", "ft/s^2 in"), ("deg/(s/ft)", "deg ft/s"),
+    # abbreviation stops, 'per', a leading slash
+    ("in.-lb", "ft lbf"), ("FT.-LB.", "ft lbf"), ("in.²", "ft^2"), ("deg./sec.", "deg/s"), ("/deg", "s^-1"),
+    ("per deg", "s^-1"), ("ft per sec", "kt"), ("psi", "lbf/ft^2"), ("fpm", "kt"), ("KTAS", "kt"),
 ])
 def test_a_unit_as_a_report_prints_it_reads_as_its_plain_form(printed, plain):
     """Hyphens, powers without ``^``, capitals, trailing periods and common spellings, the forms of
@@ -404,13 +407,44 @@ def test_a_unit_as_a_report_prints_it_reads_as_its_plain_form(printed, plain):
     ``lb`` a pound-force where a force, moment or pressure is wanted."""
     from mbs.aircraft import units
 
-    si = {"ft lbf": "N m", "ft lbf/rad": "N m/rad", "slug ft^2": "kg m^2", "in": "m", "kt": "m/s", "deg/s": "rad/s",
+    si = {"/deg": "1/rad", "per deg": "1/rad", "in.-lb": "N m", "in.²": "m^2", "ft per sec": "m/s", "psi": "Pa",
+          "fpm": "m/s"}.get(printed) or {"ft lbf": "N m", "ft lbf/rad": "N m/rad", "slug ft^2": "kg m^2", "in": "m", "kt": "m/s", "deg/s": "rad/s",
           "deg": "rad", "lbf": "N", "lbf/ft^2": "Pa", "s^-1": "1/s", "ft": "m", "kg m^2": "kg m^2", "N m": "N m",
           "ft^2": "m^2", "ft^3": "m^3", "kg/m^3": "kg/m^3", "hp": "W", "kg m/s^2": "N", "ft/s^2 in": "1/s^2",
           "deg ft/s": "rad m/s"}[plain]
-    want = 9.80665 if printed == "kgf" else units.factor_to(plain, si)
+    want = {"kgf": 9.80665, "in.-lb": LBF * 0.0254, "in.²": 0.0254**2, "/deg": 180 / np.pi, "per deg": 180 / np.pi,
+            "ft per sec": FT, "psi": LBF / 0.0254**2, "fpm": FT / 60}.get(printed) or units.factor_to(plain, si)
     assert units.factor_to(printed, si) == pytest.approx(want, rel=1e-15)
-    assert units.pound_force(printed, si) == (printed in ("ft-lb", "FT-LB/RAD", "lb", "lbs", "lb/ft^2", "lb·ft"))
+    assert units.pound_force(printed, si) == (printed in ("ft-lb", "FT-LB/RAD", "lb", "lbs", "lb/ft^2", "lb·ft",
+                                                           "in.-lb", "FT.-LB."))
+
+
+@pytest.mark.parametrize("printed, target, factor, how", [
+    ("ft-lb/rad/sec", "N m s/rad", LBF * FT, " (lb as pound-force; read as ft-lb/(rad/sec))"),
+    ("IN.-LB./RAD/SEC", "N m s/rad", LBF * 0.0254, " (lb as pound-force; read as IN.-LB./(RAD/SEC))"),
+    ("1/rad/s", "s/rad", 1.0, " (read as 1/(rad/s))"),
+    ("ft/sec/sec", "m/s^2", FT, ""),  # the left-to-right reading is of the kind: kept
+    ("deg/sec/in", "rad/(s m)", np.pi / 180 / 0.0254, ""),
+])
+def test_a_rate_printed_after_a_second_slash_is_read_per_that_rate_only_where_the_kind_asks(printed, target, factor,
+                                                                                             how):
+    """``A/B/C`` is ``(A/B)/C``; only where that is of the wrong kind and ``A/(B/C)`` of the right
+    one (a damper in ft-lb per rad/sec) is it read so, and the conversion says it."""
+    from mbs.aircraft import units
+
+    assert units.factor_to(printed, target) == pytest.approx(factor, rel=1e-15)
+    assert units.how_read(printed, target) == how
+
+
+def test_a_damping_per_radian_per_second_as_printed_is_listed_as_read(tmp_path):
+    raw = entries("bo105")
+    raw["main_rotor"]["lag_damping"] = {**raw["main_rotor"]["lag_damping"], "unit": "ft-lb/rad/sec",
+                                        "value": raw["main_rotor"]["lag_damping"]["value"] / (LBF * FT)}
+    printed = aircraft.load(write(raw, tmp_path / "damper.toml"))
+    assert printed.data["main_rotor"]["lag_damping"] == pytest.approx(aircraft.load().data["main_rotor"]["lag_damping"],
+                                                                      rel=1e-14)
+    listed = {r[0]: r[3] for r in aircraft.check(printed.path).converted}
+    assert listed["main_rotor.lag_damping"].endswith("ft-lb/rad/sec (lb as pound-force; read as ft-lb/(rad/sec))")
 
 
 def test_pounds_are_a_mass_where_a_mass_is_wanted():
@@ -430,6 +464,7 @@ def test_pounds_are_a_mass_where_a_mass_is_wanted():
     ("ft³", "m^2", "unit 'ft³' is dimension"),
     ("(ft/s", "m/s", "unit '\\(ft/s': unbalanced parentheses"),
     ("ft/", "m", "a symbol is missing around '/'"),
+    ("ft-lb/rad/sec/in", "N m s/rad", "unit 'ft-lb/rad/sec/in' is dimension"),  # neither reading a damping
 ])
 def test_a_printed_unit_that_is_ambiguous_or_unreadable_is_refused(unit, target, words):
     from mbs.aircraft import units

@@ -91,19 +91,19 @@ def converted_rows(data: Data) -> list[tuple]:
             if plain and "how" not in meta:
                 continue
             unit = {"travel": "m, rad or -", "mixing": "rad, rad per position"}.get(kind, spec.unit)
-            how = meta.get("how") or f"from {meta.get('value', '')} {written}".strip() + _pound_force(written, spec)
+            how = meta.get("how") or f"from {meta.get('value', '')} {written}".strip() + _how_read(written, spec)
             rows.append((f"{section}.{key}", data[section][key], unit, how, meta.get("source", "")))
     return rows + _inertia_conversion(data)
 
 
-def _pound_force(written: str, spec) -> str:
-    """What the check says of a unit read with ``lb`` as the pound-force (a force, moment or
-    pressure printed in ``lb``; per column of a table)."""
+def _how_read(written: str, spec) -> str:
+    """What the check says of a unit read with ``lb`` as the pound-force or ``A/B/C`` as
+    ``A/(B/C)`` (per column of a table)."""
     from mbs.aircraft import units
 
     pairs = zip(written.split(","), spec.columns) if getattr(spec, "kind", "") == "table" else [(written, spec.unit)]
     try:
-        return " (lb as pound-force)" if any(units.pound_force(w.strip(), u) for w, u in pairs) else ""
+        return "".join(dict.fromkeys(units.how_read(w.strip(), u) for w, u in pairs))
     except units.UnitError:
         return ""
 

@@ -15,9 +15,12 @@ dropped (``in.``), common spellings are aliases (``sec``, ``kn``, ``kts``, ``kno
 one symbol it spells in any case (``KN``, kilonewton or knot, is refused as ambiguous). Text copied
 from a typeset report reads as well: superscript powers (``ft²``, ``s⁻¹``), ``°`` for degrees, a
 middle or full stop between symbols (``slug·ft²``, ``N.m``, ``kg.m2``), ``sq ft`` and ``cu ft``,
-``**`` for a power, ``shp`` (shaft horsepower) and ``kgf``. ``lb`` is
-a mass, and a pound-force where a force, moment or pressure is wanted (``lb``, ``ft lb``,
-``lb/ft^2``): :func:`factor_to` reads it so, and :func:`pound_force` says when it did.
+``**`` for a power, ``shp`` (shaft horsepower) and ``kgf``; a period after any symbol
+(``in.-lb``, ``in.²``), ``/rad`` and ``per rad`` for ``1/rad``, ``psi``, ``fpm`` and ``KTAS``.
+``lb`` is a mass, and a pound-force where a force, moment or pressure is wanted (``lb``,
+``ft lb``, ``lb/ft^2``); ``A/B/C`` whose left-to-right reading is of the wrong kind is read
+``A/(B/C)`` where that is of the kind wanted (a damping in ``ft-lb/rad/sec``, per radian per
+second). :func:`factor_to` reads them so, and :func:`how_read` says when it did.
 """
 from __future__ import annotations
 
@@ -48,6 +51,9 @@ ALIASES = {"sec": "s", "secs": "s", "hr": "h", "kn": "kt", "kts": "kt", "knot": 
 """Spellings of the symbols as reports print them."""
 SYMBOLS["psf"] = (_LB * _G0 / _FT**2, (-1, 1, -2, 0))  # pounds-force per square foot (disc loading)
 SYMBOLS["kgf"] = (_G0, (1, 1, -2, 0))  # kilogram-force (kilopond)
+SYMBOLS["psi"] = (_LB * _G0 / 0.0254**2, (-1, 1, -2, 0))  # pounds-force per square inch
+SYMBOLS["fpm"] = (_FT / 60, (1, 0, -1, 0))  # feet per minute (rate of climb)
+ALIASES["KTAS"] = "kt"  # knots true airspeed
 DIMENSIONLESS = ("-", "1", "")
 PER_REV = "1/rev"
 NAMES = {(1, 0, 0, 0): "a length", (0, 1, 0, 0): "a mass", (0, 0, 0, 1): "an angle",
@@ -63,6 +69,8 @@ _PRODUCT_STOP = re.compile(r"(?<=[A-Za-z0-9])\.(?=[A-Za-z])")
 _SUPERSCRIPT = re.compile("⁻?[⁰¹²³⁴⁵⁶⁷⁸⁹]+")
 _DIGITS = str.maketrans("⁰¹²³⁴⁵⁶⁷⁸⁹⁻", "0123456789-")
 _SQUARE_CUBE = re.compile(r"\b(sq|cu)(?:\.\s*|\s+)([A-Za-z]+)", re.IGNORECASE)
+_ABBREVIATION = re.compile(r"(?<=[A-Za-z])\.(?![A-Za-z0-9])")  # 'in.-lb', 'in.^2', 'deg./in.'
+_PER = re.compile(r"\bper\b")
 
 
 class UnitError(ValueError):
@@ -99,10 +107,13 @@ def parse(text: str, pound_force: bool = False) -> Unit:
 
 def _untypeset(text: str) -> str:
     """``text`` with a typeset report's forms in the plain ones: superscript powers as ``^n``,
-    ``°`` as ``deg``, ``**`` as ``^``, a stop between symbols as a space, ``sq ft`` as ``ft^2``."""
+    ``°`` as ``deg``, ``**`` as ``^``, a stop between symbols as a space, ``sq ft`` as ``ft^2``,
+    no abbreviation stops, ``per`` as ``/`` and a leading ``/`` as ``1/``."""
     text = _SUPERSCRIPT.sub(lambda m: "^" + m.group(0).translate(_DIGITS), text).replace("**", "^")
     text = _PRODUCT_STOP.sub(" ", text.replace("°", " deg ").replace("º", " deg "))
-    return _SQUARE_CUBE.sub(lambda m: f"{m.group(2)}^{2 if m.group(1).lower() == 'sq' else 3}", text)
+    text = _SQUARE_CUBE.sub(lambda m: f"{m.group(2)}^{2 if m.group(1).lower() == 'sq' else 3}", text)
+    text = _PER.sub("/", _ABBREVIATION.sub("", text)).strip()
+    return "1" + text if text.startswith("/") else text
 
 
 def _tokens(typed: str) -> list[str]:
@@ -179,20 +190,48 @@ def _matches(have: Unit, want: Unit) -> bool:
     return have.dims == want.dims and have.per_rev == want.per_rev
 
 
+def _readings(text: str):
+    """``(unit, lb a pound-force, text as read)`` in the order :func:`reading` tries them: as
+    written, then ``lb`` the pound-force, then each with ``A/B/C`` grouped ``A/(B/C)``."""
+    grouped = _grouped(text)
+    for written in (text, grouped) if grouped else (text,):
+        for force in (False, True):
+            yield parse(written, pound_force=force), force, written
+
+
+def _grouped(text: str) -> str | None:
+    """``A/(B/C ...)`` for a text ``A/B/C ...`` with two or more slashes and no parentheses."""
+    if "(" in text or text.count("/") < 2:
+        return None
+    first, rest = text.split("/", 1)
+    return f"{first}/({rest})" if first.strip() else None
+
+
+def _reading(text: str, kinds) -> tuple[Unit, bool, str]:
+    """:func:`reading` with whether ``lb`` was read as the pound-force and the text as read."""
+    found = [r for r in _readings(text) if r[0].dims in kinds and not (r[1] and r[0].per_rev)]
+    return found[0] if found else (parse(text), False, text)
+
+
 def reading(text: str, kinds) -> Unit:
     """The :class:`Unit` of ``text`` as one of ``kinds`` (dimension tuples) asks: :func:`parse`'s,
     or with ``lb`` the pound-force when only that reading is of one of them (a force, moment or
-    pressure printed in ``lb``, ``ft lb``, ``lb/ft^2``); the caller checks the kind."""
-    have = parse(text)
-    if have.dims in kinds:
-        return have
-    force = parse(text, pound_force=True)
-    return force if force.dims in kinds and not force.per_rev else have
+    pressure printed in ``lb``, ``ft lb``, ``lb/ft^2``), or ``A/B/C`` as ``A/(B/C)`` when only
+    that is (``ft-lb/rad/sec``, a damping); the caller checks the kind."""
+    return _reading(text, kinds)[0]
 
 
 def pound_force(text: str, target: str) -> bool:
     """Whether ``text`` is read with ``lb`` as the pound-force to be of ``target``'s kind."""
-    return reading(text, [parse(target).dims]) != parse(text)
+    return _reading(text, [parse(target).dims])[1]
+
+
+def how_read(text: str, target: str) -> str:
+    """What a conversion list says of ``text`` read as ``target``'s kind: ``" (lb as
+    pound-force)"``, ``" (read as ft-lb/(rad/sec))"``, both, or ``""``."""
+    _, force, written = _reading(text, [parse(target).dims])
+    notes = (["lb as pound-force"] if force else []) + ([f"read as {written}"] if written != text else [])
+    return f" ({'; '.join(notes)})" if notes else ""
 
 
 def factor_to(text: str, target: str) -> float:
