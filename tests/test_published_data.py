@@ -400,6 +400,7 @@ LBF, FT = 4.4482216152605, 0.3048
     # abbreviation stops, 'per', a leading slash
     ("in.-lb", "ft lbf"), ("FT.-LB.", "ft lbf"), ("in.²", "ft^2"), ("deg./sec.", "deg/s"), ("/deg", "s^-1"),
     ("per deg", "s^-1"), ("ft per sec", "kt"), ("psi", "lbf/ft^2"), ("fpm", "kt"), ("KTAS", "kt"),
+    ("slugs/ft3", "slug/ft^3"), ("N-D", "-"), ("n.d.", "-"), ("Dimensionless", "-"),
 ])
 def test_a_unit_as_a_report_prints_it_reads_as_its_plain_form(printed, plain):
     """Hyphens, powers without ``^``, capitals, trailing periods and common spellings, the forms of
@@ -408,7 +409,7 @@ def test_a_unit_as_a_report_prints_it_reads_as_its_plain_form(printed, plain):
     from mbs.aircraft import units
 
     si = {"/deg": "1/rad", "per deg": "1/rad", "in.-lb": "N m", "in.²": "m^2", "ft per sec": "m/s", "psi": "Pa",
-          "fpm": "m/s"}.get(printed) or {"ft lbf": "N m", "ft lbf/rad": "N m/rad", "slug ft^2": "kg m^2", "in": "m", "kt": "m/s", "deg/s": "rad/s",
+          "fpm": "m/s", "slugs/ft3": "kg/m^3"}.get(printed) or {"-": "-", "slug/ft^3": "kg/m^3", "ft lbf": "N m", "ft lbf/rad": "N m/rad", "slug ft^2": "kg m^2", "in": "m", "kt": "m/s", "deg/s": "rad/s",
           "deg": "rad", "lbf": "N", "lbf/ft^2": "Pa", "s^-1": "1/s", "ft": "m", "kg m^2": "kg m^2", "N m": "N m",
           "ft^2": "m^2", "ft^3": "m^3", "kg/m^3": "kg/m^3", "hp": "W", "kg m/s^2": "N", "ft/s^2 in": "1/s^2",
           "deg ft/s": "rad m/s"}[plain]
@@ -461,10 +462,11 @@ def test_pounds_are_a_mass_where_a_mass_is_wanted():
     ("ft--lb", "N m", "cannot read 'ft--lb'"),
     ("cubits", "m", "unknown symbol 'cubits'"),
     ("°F", "rad", "unknown symbol 'F'"),
-    ("ft³", "m^2", "unit 'ft³' is dimension"),
+    ("ft³", "m^2", "unit 'ft³' is a volume, not an area"),
+    ("ft3/rad", "m^3", "unit 'ft3/rad' is a quantity in m\\^3/rad, not a volume"),
     ("(ft/s", "m/s", "unit '\\(ft/s': unbalanced parentheses"),
     ("ft/", "m", "a symbol is missing around '/'"),
-    ("ft-lb/rad/sec/in", "N m s/rad", "unit 'ft-lb/rad/sec/in' is dimension"),  # neither reading a damping
+    ("ft-lb/rad/sec/in", "N m s/rad", "unit 'ft-lb/rad/sec/in' is a quantity in kg/\\(s rad\\), not a damping"),  # neither reading a damping
 ])
 def test_a_printed_unit_that_is_ambiguous_or_unreadable_is_refused(unit, target, words):
     from mbs.aircraft import units

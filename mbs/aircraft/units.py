@@ -47,7 +47,8 @@ SYMBOLS: dict[str, tuple[float, tuple[int, int, int, int]]] = {
 }
 ALIASES = {"sec": "s", "secs": "s", "hr": "h", "kn": "kt", "kts": "kt", "knot": "kt", "knots": "kt", "lbs": "lb",
            "degree": "deg", "degrees": "deg", "radian": "rad", "radians": "rad", "inch": "in",
-           "inches": "in", "foot": "ft", "feet": "ft", "revs": "rev", "shp": "hp"}
+           "inches": "in", "foot": "ft", "feet": "ft", "revs": "rev", "shp": "hp", "slugs": "slug", "degs": "deg",
+           "rads": "rad", "hrs": "h", "mins": "min"}
 """Spellings of the symbols as reports print them."""
 SYMBOLS["psf"] = (_LB * _G0 / _FT**2, (-1, 1, -2, 0))  # pounds-force per square foot (disc loading)
 SYMBOLS["kgf"] = (_G0, (1, 1, -2, 0))  # kilogram-force (kilopond)
@@ -55,6 +56,8 @@ SYMBOLS["psi"] = (_LB * _G0 / 0.0254**2, (-1, 1, -2, 0))  # pounds-force per squ
 SYMBOLS["fpm"] = (_FT / 60, (1, 0, -1, 0))  # feet per minute (rate of climb)
 ALIASES["KTAS"] = "kt"  # knots true airspeed
 DIMENSIONLESS = ("-", "1", "")
+NON_DIMENSIONAL = ("N-D", "N.D.", "ND", "n.d.", "nd", "non-dimensional", "nondimensional", "dimensionless", "none")
+"""Spellings of a pure number in reports (``N-D`` in NASA tables), read whole and in any case."""
 PER_REV = "1/rev"
 NAMES = {(1, 0, 0, 0): "a length", (0, 1, 0, 0): "a mass", (0, 0, 0, 1): "an angle",
          (2, 1, 0, 0): "a moment of inertia", (0, 0, -1, 1): "an angular velocity", (1, 0, -1, 0): "a speed",
@@ -62,7 +65,7 @@ NAMES = {(1, 0, 0, 0): "a length", (0, 1, 0, 0): "a mass", (0, 0, 0, 1): "an ang
          (2, 1, -1, -1): "a damping per angular rate", (3, 1, -2, 0): "a bending stiffness",
          (0, 0, 0, -1): "a per-angle slope", (0, 0, 0, -2): "a per-angle-squared coefficient",
          (2, 1, -3, 0): "a power", (-3, 1, 0, 0): "a density", (1, 0, -2, 0): "an acceleration",
-         (2, 0, 0, 0): "an area", (0, 0, 0, 0): "a pure number"}
+         (2, 0, 0, 0): "an area", (3, 0, 0, 0): "a volume", (0, 0, 0, 0): "a pure number"}
 _TOKEN = re.compile(r"^([A-Za-z]+)(?:\^?(-?\d+))?$")
 _PRODUCT_HYPHEN = re.compile(r"(?<=[A-Za-z0-9])-(?=[A-Za-z])")
 _PRODUCT_STOP = re.compile(r"(?<=[A-Za-z0-9])\.(?=[A-Za-z])")
@@ -87,14 +90,24 @@ class Unit:
     per_rev: bool = False
 
     def describe(self) -> str:
-        return "a frequency per revolution" if self.per_rev else NAMES.get(self.dims, f"dimension {self.dims}")
+        """``"a force"``, or for a dimension without a name ``"a quantity in m^3/rad"`` (SI)."""
+        return "a frequency per revolution" if self.per_rev else NAMES.get(self.dims, f"a quantity in {si_text(self.dims)}")
+
+
+def si_text(dims: tuple[int, int, int, int]) -> str:
+    """The SI unit of the dimension exponents ``dims`` (length, mass, time, angle): ``m^3/rad``."""
+    def part(sign):
+        return " ".join(f"{s}^{abs(p)}" if abs(p) != 1 else s for s, p in zip(("m", "kg", "s", "rad"), dims)
+                        if p * sign > 0)
+    up, down = part(1) or "1", part(-1)
+    return f"{up}/{down}" if " " not in down and down else f"{up}/({down})" if down else up
 
 
 def parse(text: str, pound_force: bool = False) -> Unit:
     """The :class:`Unit` of ``text``; :class:`UnitError` naming the symbol it cannot read.
     ``pound_force``: ``lb`` is the pound-force (``lbf``), not the pound."""
     text, typed = text.strip(), _untypeset(text.strip())
-    if typed in DIMENSIONLESS:
+    if typed in DIMENSIONLESS or text.lower() in {n.lower() for n in NON_DIMENSIONAL}:
         return Unit(1.0, (0, 0, 0, 0))
     if typed.replace(" ", "") == PER_REV:
         return Unit(1.0, (0, 0, 0, 0), per_rev=True)
