@@ -57,11 +57,13 @@ PUMA = {
            "(test_puma_helisim_causes.py)",
     "L_p": "x0.68, 0.56 at 120, 140 kn (within 25 % to 100 kn): compressibility, which Helisim lacks, takes 0.14 at "
            "140 kn and the hub-drag estimate's trim 0.07; with both off x0.77-1.05 (test_roll_damping.py)",
-    "N_r": "x1.80-3.00, growing with speed (the tail rotor: N_θ0T x1.5-2.0; the fin's slope 3.5 is taken from "
-           "S1a's polynomial transcribed without a linear term: with the fin at 0.001 1/rad x1.47-1.94)",
+    "N_r": "x1.80-3.00, growing with speed: ours is momentum theory's tail rotor and strip theory's fin on the "
+           "printed data (within 3 and 8 % at 80 and 140 kn); Helisim's is under half of that, less than the fin's "
+           "strip damping alone at 140 kn (test_yaw_control.py)",
     "L_v": "opposite sign (the published "
     "curve's sign is uncertain)",
-    "N_v": "x1.57-4.61 from 40 kn", "Z_θ0": "x1.26 in hover (compressibility, which Helisim lacks: x1.13 without, test_puma_helisim_causes.py)",
+    "N_v": "x1.57-4.61 from 40 kn: ours is the printed tail rotor, fin and fuselage by textbook theory (within 6 % "
+           "at 80 and 140 kn), Helisim's 0.38 and 0.22 of it (test_yaw_control.py)", "Z_θ0": "x1.26 in hover (compressibility, which Helisim lacks: x1.13 without, test_puma_helisim_causes.py)",
     "N_θ0T": "x1.50-1.97 at every speed: the model's tail rotor equals blade-element momentum theory on the "
              "file's tail data, Helisim's is 0.62 of it (test_yaw_control.py); the chord 0.1176 m of S1a's "
              "rigidPuma.m gives x1.21-1.41",
