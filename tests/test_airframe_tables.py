@@ -227,3 +227,36 @@ def test_load_tables_printed_in_lb_and_ft_lb_are_pounds_force_and_listed_so(tmp_
     assert "loads in lb (lb as pound-force)" in how[pounds]["fuselage_aero.drag_alpha"]
     assert "loads in ft-lb (lb as pound-force)" in how[pounds]["fuselage_aero.pitch_alpha"]
     assert "pound-force" not in how[plain]["fuselage_aero.drag_alpha"]
+
+
+def test_a_table_printed_as_a_law_in_its_angle_is_the_law_at_the_breakpoints(tmp_path):
+    """``M/q = XM1 + XM2 α`` (ft³, ft³/rad) and ``Y/q`` with a per-degree slope, written as printed
+    with ``law = "polynomial"``, load as the tables of the law's values at the breakpoints (to
+    1e-12) and are listed with the law; a law with one unit for two coefficients, a slope in the
+    wrong unit, or a law on a two-argument table is refused, each named."""
+    from mbs import aircraft
+    from mbs.aircraft.airframe_data import fuselage_table
+
+    xm1, xm2, yb = -6.901, 280.405, -1.5  # ft^3, ft^3/rad, ft^2/deg
+    law = WIND_SECTION.replace('[-1200, -600, 0, 600, 1200], unit = "ft^3", source = "R1 M/q"',
+                               f'[{xm1}, {xm2}], law = "polynomial", unit = "ft^3, ft^3/rad", source = "R1 XM1, XM2"')
+    law = law.replace('[30.0, 0.0, -30.0], unit = "ft^2"', f'[0.0, {yb}], law = "polynomial", unit = "ft^2, ft^2/deg"')
+    grid_a, grid_b = np.array([-20, -10, 0, 10, 20]), np.array([-20, 0, 20])
+    plain = WIND_SECTION.replace("[-1200, -600, 0, 600, 1200]", str((xm1 + xm2 * np.radians(grid_a)).tolist()))
+    plain = plain.replace("[30.0, 0.0, -30.0]", str((yb * grid_b).tolist()))
+    tables = [fuselage_table(aircraft.load(_with_section(tmp_path, s, n)).data)
+              for s, n in ((law, "law.toml"), (plain, "plain.toml"))]
+    for a, b in RNG.uniform(-0.3, 0.3, (10, 2)):
+        got, want = (np.concatenate([x.full().ravel() for x in t.body_per_q(a, b)]) for t in tables)
+        assert np.abs(got - want).max() <= 1e-12 * np.abs(want).max()
+    how = {r[0]: r[3] for r in aircraft.check(_with_section(tmp_path, law, "law.toml")).converted}
+    assert how["fuselage_aero.pitch_alpha"].startswith(f"the polynomial [{xm1}, {xm2}] ft^3, ft^3/rad in alpha (rad)")
+    for old, new, words in (
+            ('unit = "ft^3, ft^3/rad"', 'unit = "ft^3"', "2 coefficients but 1 units; give one unit per coefficient"),
+            ('unit = "ft^3, ft^3/rad"', 'unit = "ft^3, ft^2"', "unit 'ft^2' of c_1 is an area; give c_0's unit per "
+                                                               "angle^1"),
+            ("lift_alpha_beta = { value", 'lift_alpha_beta = { law = "polynomial", value',
+             'law = "polynomial" applies to a fuselage_aero table in alpha or in beta only'),
+            ('law = "polynomial", unit = "ft^2', 'law = "spline", unit = "ft^2', "law 'spline' is not known")):
+        report = aircraft.check(_with_section(tmp_path, law.replace(old, new), "bad.toml"))
+        assert any(words in p for p in report.problems), (words, report.problems)

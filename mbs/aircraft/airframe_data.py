@@ -59,6 +59,36 @@ def read_lookup(value, unit: str, spec) -> dict:
     return {"form": FORMS[have.dims], "unit": str(unit), "values": scaled}
 
 
+def read_polynomial(value, unit: str, spec) -> dict:
+    """A one-argument component table printed as a law in its angle, ``c_0 + c_1 x + c_2 x² ...``
+    (``M/q = XM1 + XM2 α``), with one unit per coefficient (``ft^3, ft^3/rad``): the form of
+    ``c_0``'s unit, each ``c_k`` in SI per radian to the k. Returns ``{"form", "unit",
+    "coefficients"}``; :func:`at_breakpoints` gives the values once the breakpoints are read."""
+    texts = [u.strip() for u in str(unit).split(",")]
+    if not (isinstance(value, list) and value and all(_is_number(v) for v in value)):
+        raise ValueError("law = \"polynomial\": value must be the list of coefficients c_0, c_1 ... of the angle")
+    if len(texts) != len(value):
+        raise ValueError(f"law = \"polynomial\": {len(value)} coefficients but {len(texts)} units; give one unit per "
+                         "coefficient, e.g. unit = \"ft^3, ft^3/rad\"")
+    base = read_lookup([float(value[0])], texts[0], spec)
+    dims = units.reading(texts[0], MOMENT_DIMS if spec.unit.startswith("m^3") else FORCE_DIMS).dims
+    coefficients = [base["values"][0]]
+    for k, (c, text) in enumerate(zip(value[1:], texts[1:]), start=1):
+        want = (*dims[:3], dims[3] - k)
+        have = units.reading(text, [want])
+        if have.dims != want:
+            raise ValueError(f"unit {text!r} of c_{k} is {have.describe()}; give c_0's unit per angle^{k} "
+                             f"(e.g. {texts[0]}/rad{'' if k == 1 else f'^{k}'})")
+        coefficients.append(float(c) * have.factor)
+    return {"form": base["form"], "unit": str(unit), "coefficients": coefficients}
+
+
+def at_breakpoints(table: dict, breakpoints) -> dict:
+    """``table`` of :func:`read_polynomial` with its ``values`` at ``breakpoints`` (rad)."""
+    x = np.asarray(breakpoints, dtype=float)
+    return {**table, "values": np.polynomial.polynomial.polyval(x, table["coefficients"]).tolist()}
+
+
 READERS = {"series": read_series, "curve": read_curve, "lookup": read_lookup}
 
 
@@ -209,11 +239,13 @@ def converted(data) -> list[tuple]:
                      meta["reference_station"]["source"]))
     for key, table in given(fa).items():
         factor = scale(fa, key, rho)
+        law = (f"the polynomial {meta[key]['value']} {table['unit']} in {key.partition('_')[2]} (rad) at its "
+               "breakpoints; ") if "coefficients" in table else ""
         unit = "m^3" if key.split("_")[0] in ("roll", "pitch", "yaw", "L", "M", "N") else "m^2"
-        how = {"per_q": f"per dynamic pressure, from {table['unit']}",
-               "load": f"loads in {table['unit']}{_pound_force(table['unit'])} at {fa['reference_speed']:.4g} m/s over "
-                       f"q = {1 / factor:.6g} Pa",
-               "coefficient": f"coefficients times {factor:.6g} {unit}"}[table["form"]]
+        how = law + {"per_q": f"per dynamic pressure, from {table['unit']}",
+                     "load": f"loads in {table['unit']}{_pound_force(table['unit'])} at {fa['reference_speed']:.4g} "
+                             f"m/s over q = {1 / factor:.6g} Pa",
+                     "coefficient": f"coefficients times {factor:.6g} {unit}"}[table["form"]]
         values = np.asarray(table["values"]) * factor
         rows.append((f"fuselage_aero.{key}", [float(f"{v:.9g}") for v in values.ravel()], unit, how,
                      meta[key]["source"]))
@@ -227,7 +259,8 @@ def converted(data) -> list[tuple]:
 
 def _pound_force(unit: str) -> str:
     """What the check says of a load table's unit read with ``lb`` as the pound-force."""
-    return "" if units.parse(unit).dims in FORCE_DIMS | MOMENT_DIMS else " (lb as pound-force)"
+    first = unit.split(",")[0]  # a polynomial's c_0
+    return "" if units.parse(first).dims in FORCE_DIMS | MOMENT_DIMS else " (lb as pound-force)"
 
 
 def stabilator_schedule(d):

@@ -38,7 +38,7 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover
     import tomli as tomllib
 
-FIELDS = ("value", "unit", "source", "note", "override", "station", "gain")
+FIELDS = ("value", "unit", "source", "note", "override", "station", "gain", "law")
 
 
 @dataclass
@@ -76,6 +76,7 @@ def read(text: str, base: Path | None = None) -> Reading:
                 _entry(out, section, key, entry, base)
     _place_stations(out)
     _radial_stations(out)
+    _laws(out)
     _missing(out, raw)
     return out
 
@@ -98,7 +99,7 @@ def _entry(out: Reading, section: str, key: str, entry, base: Path | None = None
     if not isinstance(entry, dict) or "value" not in entry:
         out.problems.append(f"{where}: write it as {{ value = ..., unit = \"...\", source = \"...\" }}")
         return
-    problem = _fields(entry) or _override(entry, derived) or _gain(entry, spec)
+    problem = _fields(entry) or _override(entry, derived) or _gain(entry, spec) or _law(entry, key, spec)
     if problem:
         out.problems.append(f"{where}: {problem}")
         return
@@ -106,6 +107,7 @@ def _entry(out: Reading, section: str, key: str, entry, base: Path | None = None
     try:
         unit, radial = _radius_unit(section, key, spec, entry.get("unit"))
         value = (airfoil_segments(entry["value"], unit, base) if spec.kind == "airfoils"
+                 else _polynomial(entry["value"], unit, spec) if "law" in entry
                  else convert(entry["value"], unit, replace(spec, columns=("m", *spec.columns[1:])) if radial and
                               spec.kind == "table" else spec))
     except ValueError as exc:
@@ -278,6 +280,35 @@ def _fields(entry: dict) -> str | None:
     if not str(entry.get("source", "")).strip():
         return "no source: say where the value comes from (a reference, or EST for an estimate)"
     return None
+
+
+def _law(entry: dict, key: str, spec) -> str | None:
+    """A table printed as a law in its angle: ``law = "polynomial"`` on a one-argument fuselage table."""
+    if "law" not in entry:
+        return None
+    if entry["law"] != "polynomial":
+        return f"law {entry['law']!r} is not known; the one law is \"polynomial\" (coefficients of the angle^0, ^1 ...)"
+    if spec is None or spec.kind != "lookup" or key.endswith("alpha_beta"):
+        return "law = \"polynomial\" applies to a fuselage_aero table in alpha or in beta only"
+    return None
+
+
+def _polynomial(value, unit, spec: Entry) -> dict:
+    if unit is None:
+        raise ValueError("no unit: give one unit per coefficient, e.g. unit = \"ft^3, ft^3/rad\"")
+    from mbs.aircraft import airframe_data
+    return airframe_data.read_polynomial(value, unit, spec)
+
+
+def _laws(out: Reading) -> None:
+    """Tables printed as a polynomial in their angle, valued at the section's breakpoints (rad)."""
+    from mbs.aircraft import airframe_data
+
+    section = out.values.get("fuselage_aero", {})
+    for key, table in section.items():
+        if isinstance(table, dict) and "coefficients" in table:
+            breakpoints = section.get(key.rpartition("_")[2], [])
+            section[key] = airframe_data.at_breakpoints(table, breakpoints)
 
 
 def _override(entry: dict, derived) -> str | None:
