@@ -409,7 +409,9 @@ def test_a_unit_as_a_report_prints_it_reads_as_its_plain_form(printed, plain):
     from mbs.aircraft import units
 
     si = {"/deg": "1/rad", "per deg": "1/rad", "in.-lb": "N m", "in.²": "m^2", "ft per sec": "m/s", "psi": "Pa",
-          "fpm": "m/s", "slugs/ft3": "kg/m^3"}.get(printed) or {"-": "-", "slug/ft^3": "kg/m^3", "ft lbf": "N m", "ft lbf/rad": "N m/rad", "slug ft^2": "kg m^2", "in": "m", "kt": "m/s", "deg/s": "rad/s",
+          "fpm": "m/s", "slugs/ft3": "kg/m^3"}.get(printed) or {
+        "-": "-", "slug/ft^3": "kg/m^3", "ft lbf": "N m", "ft lbf/rad": "N m/rad", "slug ft^2": "kg m^2", "in": "m",
+        "kt": "m/s", "deg/s": "rad/s",
           "deg": "rad", "lbf": "N", "lbf/ft^2": "Pa", "s^-1": "1/s", "ft": "m", "kg m^2": "kg m^2", "N m": "N m",
           "ft^2": "m^2", "ft^3": "m^3", "kg/m^3": "kg/m^3", "hp": "W", "kg m/s^2": "N", "ft/s^2 in": "1/s^2",
           "deg ft/s": "rad m/s"}[plain]
@@ -466,7 +468,8 @@ def test_pounds_are_a_mass_where_a_mass_is_wanted():
     ("ft3/rad", "m^3", "unit 'ft3/rad' is a quantity in m\\^3/rad, not a volume"),
     ("(ft/s", "m/s", "unit '\\(ft/s': unbalanced parentheses"),
     ("ft/", "m", "a symbol is missing around '/'"),
-    ("ft-lb/rad/sec/in", "N m s/rad", "unit 'ft-lb/rad/sec/in' is a quantity in kg/\\(s rad\\), not a damping"),  # neither reading a damping
+    # neither reading a damping
+    ("ft-lb/rad/sec/in", "N m s/rad", "unit 'ft-lb/rad/sec/in' is a quantity in kg/\\(s rad\\), not a damping"),
 ])
 def test_a_printed_unit_that_is_ambiguous_or_unreadable_is_refused(unit, target, words):
     from mbs.aircraft import units

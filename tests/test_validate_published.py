@@ -63,7 +63,8 @@ PUMA = {
     "L_v": "opposite sign (the published "
     "curve's sign is uncertain)",
     "N_v": "x1.57-4.61 from 40 kn: ours is the printed tail rotor, fin and fuselage by textbook theory (within 6 % "
-           "at 80 and 140 kn), Helisim's 0.38 and 0.22 of it (test_yaw_control.py)", "Z_θ0": "x1.26 in hover (compressibility, which Helisim lacks: x1.13 without, test_puma_helisim_causes.py)",
+           "at 80 and 140 kn), Helisim's 0.38 and 0.22 of it (test_yaw_control.py)",
+    "Z_θ0": "x1.26 in hover (compressibility, which Helisim lacks: x1.13 without, test_puma_helisim_causes.py)",
     "N_θ0T": "x1.50-1.97 at every speed: the model's tail rotor equals blade-element momentum theory on the "
              "file's tail data, Helisim's is 0.62 of it (test_yaw_control.py); the chord 0.1176 m of S1a's "
              "rigidPuma.m gives x1.21-1.41",

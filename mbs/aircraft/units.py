@@ -91,7 +91,9 @@ class Unit:
 
     def describe(self) -> str:
         """``"a force"``, or for a dimension without a name ``"a quantity in m^3/rad"`` (SI)."""
-        return "a frequency per revolution" if self.per_rev else NAMES.get(self.dims, f"a quantity in {si_text(self.dims)}")
+        if self.per_rev:
+            return "a frequency per revolution"
+        return NAMES.get(self.dims, f"a quantity in {si_text(self.dims)}")
 
 
 def si_text(dims: tuple[int, int, int, int]) -> str:
@@ -222,8 +224,8 @@ def _grouped(text: str) -> str | None:
 
 def _reading(text: str, kinds) -> tuple[Unit, bool, str]:
     """:func:`reading` with whether ``lb`` was read as the pound-force and the text as read."""
-    found = [r for r in _readings(text) if r[0].dims in kinds and not (r[1] and r[0].per_rev)]
-    return found[0] if found else (parse(text), False, text)
+    found = (r for r in _readings(text) if r[0].dims in kinds and not (r[1] and r[0].per_rev))
+    return next(found, None) or (parse(text), False, text)
 
 
 def reading(text: str, kinds) -> Unit:
