@@ -260,3 +260,36 @@ def test_a_table_printed_as_a_law_in_its_angle_is_the_law_at_the_breakpoints(tmp
             ('law = "polynomial", unit = "ft^2', 'law = "spline", unit = "ft^2', "law 'spline' is not known")):
         report = aircraft.check(_with_section(tmp_path, law.replace(old, new), "bad.toml"))
         assert any(words in p for p in report.problems), (words, report.problems)
+
+
+def test_coefficients_on_the_rotor_disc_and_radius_are_read_as_printed(tmp_path):
+    """Coefficients based on the main rotor's disc area and radius, as rotorcraft wind-tunnel
+    reports print them (``reference_area`` in ``πR^2``, ``reference_length`` in ``R``), load as the
+    same tables with πR² and R in m² and m (body loads equal to 1e-14) and are listed with the
+    factor; either unit on the other reference is refused, named."""
+    from mbs import aircraft
+    from mbs.aircraft.airframe_data import fuselage_table
+
+    radius = aircraft.load("bo105").data["main_rotor"]["radius"]
+    area_m2, length_m = f"{np.pi * radius**2!r}", f"{radius!r}"
+    base = ('reference_area = { value = 100.0, unit = "ft^2", source = "R1" }',
+            'reference_length = { value = 10.0, unit = "ft", source = "R1" }')
+    disc = WIND_SECTION.replace(base[0], 'reference_area = { value = 1.0, unit = "pi R^2", source = "R1 p. 6" }')
+    disc = disc.replace(base[1], 'reference_length = { value = 1, unit = "R", source = "R1 p. 6" }')
+    plain = WIND_SECTION.replace(base[0], f'reference_area = {{ value = {area_m2}, unit = "m^2", source = "R1" }}')
+    plain = plain.replace(base[1], f'reference_length = {{ value = {length_m}, unit = "m", source = "R1" }}')
+    tables = [fuselage_table(aircraft.load(_with_section(tmp_path, s, n)).data)
+              for s, n in ((disc, "disc.toml"), (plain, "plain.toml"))]
+    for a, b in RNG.uniform(-0.3, 0.3, (10, 2)):
+        got, want = (np.concatenate([x.full().ravel() for x in t.body_per_q(a, b)]) for t in tables)
+        assert np.abs(got - want).max() <= 1e-14 * np.abs(want).max()
+    how = {r[0]: r[3] for r in aircraft.check(_with_section(tmp_path, disc, "disc.toml")).converted}
+    assert how["fuselage_aero.reference_area"] == f"times the main rotor's disc area {np.pi * radius**2:.6g} m^2: " \
+                                                  "from 1.0 pi R^2"
+    assert how["fuselage_aero.reference_length"] == f"times main_rotor.radius {radius:.6g} m: from 1 R"
+    for old, new, words in ((' unit = "pi R^2"', ' unit = "R"', "unit 'R': a reference area in the main rotor's "
+                                                                 "disc area is πR^2"),
+                            (' unit = "R"', ' unit = "πR²"', "unit 'πR²': a reference length in the main rotor's "
+                                                             "radius is R")):
+        report = aircraft.check(_with_section(tmp_path, disc.replace(old, new, 1), "bad.toml"))
+        assert any(words in p for p in report.problems), (words, report.problems)

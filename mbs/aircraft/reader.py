@@ -130,6 +130,8 @@ def _radius_unit(section: str, key: str, spec: Entry, unit) -> tuple:
     over or times the radius later; ValueError for ``R`` elsewhere."""
     if _radial_length(spec, unit):
         return unit, True
+    if (section, key) in ROTOR_REFERENCES:
+        return _rotor_reference(key, unit)
     if str(unit).strip() != "R":
         return unit, False
     if not (section in ROTORS and key != "radius" and spec.unit == "m" and spec.kind == "number"):
@@ -181,12 +183,34 @@ ROUND_OFF = 1e-9
 
 
 ROTORS = ("main_rotor", "tail_rotor")
+ROTOR_REFERENCES = {("fuselage_aero", "reference_length"): "R", ("fuselage_aero", "reference_area"): "πR^2"}
+"""Entries a report may give in the main rotor's radius (``R``) or disc area (``πR^2``), as rotorcraft
+wind-tunnel reports base their airframe coefficients."""
+DISC_AREA = ("πR^2", "πR²", "piR^2", "piR²", "disc", "disk")
+"""How the main rotor's disc area may be written (spaces and '*' aside) as a unit."""
+
+
+def _rotor_reference(key: str, unit) -> tuple:
+    """``(unit, radial)`` of an airframe reference given in the main rotor's ``R`` or ``πR^2``."""
+    text = str(unit).replace(" ", "").replace("*", "")
+    if key == "reference_length" and text == "R":
+        return "m", True
+    if key == "reference_area" and text in DISC_AREA:
+        return "m^2", True
+    if text == "R" or text in DISC_AREA:
+        raise ValueError(f"unit {unit!r}: a reference {key.split('_')[1]} in the main rotor's "
+                         f"{'radius is R' if key == 'reference_length' else 'disc area is πR^2'}")
+    return unit, False
 
 
 def _radial_stations(out: Reading) -> None:
     """Span tables given in radial stations (now m) as r/R of their rotor's radius; lengths
-    given as fractions of it (unit ``R``) in metres, within their bounds."""
+    given as fractions of it (unit ``R``) in metres, within their bounds; airframe references
+    in the main rotor's radius or disc area in metres or square metres."""
     for section, key in out.radial:
+        if section not in ROTORS:
+            _times_main_rotor(out, section, key)
+            continue
         radius = out.values.get(section, {}).get("radius")
         if not radius:
             continue  # the missing radius is a problem of its own
@@ -201,6 +225,17 @@ def _radial_stations(out: Reading) -> None:
         except ValueError as exc:
             out.problems.append(f"{section}.{key}: {meta['value']} R is {exc}")
         meta["how"] = f"times {section}.radius {radius:.6g} m: from {meta['value']} R"
+
+
+def _times_main_rotor(out: Reading, section: str, key: str) -> None:
+    """An airframe reference length (area) given in the main rotor's radius (disc area)."""
+    radius = out.values.get("main_rotor", {}).get("radius")
+    if not radius:
+        return  # the missing radius is a problem of its own
+    meta, area = out.meta[section][key], ROTOR_REFERENCES[(section, key)] != "R"
+    factor, what = (math.pi * radius**2, "the main rotor's disc area") if area else (radius, "main_rotor.radius")
+    out.values[section][key] = out.values[section][key] * factor
+    meta["how"] = f"times {what} {factor:.6g} m{'^2' if area else ''}: from {meta['value']} {meta['unit']}"
 
 
 def _over_radius(rows: list, radius: float) -> list:

@@ -188,8 +188,10 @@ def _fuselage_tables() -> dict[str, Entry]:
                        only_if=tables),
         "beta": Entry("rad", "sideslip breakpoints, asin(v / V), increasing", "series", default=(), only_if=tables),
         "reference_speed": positive("m/s", "speed of tables given as loads (N, N m)", default=0.0, only_if=tables),
-        "reference_area": positive("m^2", "area of tables given as coefficients", default=0.0, only_if=tables),
-        "reference_length": positive("m", "length of moment tables given as coefficients", default=0.0,
+        "reference_area": positive("m^2", "area of tables given as coefficients (or in πR^2: of the main rotor's "
+                                   "disc)", default=0.0, only_if=tables),
+        "reference_length": positive("m", "length of moment tables given as coefficients (or in R: of the main "
+                                     "rotor's radius)", default=0.0,
                                      only_if=tables),
     }
     for names in (("drag", "side", "lift", "roll", "pitch", "yaw"), ("X", "Y", "Z", "L", "M", "N")):
