@@ -95,6 +95,23 @@ def test_rows_convert_units_and_judge_tolerances(tmp_path):
     assert compare.counts(col + power) == {"rows": 3, "checked": 3, "within": 2, "no_model_value": 1}
 
 
+def test_sources_of_one_quantity_share_a_chart_panel(tmp_path):
+    """Two sources of the collective and one of the power make two panels: the collective's with
+    both sources' points and one model line through all their speeds."""
+    from mbs.validate import charts
+    from mbs.validate.runner import Result
+
+    v = load(toml(TRIM + TRIM.replace("[0, 40]", "[20]").replace("[14.0, 12.0]", "[13.0]").replace('"P1"', '"S2"')
+                  + '[[trim]]\nquantity = "engine.power"\nunit = "kW"\nspeed = [0]\nvalue = [280.0]\nsource = "P1"\n',
+                  tmp_path))
+    model = fake_model(v.speeds("trim"))
+    res = Result(v, model, blocks=[(s, compare.rows(s, model)) for s in v.series])
+    groups = charts.panels(res.blocks)
+    assert [[s.source for s, _ in g] for g in groups] == [["P1", "S2"], ["P1"]]
+    path = charts.series_chart(res.blocks, res, tmp_path / "trims.png", "trim")
+    assert path.stat().st_size > 10_000
+
+
 def test_ours_factor_flips_a_sign_convention_and_needs_a_note(tmp_path):
     body = ('[[derivative]]\nquantity = "N_theta0T"\nunit = "1/s^2"\nspeed = [0]\nvalue = [-9.0]\nsource = "P1"\n'
             'tolerance = { relative = 0.25 }\nours_factor = -1\n')

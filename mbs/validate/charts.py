@@ -36,24 +36,31 @@ def _grid(plt, n: int):
     return fig, list(axes.flat)
 
 
+def panels(blocks) -> list[list[tuple]]:
+    """The series of ``blocks`` grouped by what they publish (quantity, unit and the model's
+    factor), in the order each first appears: one panel each."""
+    out: dict[tuple, list] = {}
+    for s, rows in blocks:
+        out.setdefault((s.quantity, s.unit, s.ours_factor), []).append((s, rows))
+    return list(out.values())
+
+
+MARKERS = "osD^v<>"
+
+
 def series_chart(blocks, res, path: Path, kind: str) -> Path:
-    """One panel per published series: published points (with uncertainty bars and the
-    tolerance band) and the model's values at the same speeds."""
+    """One panel per published quantity: the published points of each source (with uncertainty
+    bars and the tolerance band) and the model's values at their speeds."""
     plt = _pyplot()
-    fig, axes = _grid(plt, len(blocks))
+    groups = panels(blocks)
+    fig, axes = _grid(plt, len(groups))
     v = res.validation
-    for ax, (s, rows) in zip(axes, blocks):
-        speed = np.array([r.speed for r in rows])
-        pub = np.array([r.published for r in rows])
-        ours = np.array([r.ours for r in rows])
-        order = np.argsort(speed)
-        if s.tolerance is not None:
-            half = s.tolerance.absolute if s.tolerance.absolute is not None else s.tolerance.relative * np.abs(pub)
-            ax.fill_between(speed[order], (pub - half)[order], (pub + half)[order], color="0.88", lw=0,
-                            label=f"tolerance {s.tolerance.describe(s.unit)}")
-        ax.errorbar(speed, pub, yerr=np.array([r.uncertainty for r in rows]), fmt="o", ms=3.5, color="k",
-                    mfc="white", capsize=2, lw=0.8, label=f"published ({s.source.split()[0]})")
-        ax.plot(speed[order], ours[order], "-", marker=".", color="tab:red", lw=1.3,
+    for ax, group in zip(axes, groups):
+        for k, (s, rows) in enumerate(group):
+            _published(ax, s, rows, MARKERS[k % len(MARKERS)])
+        s = group[0][0]
+        ours = sorted({r.speed: r.ours for _, rows in group for r in rows}.items())
+        ax.plot([x for x, _ in ours], [y for _, y in ours], "-", marker=".", color="tab:red", lw=1.3,
                 label="model" + ("" if s.ours_factor == 1 else f" × {s.ours_factor:g}"))
         ax.set_title(f"{s.quantity}", fontsize=9)
         ax.set_xlabel(f"speed ({v.speed_unit})", fontsize=8)
@@ -62,6 +69,19 @@ def series_chart(blocks, res, path: Path, kind: str) -> Path:
         ax.grid(alpha=0.3)
         ax.legend(fontsize=6, loc="best")
     return _save(fig, plt, path, f"{v.title}: {kind}s, model against published", v)
+
+
+def _published(ax, s, rows, marker: str) -> None:
+    """One source's points of a panel: uncertainty bars and its tolerance band."""
+    speed = np.array([r.speed for r in rows])
+    pub = np.array([r.published for r in rows])
+    order = np.argsort(speed)
+    if s.tolerance is not None:
+        half = s.tolerance.absolute if s.tolerance.absolute is not None else s.tolerance.relative * np.abs(pub)
+        ax.fill_between(speed[order], (pub - half)[order], (pub + half)[order], color="0.88", lw=0,
+                        label=f"tolerance {s.tolerance.describe(s.unit)}")
+    ax.errorbar(speed, pub, yerr=np.array([r.uncertainty for r in rows]), fmt=marker, ms=3.5, color="k",
+                mfc="white", capsize=2, lw=0.8, label=f"published ({s.source.split()[0]})")
 
 
 def root_locus(res, path: Path) -> Path:
