@@ -47,13 +47,15 @@ def test_packaged_files_read_and_every_source_is_named(name):
 
 def test_the_sign_off_tolerances_are_the_packaged_ones():
     """Puma: every main derivative within 25 %; Bo105: collective 1 deg, cyclic 1.5, tail
-    collective 2.5, pitch attitude 1 deg."""
+    collective 2.5, pitch attitude 1 deg, power 10 %."""
     puma = {s.quantity: s.tolerance for s in load("puma_helisim").series if s.tolerance}
     assert set(puma) == {"X_u", "Z_w", "M_u", "M_q", "L_p", "N_r", "L_v", "N_v", "Z_θ0", "M_θ1s", "L_θ1c", "N_θ0T"}
     assert {t.relative for t in puma.values()} == {0.25}
-    ft = {s.quantity: s.tolerance.absolute for s in load("bo105_flight_test").series if s.tolerance}
+    ft = {s.quantity: s.tolerance.absolute or s.tolerance.relative for s in load("bo105_flight_test").series
+          if s.tolerance}
     assert ft == {"collective": 1.0, "longitudinal_cyclic": 1.5, "lateral_cyclic": 1.5, "tail_collective": 2.5,
-                  "pitch": 1.0}
+                  "pitch": 1.0, "engine.power": 0.10}
+    assert next(s for s in load("bo105_flight_test").series if s.quantity == "engine.power").tolerance.relative
 
 
 def test_speeds_convert_and_merge(tmp_path):
