@@ -103,7 +103,8 @@ BROKEN = {  # what is wrong -> (the change, the words of the one line)
     "teetering with three blades": (_set("tail_rotor", "n_blades", value=3),
                                     "tail_rotor.n_blades: a teetering tail rotor has 2 blades"),
     "seesaw on a rigid hub": (_set("tail_rotor", "hub_type", value="rigid"),
-                              "tail_rotor.seesaw_mass: applies only when tail_rotor.hub_type = 'teetering'"),
+                              "tail_rotor.seesaw_mass, seesaw_size, teeter_stiffness: apply only when "
+                              "tail_rotor.hub_type = 'teetering'"),
     "control range reversed": (_set("main_rotor", "collective_min", value=0.5),
                                "main_rotor.collective_min: 28.65 deg is not below collective_max"),
     "vector of the wrong length": (_set("fuselage_aero", "X", value=[1.0, 2.0]),
@@ -134,6 +135,16 @@ def test_a_broken_aircraft_file_is_one_line_naming_its_entry(what, tmp_path, cap
     assert not (tmp_path / "out").exists()
     code, err = run_main(["aircraft", "check", str(path)], capsys)  # every problem, one line each
     assert code == 2 and words in err.splitlines()[0] and "Traceback" not in err, err
+
+
+def test_entries_left_from_the_other_model_are_one_line_naming_them_all(tmp_path):
+    """The template's seven polynomial entries kept after switching to tables: one problem that
+    names them all and what they need, not seven."""
+    tables = _add("fuselage_aero", "model", {"value": "tables", "unit": "-", "source": "R1"})
+    path = write(_raw_with(tables), tmp_path / "tables.toml")
+    lines = [p for p in aircraft.check(path).problems if "only when" in p]
+    assert lines == ["fuselage_aero.v_ref, X, Y, Z, M, N, angle_limit: apply only when fuselage_aero.model = "
+                     "'polynomials' (7 entries); leave them out"]
 
 
 def test_a_toml_syntax_error_names_its_line(tmp_path, capsys):

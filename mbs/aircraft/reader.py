@@ -506,6 +506,7 @@ def _missing(out: Reading, raw: dict) -> None:
         given = raw.get(section, {}) if isinstance(raw.get(section), dict) else {}
         replaced = {name: key for key, spec in entries.items() if spec.replaces and key in given
                     for name in spec.replaces.split()}
+        idle: dict[tuple, list[str]] = {}  # (entry, value) -> the given entries that need it
         for key, spec in entries.items():
             applies = _applies(spec, out.values.get(section, {}), entries)
             if key in replaced and key in given:
@@ -514,9 +515,16 @@ def _missing(out: Reading, raw: dict) -> None:
             elif key not in given and spec.default is None and applies and key not in replaced:
                 out.problems.append(f"{section}.{key}: missing ({spec.text}, in {spec.unit})")
             elif key in given and not applies:
-                other, wanted = spec.only_if
-                out.problems.append(f"{section}.{key}: applies only when {section}.{other} = {wanted!r}; "
-                                    f"leave it out")
+                idle.setdefault(spec.only_if, []).append(key)
+        out.problems.extend(_idle(section, other, wanted, keys) for (other, wanted), keys in idle.items())
+
+
+def _idle(section: str, other: str, wanted, keys: list[str]) -> str:
+    """The problem of entries given where ``section.other`` is not ``wanted``: one line for them all."""
+    if len(keys) == 1:
+        return f"{section}.{keys[0]}: applies only when {section}.{other} = {wanted!r}; leave it out"
+    return (f"{section}.{', '.join(keys)}: apply only when {section}.{other} = {wanted!r} "
+            f"({len(keys)} entries); leave them out")
 
 
 def _applies(spec: Entry, values: dict, entries: dict | None = None) -> bool:
