@@ -55,6 +55,8 @@ def series_chart(blocks, res, path: Path, kind: str) -> Path:
     groups = panels(blocks)
     fig, axes = _grid(plt, len(groups))
     v = res.validation
+    speeds = [r.speed for _, rows in blocks for r in rows]
+    pad = 0.03 * (max(speeds) - min(speeds)) or 1.0
     for ax, group in zip(axes, groups):
         for k, (s, rows) in enumerate(group):
             _published(ax, s, rows, MARKERS[k % len(MARKERS)])
@@ -63,6 +65,7 @@ def series_chart(blocks, res, path: Path, kind: str) -> Path:
         ax.plot([x for x, _ in ours], [y for _, y in ours], "-", marker=".", color="tab:red", lw=1.3,
                 label="model" + ("" if s.ours_factor == 1 else f" × {s.ours_factor:g}"))
         ax.set_title(f"{s.quantity}", fontsize=9)
+        ax.set_xlim(min(speeds) - pad, max(speeds) + pad)  # one speed axis for every panel
         ax.set_xlabel(f"speed ({v.speed_unit})", fontsize=8)
         ax.set_ylabel(s.unit, fontsize=8)
         ax.tick_params(labelsize=7)
