@@ -155,6 +155,13 @@ def _with_section(tmp_path, section: str, name: str = "wind.toml"):
     return path
 
 
+def _assert_same_loads(tables, rel: float, n: int = 10) -> None:
+    """Two fuselage tables give the same body loads per q at ``n`` random (α, β) to ``rel``."""
+    for a, b in RNG.uniform(-0.3, 0.3, (n, 2)):
+        got, want = (np.concatenate([x.full().ravel() for x in t.body_per_q(a, b)]) for t in tables)
+        assert np.abs(got - want).max() <= rel * np.abs(want).max()
+
+
 def test_a_report_table_in_wind_axes_about_stations_is_converted_and_listed(tmp_path):
     """Tables as printed (ft², ft³, coefficients on 100 ft² and 10 ft, wind axes, moments about a
     station): aircraft check is clean, lists the reference point from the CG (x = −(FS − FS_cg),
@@ -220,9 +227,7 @@ def test_load_tables_printed_in_lb_and_ft_lb_are_pounds_force_and_listed_so(tmp_
     pounds = _with_section(tmp_path, loads.replace("{f}", "lb").replace("{m}", "ft-lb"), "pounds.toml")
     plain = _with_section(tmp_path, loads.replace("{f}", "lbf").replace("{m}", "ft lbf"), "plain.toml")
     tables = [fuselage_table(aircraft.load(p).data) for p in (pounds, plain)]
-    for a, b in RNG.uniform(-0.3, 0.3, (5, 2)):
-        got, want = (np.concatenate([x.full().ravel() for x in t.body_per_q(a, b)]) for t in tables)
-        assert np.abs(got - want).max() <= 1e-14 * np.abs(want).max()
+    _assert_same_loads(tables, 1e-14, 5)
     how = {p: {r[0]: r[3] for r in aircraft.check(p).converted} for p in (pounds, plain)}
     assert "loads in lb (lb as pound-force)" in how[pounds]["fuselage_aero.drag_alpha"]
     assert "loads in ft-lb (lb as pound-force)" in how[pounds]["fuselage_aero.pitch_alpha"]
@@ -246,9 +251,7 @@ def test_a_table_printed_as_a_law_in_its_angle_is_the_law_at_the_breakpoints(tmp
     plain = plain.replace("[30.0, 0.0, -30.0]", str((yb * grid_b).tolist()))
     tables = [fuselage_table(aircraft.load(_with_section(tmp_path, s, n)).data)
               for s, n in ((law, "law.toml"), (plain, "plain.toml"))]
-    for a, b in RNG.uniform(-0.3, 0.3, (10, 2)):
-        got, want = (np.concatenate([x.full().ravel() for x in t.body_per_q(a, b)]) for t in tables)
-        assert np.abs(got - want).max() <= 1e-12 * np.abs(want).max()
+    _assert_same_loads(tables, 1e-12)
     how = {r[0]: r[3] for r in aircraft.check(_with_section(tmp_path, law, "law.toml")).converted}
     assert how["fuselage_aero.pitch_alpha"].startswith(f"the polynomial [{xm1}, {xm2}] ft^3, ft^3/rad in alpha (rad)")
     for old, new, words in (
@@ -280,9 +283,7 @@ def test_coefficients_on_the_rotor_disc_and_radius_are_read_as_printed(tmp_path)
     plain = plain.replace(base[1], f'reference_length = {{ value = {length_m}, unit = "m", source = "R1" }}')
     tables = [fuselage_table(aircraft.load(_with_section(tmp_path, s, n)).data)
               for s, n in ((disc, "disc.toml"), (plain, "plain.toml"))]
-    for a, b in RNG.uniform(-0.3, 0.3, (10, 2)):
-        got, want = (np.concatenate([x.full().ravel() for x in t.body_per_q(a, b)]) for t in tables)
-        assert np.abs(got - want).max() <= 1e-14 * np.abs(want).max()
+    _assert_same_loads(tables, 1e-14)
     how = {r[0]: r[3] for r in aircraft.check(_with_section(tmp_path, disc, "disc.toml")).converted}
     assert how["fuselage_aero.reference_area"] == f"times the main rotor's disc area {np.pi * radius**2:.6g} m^2: " \
                                                   "from 1.0 pi R^2"
