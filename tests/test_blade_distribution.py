@@ -222,3 +222,17 @@ def test_a_tip_sweep_entry_sweeps_the_model_and_sweep_start_alone_is_refused(tmp
     raw["main_rotor"].pop("tip_sweep")
     code, err = run_main(["aircraft", "check", str(write(raw, tmp_path / "half.toml"))], capsys)
     assert code == 2 and "main_rotor.sweep_start: 0.93 starts a tip sweep of 0 deg" in err, err
+
+
+def test_a_long_table_in_degrees_is_listed_by_column_not_a_traceback(tmp_path, capsys):
+    """An 8-row twist table in deg: ``aircraft check`` (text and JSON) lists it converted, each
+    column's range on one line, and exits 0."""
+    rows = [[0.2, 0.0], [0.3, -0.7], [0.4, -1.5], [0.5, -2.2], [0.6, -2.9], [0.7, -3.7], [0.8, -4.4], [1.0, -5.9]]
+    path = _file(tmp_path, drop=("twist",), twist_table=(rows, "-, deg"))
+    from mbs.aircraft.report import lines
+
+    code, err = run_main(["aircraft", "check", str(path)], capsys)
+    assert code == 0 and "Traceback" not in err, err
+    line = next(x for x in lines(check(path)) if "main_rotor.twist_table" in x)
+    assert f"columns 0.2 .. 1, {math.radians(-5.9):.6g} .. 0 (8 rows; --json lists them)" in line, line
+    assert run_main(["aircraft", "check", str(path), "--json"], capsys)[0] == 0

@@ -241,6 +241,9 @@ def lines(report: Report) -> list[str]:
 def _brief(v) -> str:
     """A converted table in one line: its range and length (``--json`` gives every value)."""
     if isinstance(v, list) and len(v) > 6:
+        if isinstance(v[0], list):  # a table: each column's range
+            ranges = ", ".join(f"{min(c):.6g} .. {max(c):.6g}" for c in zip(*v))
+            return f"columns {ranges} ({len(v)} rows; --json lists them)"
         return f"{min(v):.6g} .. {max(v):.6g} ({len(v)} values; --json lists them)"
     return _fmt(v)
 
