@@ -325,3 +325,12 @@ def test_packaged_aircraft_have_their_published_lock_number_and_flap_frequency(n
     figures = {n: v for n, v, _ in report.figures}
     assert figures["Lock number"] == pytest.approx(lock, abs=0.02)
     assert figures["flap frequency"] == pytest.approx(flap_per_rev, abs=2e-3)
+
+
+def test_a_fan_in_fin_tail_rotor_of_13_blades_is_taken_and_19_refused(tmp_path):
+    """The Gazelle's Fenestron has 13 blades (NASA TM-88370); a rigid tail rotor of 13 reads, 19 is named."""
+    for n, ok in ((13, True), (19, False)):
+        raw = with_tail_rotor(entries("bo105"), hub_type=("rigid", "-"), n_blades=(n, "-"))
+        problems = aircraft.check(write(raw, tmp_path / f"fan{n}.toml")).problems
+        assert (not any("n_blades" in p for p in problems)) == ok, problems
+        assert ok or any("tail_rotor.n_blades: 19 is outside [2, 18]" in p for p in problems), problems

@@ -287,7 +287,8 @@ ENTRIES: dict[str, dict[str, Entry]] = {
         **_controls("longitudinal_cyclic", "longitudinal cyclic pitch theta_1s"),
     },
     "tail_rotor": {
-        "n_blades": count("number of tail-rotor blades", 2, 12),
+        "n_blades": count("number of tail-rotor blades (a fan-in-fin has up to 18; its duct is not modelled: give "
+                          "the fan as an open rotor)", 2, 18),
         "hub_type": choice("teetering (two blades on a seesaw), flapping (each blade on its own flap hinge: an "
                            "articulated rotor, or the equivalent hinge and spring of a hingeless or bearingless one) "
                            "or rigid (blades on pitch bearings only)", "teetering", "rigid", "flapping"),
