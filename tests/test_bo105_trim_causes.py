@@ -320,6 +320,7 @@ def test_power_at_99_kt_is_the_collectives_missing_inflow_not_drag(shipped, no_h
     per_area = (shipped[100.2]["pitch"] - no_hub_drag[100.2]["pitch"]) / 0.25
     area = gap / (hub_kw / 0.25)
     room = shipped[95.78]["pitch"] - flight("pitch")[95.78]
-    print(f"as drag: {area:.2f} m^2, pitching ours {per_area * area:+.2f} deg; ours - flight pitch at 95.8 kt {room:+.2f}")
+    print(f"as drag: {area:.2f} m^2, pitching ours {per_area * area:+.2f} deg; "
+          f"ours - flight pitch at 95.8 kt {room:+.2f}")
     assert area > 0.8 and room + per_area * area < -2.0
     assert shipped[77.86]["engine_power"] < 0.9 * 264.8 and shipped[v]["engine_power"] < 0.8 * 351.7

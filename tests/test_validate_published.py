@@ -4,8 +4,9 @@
 Each criterion of the flight model's sign-off is one test over every published speed, with the
 tolerance the data file carries (Puma: main derivatives within 25 %, modes of the same stability,
 frequencies within 25 %; Bo105: collective within 1 deg, cyclic 1.5 deg, tail collective 2.5 deg,
-pitch attitude 1 deg, power 10 %). The criteria today's aircraft files miss are marked ``xfail(strict=True)``
-with the measured figure: they turn into failures the day they pass, to be unmarked then.
+pitch attitude 1 deg, power 10 %). The criteria today's aircraft files miss are marked
+``xfail(strict=True)`` with the measured figure: they turn into failures the day they pass, to be
+unmarked then.
 A run takes about 100 s (Puma, Bo105 Helisim) and 100-600 s (Bo105 flight test, 70 trims)
 depending on the load of the machine.
 """
