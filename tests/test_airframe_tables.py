@@ -281,9 +281,11 @@ def test_coefficients_on_the_rotor_disc_and_radius_are_read_as_printed(tmp_path)
     disc = disc.replace(base[1], 'reference_length = { value = 1, unit = "R", source = "R1 p. 6" }')
     plain = WIND_SECTION.replace(base[0], f'reference_area = {{ value = {area_m2}, unit = "m^2", source = "R1" }}')
     plain = plain.replace(base[1], f'reference_length = {{ value = {length_m}, unit = "m", source = "R1" }}')
+    capitals = disc.replace('unit = "pi R^2"', 'unit = "PI R^2"')
     tables = [fuselage_table(aircraft.load(_with_section(tmp_path, s, n)).data)
-              for s, n in ((disc, "disc.toml"), (plain, "plain.toml"))]
-    _assert_same_loads(tables, 1e-14)
+              for s, n in ((disc, "disc.toml"), (plain, "plain.toml"), (capitals, "capitals.toml"))]
+    _assert_same_loads(tables[:2], 1e-14)
+    _assert_same_loads(tables[1:], 1e-14)
     how = {r[0]: r[3] for r in aircraft.check(_with_section(tmp_path, disc, "disc.toml")).converted}
     assert how["fuselage_aero.reference_area"] == f"times the main rotor's disc area {np.pi * radius**2:.6g} m^2: " \
                                                   "from 1.0 pi R^2"

@@ -193,6 +193,7 @@ DISC_AREA = ("πR^2", "πR²", "piR^2", "piR²", "disc", "disk")
 def _rotor_reference(key: str, unit) -> tuple:
     """``(unit, radial)`` of an airframe reference given in the main rotor's ``R`` or ``πR^2``."""
     text = str(unit).replace(" ", "").replace("*", "")
+    text = text.replace("PI", "pi").replace("Pi", "pi") if text.upper() not in ("DISC", "DISK") else text.lower()
     if key == "reference_length" and text == "R":
         return "m", True
     if key == "reference_area" and text in DISC_AREA:
