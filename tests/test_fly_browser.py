@@ -280,6 +280,9 @@ def test_keyboard_and_sliders_move_the_controls_and_the_blades(page, pages):
     value = _pilot(page)["values"][col]
     assert value > cfg["inputs"][col]["low"] + 0.8 * span[col]
     assert page.evaluate("parseFloat(document.getElementById('input-collective').value)") == pytest.approx(value)
+    # The page sends the pilot's values to the model on its next animation frame: fly only once the
+    # model holds the raised collective (a busy machine delays that frame past the click).
+    page.wait_for_function(f"window.__fly.state.frame.pilot[{col}] === {value!r}")
     raised, raised_hinges = _reference(page, built)
     assert _changed(picture, raised) > 300 and np.abs(raised_hinges - hinges).max() > 1e-3
     assert page.errors == []
