@@ -296,3 +296,53 @@ def test_coefficients_on_the_rotor_disc_and_radius_are_read_as_printed(tmp_path)
                                                              "radius is R")):
         report = aircraft.check(_with_section(tmp_path, disc.replace(old, new, 1), "bad.toml"))
         assert any(words in p for p in report.problems), (words, report.problems)
+
+
+OWN_ANGLES = """[fuselage_aero]
+model = { value = "tables", unit = "-", source = "R2" }
+axes = { value = "wind", unit = "-", source = "R2" }
+reference_point = { value = [0.1, 0.0, -0.3], unit = "m", source = "R2" }
+drag_alpha = { value = [[-25, 44.0], [-12, 36.1], [-3, 33.2], [8, 35.0], [17, 40.3], [30, 52.0]], unit = "deg, ft^2", source = "R2 fig. 3" }
+pitch_alpha = { value = [[-20, -1150], [-6, -420], [0, -40], [9, 510], [22, 1310]], unit = "deg, ft^3", source = "R2 fig. 4" }
+side_beta = { value = [[-30, 41.0], [-10, 14.2], [0, 0.0], [12, -17.5], [30, -40.2]], unit = "deg, ft^2", source = "R2 fig. 5" }
+"""
+
+
+def test_curves_digitised_at_their_own_angles_are_read_as_printed(tmp_path):
+    """Each curve of a report digitised at its own angles (rows ``[angle, value]``, units
+    ``"deg, ft^2"``) needs no shared breakpoints: every component per q equals scipy's natural
+    spline through its own points at 20 random angles to 1e-12 (linear beyond them), and the
+    check lists each curve's angles in rad; a curve of two angles, three units, decreasing angles
+    or the units swapped are refused, each named."""
+    from mbs import aircraft
+    from mbs.aircraft.airframe_data import fuselage_table
+
+    path = _with_section(tmp_path, OWN_ANGLES, "own.toml")
+    report = aircraft.check(path)
+    assert report.ok, report.problems
+    table = fuselage_table(aircraft.load(path).data)
+    ft2, ft3 = 0.3048**2, 0.3048**3
+    curves = {0: ([-25, -12, -3, 8, 17, 30], ft2 * np.array([44.0, 36.1, 33.2, 35.0, 40.3, 52.0]), "alpha"),
+              4: ([-20, -6, 0, 9, 22], ft3 * np.array([-1150, -420, -40, 510, 1310]), "alpha"),
+              1: ([-30, -10, 0, 12, 30], ft2 * np.array([41.0, 14.2, 0.0, -17.5, -40.2]), "beta")}
+    for a, b in RNG.uniform(-0.8, 0.8, (20, 2)):
+        got = table.per_q(a, b)
+        for i, (angles, values, arg) in curves.items():
+            x = np.radians(angles)
+            t = a if arg == "alpha" else b
+            want = CubicSpline(x, values, bc_type="natural")(np.clip(t, x[0], x[-1]))
+            want += (t - np.clip(t, x[0], x[-1])) * CubicSpline(x, values, bc_type="natural")(np.clip(t, x[0], x[-1]), 1)
+            assert abs(float(got[i]) - want) <= 1e-12 * np.abs(values).max(), (i, a, b)
+        assert float(got[2]) == 0.0
+    how = {r[0]: r[3] for r in report.converted}
+    assert how["fuselage_aero.side_beta"] == (f"at its own beta {[float(f'{v:.6g}') for v in np.radians([-30, -10, 0, 12, 30])]} "
+                                              "rad; per dynamic pressure, from ft^2")
+    for old, new, words in (
+            ('[-25, 44.0], [-12, 36.1]', '[-25, 44.0, 1], [-12, 36.1]', "must be rows [angle, value]"),
+            ('unit = "deg, ft^2", source = "R2 fig. 3"', 'unit = "deg, ft^2, -", source = "R2 fig. 3"',
+             "takes two units, the angle's and the values'"),
+            ('[-12, 36.1], [-3, 33.2]', '[-3, 36.1], [-12, 33.2]', "breakpoints must increase: -12 follows -3"),
+            ('unit = "deg, ft^3"', 'unit = "ft^3, deg"', "'ft^3'"),
+            ('side_beta = {', 'side_alpha_beta = {', "rows [angle, value] make a curve in one angle")):
+        bad = aircraft.check(_with_section(tmp_path, OWN_ANGLES.replace(old, new), "bad.toml"))
+        assert any(words in p for p in bad.problems), (words, bad.problems)

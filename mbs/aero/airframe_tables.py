@@ -37,7 +37,9 @@ class AirframeTable:
     ``reference`` (3,) (m, body axes from the CG). ``parts[i]``: list of ``(argument, values)``
     summed for component ``i`` (0..5 in the order of :data:`WIND_COMPONENTS` or
     :data:`BODY_COMPONENTS`), ``argument`` one of :data:`ARGUMENTS`, ``values`` on ``alpha``
-    and/or ``beta`` (rad) — (n_alpha,), (n_beta,) or (n_alpha, n_beta)."""
+    and/or ``beta`` (rad) — (n_alpha,), (n_beta,) or (n_alpha, n_beta). A part
+    ``(argument, values, breakpoints)`` of one angle is on its own ``breakpoints`` (rad) instead
+    (a curve digitised at its own angles; ``None``: the shared ones)."""
 
     axes: str
     reference: tuple
@@ -48,14 +50,12 @@ class AirframeTable:
     def __post_init__(self):
         if self.axes not in AXES:
             raise ValueError(f"axes {self.axes!r}: one of {', '.join(AXES)}")
-        self._splines = {i: [(arg, self._spline(arg, v)) for arg, v in parts] for i, parts in self.parts.items()}
+        self._splines = {i: [(p[0], self._spline(*p)) for p in parts] for i, parts in self.parts.items()}
 
-    def _spline(self, arg: str, values):
-        if arg == "alpha":
-            return Spline(self.alpha, values)
-        if arg == "beta":
-            return Spline(self.beta, values)
-        return Spline2(self.alpha, self.beta, values)
+    def _spline(self, arg: str, values, own=None):
+        if arg == "alpha_beta":
+            return Spline2(self.alpha, self.beta, values)
+        return Spline(own if own is not None else self.alpha if arg == "alpha" else self.beta, values)
 
     def per_q(self, alpha, beta) -> list:
         """The six components per dynamic pressure as published (m², m³) at ``alpha``, ``beta``."""

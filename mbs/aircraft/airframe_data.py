@@ -21,7 +21,11 @@ FORCE_DIMS, MOMENT_DIMS = {(2, 0, 0, 0), (1, 1, -2, 0)}, {(3, 0, 0, 0), (2, 1, -
 
 def read_series(value, unit: str, spec) -> list[float]:
     """Breakpoints: at least two strictly increasing numbers, in SI."""
-    factor = units.factor_to(str(unit), spec.unit)
+    return _increasing(value, unit, spec.unit)
+
+
+def _increasing(value, unit: str, target: str) -> list[float]:
+    factor = units.factor_to(str(unit), target)
     if not (isinstance(value, list) and len(value) >= 2 and all(_is_number(v) for v in value)):
         raise ValueError("must be a list of at least two numbers (the breakpoints)")
     out = [float(v) * factor for v in value]
@@ -41,7 +45,11 @@ def read_curve(value, unit: str, spec) -> list[float]:
 
 def read_lookup(value, unit: str, spec) -> dict:
     """A component table (a list, or a list of rows) with its form: ``{"form", "unit", "values"}``
-    (values in SI of that form: m², m³, N, N m or a pure number)."""
+    (values in SI of that form: m², m³, N, N m or a pure number). A curve digitised at its own
+    angles is rows ``[angle, value]`` with two units (``"deg, ft^2"``): it adds ``"breakpoints"``
+    (rad) and needs no shared ``alpha`` or ``beta``."""
+    if "," in str(unit):
+        return read_curve_points(value, str(unit), spec)
     moment = spec.unit.startswith("m^3")
     allowed = MOMENT_DIMS if moment else FORCE_DIMS
     have = units.reading(str(unit), allowed)
@@ -57,6 +65,21 @@ def read_lookup(value, unit: str, spec) -> dict:
         raise ValueError("rows of different lengths: a two-argument table has one row per alpha, one column per beta")
     scaled = (np.asarray(rows if rows is not None else value, dtype=float) * have.factor).tolist()
     return {"form": FORMS[have.dims], "unit": str(unit), "values": scaled}
+
+
+def read_curve_points(value, unit: str, spec) -> dict:
+    """Rows ``[angle, value]`` of a one-argument table at its own angles, ``unit`` ``"<angle>,
+    <value>"``: :func:`read_lookup`'s table with ``"breakpoints"`` (rad, increasing)."""
+    texts = [u.strip() for u in unit.split(",")]
+    if len(texts) != 2:
+        raise ValueError(f"unit {unit!r}: a curve at its own angles takes two units, the angle's and the "
+                         "values' (e.g. \"deg, ft^2\")")
+    if not (isinstance(value, list) and len(value) >= 2 and all(isinstance(r, list) and len(r) == 2 for r in value)):
+        raise ValueError("with two units, value must be rows [angle, value] (at least two), a curve at its own "
+                         "angles; give one unit for values on the section's breakpoints")
+    angle = _increasing([r[0] for r in value], texts[0], "rad")
+    table = read_lookup([r[1] for r in value], texts[1], spec)
+    return {**table, "unit": unit, "breakpoints": angle}
 
 
 def read_polynomial(value, unit: str, spec) -> dict:
@@ -121,7 +144,7 @@ def table_problems(values: dict) -> list[str]:
         if name not in names:
             out.append(f"fuselage_aero.{key}: {name} is not a component in {fa['axes']} axes "
                        f"({', '.join(names)})")
-        out += _shape_problems(fa, key, arg, np.asarray(table["values"]))
+        out += _shape_problems(fa, key, arg, np.asarray(table["values"]), "breakpoints" in table)
         out += _form_problems(fa, key, table["form"], names.index(name) >= 3 if name in names else False)
     if not len(fa["reference_point"]) and not (len(fa["reference_station"]) and len(fa["cg_station"])):
         out.append("fuselage_aero.reference_point: missing; give the point the moments are about (x, y, z from "
@@ -131,7 +154,11 @@ def table_problems(values: dict) -> list[str]:
     return out
 
 
-def _shape_problems(fa: dict, key: str, arg: str, values: np.ndarray) -> list[str]:
+def _shape_problems(fa: dict, key: str, arg: str, values: np.ndarray, own: bool = False) -> list[str]:
+    if own:
+        return [] if arg in ("alpha", "beta") else [
+            f"fuselage_aero.{key}: rows [angle, value] make a curve in one angle; give a table in alpha and beta "
+            "on the breakpoints fuselage_aero.alpha (rows) and beta (columns)"]
     want = tuple(len(fa[a]) for a in arg.split("_") if a in ("alpha", "beta"))
     missing = [a for a in ("alpha", "beta") if a in arg and len(fa[a]) < 2]
     if missing:
@@ -215,7 +242,8 @@ def fuselage_table(d):
     names, parts = COMPONENTS[fa["axes"]], {}
     for key, table in given(fa).items():
         name, _, arg = key.partition("_")
-        parts.setdefault(names.index(name), []).append((arg, scale(fa, key, rho) * np.asarray(table["values"])))
+        parts.setdefault(names.index(name), []).append((arg, scale(fa, key, rho) * np.asarray(table["values"]),
+                                                        table.get("breakpoints")))
     grid = {a: np.asarray(fa[a]) if len(fa[a]) else None for a in ("alpha", "beta")}
     return AirframeTable(fa["axes"], tuple(reference_point(d)), grid["alpha"], grid["beta"], parts)
 
@@ -241,8 +269,10 @@ def converted(data) -> list[tuple]:
         factor = scale(fa, key, rho)
         law = (f"the polynomial {meta[key]['value']} {table['unit']} in {key.partition('_')[2]} (rad) at its "
                "breakpoints; ") if "coefficients" in table else ""
+        if "breakpoints" in table:
+            law = (f"at its own {key.partition('_')[2]} {[float(f'{b:.6g}') for b in table['breakpoints']]} rad; ")
         unit = "m^3" if key.split("_")[0] in ("roll", "pitch", "yaw", "L", "M", "N") else "m^2"
-        how = law + {"per_q": f"per dynamic pressure, from {table['unit']}",
+        how = law + {"per_q": f"per dynamic pressure, from {table['unit'].rpartition(',')[2].strip()}",
                      "load": f"loads in {table['unit']}{_pound_force(table['unit'])} at {fa['reference_speed']:.4g} "
                              f"m/s over q = {1 / factor:.6g} Pa",
                      "coefficient": f"coefficients times {factor:.6g} {unit}"}[table["form"]]
