@@ -121,6 +121,22 @@ def test_heli_trim_exits_non_zero_when_not_converged(capsys):
     assert "NOT CONVERGED: no convergence in 1 iterations" in out
 
 
+def test_a_trim_failing_against_a_control_stop_names_the_stop(tmp_path, capsys):
+    """The Bo105 with its lateral-cyclic stop at 0.02 rad (the 10 m/s trim needs 0.032 rad; the
+    closed-form estimate, 0, is inside the range): the failed trim names the control, its stop and
+    the aircraft entry, and the step that left the range."""
+    from mbs import aircraft
+
+    text = aircraft.resolve("bo105").read_text()
+    line = next(x for x in text.splitlines() if x.startswith("lateral_cyclic_max = "))
+    path = tmp_path / "stop.toml"
+    path.write_text(text.replace(line, 'lateral_cyclic_max = { value = 0.02, unit = "rad", source = "EST" }'))
+    assert main(["trim", "--aircraft", str(path), "--speed", "10", "--quiet"]) == 1
+    out = capsys.readouterr().out
+    assert "at its high stop 0.02 rad (main_rotor.lateral_cyclic_max)" in out, out
+    assert "the smallest step could not be run: parameter 'lateral_cyclic' =" in out
+
+
 def test_heli_trim_names_the_trimmable_scenes(capsys):
     assert main(["trim", "single-blade"]) == 2
     err = capsys.readouterr().err

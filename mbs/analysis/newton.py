@@ -79,28 +79,31 @@ def _iterate(res: NewtonResult, residual, jacobian, min_step: float, start: floa
         dz = np.linalg.solve(jac, -r)
     except np.linalg.LinAlgError:
         return "the Jacobian is singular: the unknowns do not determine the residual"
-    step, trials, r_new = _line_search(residual, res.z, dz, r, min_step)
+    step, trials, r_new, failure = _line_search(residual, res.z, dz, r, min_step)
     res.n_residual += trials
     res.history.append(Iteration(float(np.abs(r).max()), step, trials, time.perf_counter() - start))
     if r_new is None:
-        return f"the line search found no decrease down to a step of {min_step:g}"
+        why = f"; the smallest step could not be run: {failure}" if failure else ""
+        return f"the line search found no decrease down to a step of {min_step:g}{why}"
     res.z, res.r = res.z + step * dz, r_new
     return ""
 
 
-def _line_search(residual, z, dz, r, min_step: float) -> tuple[float, int, np.ndarray | None]:
-    """Largest step ``2^-k`` with ``|r(z + step dz)| <= (1 - 1e-4 step) |r(z)|`` (2-norm)."""
+def _line_search(residual, z, dz, r, min_step: float) -> tuple[float, int, np.ndarray | None, str]:
+    """Largest step ``2^-k`` with ``|r(z + step dz)| <= (1 - 1e-4 step) |r(z)|`` (2-norm); with
+    none, why the last trial could not be evaluated ('' when it could)."""
     step, trials, norm = 1.0, 0, np.linalg.norm(r)
     while step >= min_step:
         trials += 1
+        failure = ""
         try:
             r_new = residual(z + step * dz)
             if np.linalg.norm(r_new) <= (1 - 1e-4 * step) * norm:
-                return step, trials, r_new
-        except Failure:
-            pass
+                return step, trials, r_new, ""
+        except Failure as exc:
+            failure = str(exc)
         step /= 2
-    return step, trials, None
+    return step, trials, None, failure
 
 
 def _stop(res: NewtonResult, reason: str, start: float) -> NewtonResult:

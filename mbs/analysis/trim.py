@@ -293,6 +293,25 @@ def _beyond_range(system, speed: float, aircraft) -> str:
     return f"; the closed-form estimate needs {', '.join(out)}: no trim within the control ranges" if out else ""
 
 
+def _at_stops(system, lay: TrimLayout, z) -> str:
+    """A note naming the controls at (within 1 % of) a range's end at the last iterate ``z`` of a
+    failed trim (the trim likely needs more than the range), or ""."""
+    from mbs.analysis.trim_checks import CONTROLS
+
+    out = []
+    for i, name, value in zip(lay.controls, lay.control_names, z):
+        q = system.info.parameters[i]
+        low, high = q.get("low", -np.inf), q.get("high", np.inf)
+        margin = 0.01 * (high - low)
+        if value <= low + margin or value >= high - margin:
+            end = "low" if value <= low + margin else "high"
+            entry = CONTROLS.get(name)
+            entry = f" ({entry[0]}.{entry[1]}_{'min' if end == 'low' else 'max'})" if entry else ""
+            out.append(f"{name} = {value:.4f} rad at its {end} stop {q[end]:g} rad{entry}")
+    return (f"; at the last iterate {', '.join(out)}: the trim likely needs more than the control's range; widen "
+            "the range if the aircraft has it, or check the flight condition") if out else ""
+
+
 def _scene_speed(system, lay: TrimLayout) -> float:
     if not lay.free:
         return 0.0
@@ -340,7 +359,7 @@ def periodic_solution(sc, speed: float | None = None, climb_rate: float = 0.0, m
     if not res.converged and prob.lay.free and prob.speed > CONTINUATION_STEP:
         res = _continuation(system, stepper, sc, prob, steps_per_rev, tol, max_iterations, res)
     if not res.converged and prob.lay.free:
-        res.reason += _beyond_range(system, prob.speed, sc.aircraft)
+        res.reason += _beyond_range(system, prob.speed, sc.aircraft) or _at_stops(system, prob.lay, res.z)
     out = _result(sc.name, prob, res, steps_per_rev, setup_s, system.nfev - nfev0)
     if sc.aircraft is not None:
         out.aircraft = sc.aircraft.name
