@@ -32,9 +32,10 @@ def soft_clip(a, limit: float, n: int = 8):
 
 @dataclass
 class Airfoil:
-    """Section coefficients: lift slope (1/rad), ``cd0``, ``cd2`` (1/rad²), stall angle (rad).
+    """Section coefficients: lift slope (1/rad), ``cd0``, ``cd2`` (1/rad²), stall angle (rad),
+    ``cd1`` (1/rad).
 
-    ``c_L = a α`` and ``c_D = c_d0 + c_d2 α²`` for attached flow; the angle is clipped smoothly
+    ``c_L = a α`` and ``c_D = c_d0 + c_d1 α + c_d2 α²`` for attached flow; the angle is clipped smoothly
     at the stall angle (a guard, not a stall model) and the drag rises to a flat plate's
     beyond it.
     """
@@ -44,6 +45,7 @@ class Airfoil:
     cd2: float = 0.0
     alpha_stall: float = 0.26
     cd_stalled: float = 1.8
+    cd1: float = 0.0
 
     def coefficients(self, alpha):
         """``(c_L, c_D)`` at angle of attack ``alpha`` (rad, within ±π/2)."""
@@ -54,6 +56,8 @@ class Airfoil:
         trigonometry from its air velocity)."""
         a = soft_clip(alpha, self.alpha_stall)
         cd = self.cd0 + self.cd2 * a**2 + self.cd_stalled * (sin2_alpha - ca.sin(a) ** 2)
+        if self.cd1:  # only when given, so that a polar without it builds the same code as before
+            cd = cd + self.cd1 * a
         return self.lift_slope * a, cd
 
 

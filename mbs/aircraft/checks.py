@@ -26,7 +26,7 @@ def problems(values: dict) -> list[str]:
     from mbs.aircraft.airframe_data import table_problems, tail_problems
 
     for check in (_inertia, _blades, _controls, _rotor_speed, _tail_hub, _airframe_mass, _tip_mach, _airframe_inertia,
-                  _rigging, _lag_damper, _airfoils, _distributions, _surface_tables, table_problems, tail_problems):
+                  _rigging, _lag_damper, _airfoils, _polars, _distributions, _surface_tables, table_problems, tail_problems):
         out += check(values)
     return out
 
@@ -200,6 +200,23 @@ def _tail_hub(v: dict) -> list[str]:
         return [f"tail_rotor.hub_x: {tr['hub_x']:g} m puts the tail-rotor disc inside the main rotor's "
                 f"({-clearance:.3g} m overlap)"]
     return []
+
+
+def _polars(v: dict) -> list[str]:
+    """An analytic section's drag polar ``cd0 + cd1 α + cd2 α²`` positive over ±alpha_stall."""
+    out = []
+    for name in ("main_rotor", "tail_rotor", "horizontal_tail", "vertical_fin"):
+        sec = v.get(name, {})
+        if "cd0" not in sec or sec.get("coefficient_table") or sec.get("airfoils"):
+            continue
+        alpha = np.linspace(-sec["alpha_stall"], sec["alpha_stall"], 401)
+        cd = sec["cd0"] + sec.get("cd1", 0.0) * alpha + sec.get("cd2", 0.0) * alpha**2
+        if cd.min() <= 0:
+            at = alpha[np.argmin(cd)]
+            out.append(f"{name}: the drag polar cd0 + cd1 alpha + cd2 alpha^2 = {cd.min():.4g} at alpha = "
+                       f"{np.degrees(at):.2f} deg, within the stall angle {np.degrees(sec['alpha_stall']):.2f} deg: "
+                       "a section drag must stay positive; check cd1 and cd2 (or the fit's range of alpha)")
+    return out
 
 
 def _airfoils(v: dict) -> list[str]:

@@ -47,13 +47,14 @@ class Hover:
 def rotor_hover(sec: dict, thrust: float, omega: float, rho: float) -> RotorHover:
     """Hover of the rotor of section ``sec`` at ``thrust`` (N) and rotor speed ``omega`` (rad/s):
     ``v_i = sqrt(T / (2 ρ A))``, ``P_i = κ T v_i``, ``P_0 = ρ A (Ω R)³ σ δ / 8`` with the profile
-    drag ``δ = c_d0 + c_d2 (6 C_T / (σ a))²`` at the mean lift coefficient."""
+    drag ``δ = c_d0 + c_d1 ᾱ + c_d2 ᾱ²`` at the mean angle ``ᾱ = 6 C_T / (σ a)``."""
     radius = sec["radius"]
     area, tip = math.pi * radius**2, omega * radius
     sigma = sec["n_blades"] * sec["chord"] / (math.pi * radius)
     ct = thrust / (rho * area * tip**2)
     v_i = math.sqrt(abs(thrust) / (2 * rho * area))
-    delta = sec["cd0"] + sec["cd2"] * (6 * ct / (sigma * sec["lift_slope"])) ** 2
+    alpha_mean = 6 * ct / (sigma * sec["lift_slope"])
+    delta = sec["cd0"] + sec["cd1"] * alpha_mean + sec["cd2"] * alpha_mean**2
     profile = rho * area * tip**3 * sigma * delta / 8
     induced = sec["kappa"] * abs(thrust) * v_i
     return RotorHover(thrust, sigma, ct, v_i, induced, profile, (induced + profile) / omega, tip, thrust / area)

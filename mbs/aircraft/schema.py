@@ -70,7 +70,10 @@ def _airfoil(what: str, cd2_default=None) -> dict[str, Entry]:
     return {
         "lift_slope": positive("1/rad", f"{what} section lift-curve slope"),
         "cd0": ratio(f"{what} profile drag coefficient at zero lift", 0.0, 0.5),
-        "cd2": num("1/rad^2", f"{what} profile drag rise: c_d = cd0 + cd2 alpha^2", 0.0, 100.0, default=cd2_default),
+        "cd1": num("1/rad", f"{what} profile drag's linear term, as some reports fit the polar: c_d = cd0 + cd1 alpha "
+                   "+ cd2 alpha^2", -1.0, 1.0, default=0.0),
+        "cd2": num("1/rad^2", f"{what} profile drag rise: c_d = cd0 + cd1 alpha + cd2 alpha^2 (negative only as a "
+                   "fit that stays positive to the stall)", -100.0, 100.0, default=cd2_default),
         "alpha_stall": num("rad", f"{what} stall angle: a guard that bounds the lift, not a stall model", 0.0,
                            math.pi / 2, open_low=True),
         "cd_stalled": num("-", f"{what} flat-plate drag coefficient beyond stall", 0.0, 3.0, default=1.8),
@@ -141,9 +144,9 @@ def _surface(what: str, arg: str = "alpha", flow: str = "downwash") -> dict[str,
                                        "attack (within +-90 deg: flow from the trailing edge is folded onto it, as "
                                        "for the analytic section), c_L, c_D; natural cubic splines through the rows, "
                                        "continued linearly beyond the first and last (a trim there warns); replaces "
-                                       "lift_slope, cd0, cd2, alpha_stall and cd_stalled", "table",
+                                       "lift_slope, cd0, cd1, cd2, alpha_stall and cd_stalled", "table",
                                        columns=("rad", "-", "-"), default=(),
-                                       replaces="lift_slope cd0 cd2 alpha_stall cd_stalled"),
+                                       replaces="lift_slope cd0 cd1 cd2 alpha_stall cd_stalled"),
             **_interference(what, arg, flow)}
 
 

@@ -109,7 +109,7 @@ def airfoil(sec: dict) -> Airfoil | TableSection:
     table = sec.get("coefficient_table")
     if table:
         return TableSection(*(tuple(column) for column in zip(*table)))
-    return Airfoil(sec["lift_slope"], sec["cd0"], sec["cd2"], sec["alpha_stall"], sec["cd_stalled"])
+    return Airfoil(sec["lift_slope"], sec["cd0"], sec["cd2"], sec["alpha_stall"], sec["cd_stalled"], sec["cd1"])
 
 
 def tail_surface(d, cfg, section: str, name: str, normal, wake: str | None) -> LiftingSurface:
