@@ -305,15 +305,28 @@ reference_point = { value = [0.1, 0.0, -0.3], unit = "m", source = "R2" }
 drag_alpha = { value = [[-25, 44.0], [-12, 36.1], [-3, 33.2], [8, 35.0], [17, 40.3], [30, 52.0]], unit = "deg, ft^2", source = "R2 fig. 3" }
 pitch_alpha = { value = [[-20, -1150], [-6, -420], [0, -40], [9, 510], [22, 1310]], unit = "deg, ft^3", source = "R2 fig. 4" }
 side_beta = { value = [[-30, 41.0], [-10, 14.2], [0, 0.0], [12, -17.5], [30, -40.2]], unit = "deg, ft^2", source = "R2 fig. 5" }
+lift_alpha_beta = { value = [[nan, -25, 0, 15, 25], [-18, -30.1, -31.0, -30.4, -29.8], [-4, -6.2, -5.9, -6.0, -6.3], [7, 11.5, 12.6, 12.1, 11.9], [20, 32.0, 33.4, 32.8, 32.2]], unit = "deg, deg, ft^2", source = "R2 table 6" }
 """
+
+
+LIFT_GRID = [[-30.1, -31.0, -30.4, -29.8], [-6.2, -5.9, -6.0, -6.3], [11.5, 12.6, 12.1, 11.9], [32.0, 33.4, 32.8, 32.2]]
+
+
+def _natural(x, y, t) -> float:
+    """The natural cubic spline through ``(x, y)`` at ``t``, continued linearly beyond its ends."""
+    spline, end = CubicSpline(x, y, bc_type="natural"), np.clip(t, x[0], x[-1])
+    return float(spline(end) + (t - end) * spline(end, 1))
 
 
 def test_curves_digitised_at_their_own_angles_are_read_as_printed(tmp_path):
     """Each curve of a report digitised at its own angles (rows ``[angle, value]``, units
-    ``"deg, ft^2"``) needs no shared breakpoints: every component per q equals scipy's natural
-    spline through its own points at 20 random angles to 1e-12 (linear beyond them), and the
-    check lists each curve's angles in rad; a curve of two angles, three units, decreasing angles
-    or the units swapped are refused, each named."""
+    ``"deg, ft^2"``) and a table in alpha and beta on its own grid (a first row ``[nan, beta...]``,
+    then rows ``[alpha, values...]``, units ``"deg, deg, ft^2"``) need no shared breakpoints: every
+    component per q equals scipy's natural splines through its own points (tensor product for the
+    grid) at 20 random angles to 1e-12 (linear beyond them), and the check lists each table's
+    angles in rad; rows of three cells, four units, decreasing angles, the units swapped, a curve
+    on a two-angle table and a grid on a one-angle table, a corner that is not nan, and ragged
+    rows are refused, each named."""
     from mbs import aircraft
     from mbs.aircraft.airframe_data import fuselage_table
 
@@ -328,21 +341,23 @@ def test_curves_digitised_at_their_own_angles_are_read_as_printed(tmp_path):
     for a, b in RNG.uniform(-0.8, 0.8, (20, 2)):
         got = table.per_q(a, b)
         for i, (angles, values, arg) in curves.items():
-            x = np.radians(angles)
-            t = a if arg == "alpha" else b
-            want = CubicSpline(x, values, bc_type="natural")(np.clip(t, x[0], x[-1]))
-            want += (t - np.clip(t, x[0], x[-1])) * CubicSpline(x, values, bc_type="natural")(np.clip(t, x[0], x[-1]), 1)
+            want = _natural(np.radians(angles), values, a if arg == "alpha" else b)
             assert abs(float(got[i]) - want) <= 1e-12 * np.abs(values).max(), (i, a, b)
-        assert float(got[2]) == 0.0
+        rows_b = [_natural(np.radians([-25, 0, 15, 25]), ft2 * np.array(r), b) for r in LIFT_GRID]
+        lift = _natural(np.radians([-18, -4, 7, 20]), np.array(rows_b), a)
+        assert abs(float(got[2]) - lift) <= 1e-12 * ft2 * 33.4, (a, b)
     how = {r[0]: r[3] for r in report.converted}
     assert how["fuselage_aero.side_beta"] == (f"at its own beta {[float(f'{v:.6g}') for v in np.radians([-30, -10, 0, 12, 30])]} "
                                               "rad; per dynamic pressure, from ft^2")
     for old, new, words in (
             ('[-25, 44.0], [-12, 36.1]', '[-25, 44.0, 1], [-12, 36.1]', "must be rows [angle, value]"),
-            ('unit = "deg, ft^2", source = "R2 fig. 3"', 'unit = "deg, ft^2, -", source = "R2 fig. 3"',
+            ('unit = "deg, ft^2", source = "R2 fig. 3"', 'unit = "deg, ft^2, -, -", source = "R2 fig. 3"',
              "takes two units, the angle's and the values'"),
             ('[-12, 36.1], [-3, 33.2]', '[-3, 36.1], [-12, 33.2]', "breakpoints must increase: -12 follows -3"),
             ('unit = "deg, ft^3"', 'unit = "ft^3, deg"', "'ft^3'"),
-            ('side_beta = {', 'side_alpha_beta = {', "rows [angle, value] make a curve in one angle")):
+            ('side_beta = {', 'side_alpha_beta = {', "rows [angle, value] make a curve in one angle"),
+            ('lift_alpha_beta = {', 'lift_alpha = {', "a table on an alpha x beta grid (three units) is for lift_alpha_beta"),
+            ('[[nan, -25, 0, 15, 25]', '[[0, -25, 0, 15, 25]', "the first row's first cell is 0; write nan there"),
+            ('[-4, -6.2, -5.9, -6.0, -6.3]', '[-4, -6.2, -5.9, -6.0]', "rows of one length")):
         bad = aircraft.check(_with_section(tmp_path, OWN_ANGLES.replace(old, new), "bad.toml"))
         assert any(words in p for p in bad.problems), (words, bad.problems)

@@ -38,8 +38,8 @@ class AirframeTable:
     summed for component ``i`` (0..5 in the order of :data:`WIND_COMPONENTS` or
     :data:`BODY_COMPONENTS`), ``argument`` one of :data:`ARGUMENTS`, ``values`` on ``alpha``
     and/or ``beta`` (rad) — (n_alpha,), (n_beta,) or (n_alpha, n_beta). A part
-    ``(argument, values, breakpoints)`` of one angle is on its own ``breakpoints`` (rad) instead
-    (a curve digitised at its own angles; ``None``: the shared ones)."""
+    ``(argument, values, breakpoints)`` is on its own ``breakpoints`` (rad) instead: (n,) for one
+    angle, ``(alpha, beta)`` for both (``None``: the shared ones)."""
 
     axes: str
     reference: tuple
@@ -54,7 +54,7 @@ class AirframeTable:
 
     def _spline(self, arg: str, values, own=None):
         if arg == "alpha_beta":
-            return Spline2(self.alpha, self.beta, values)
+            return Spline2(*(own if own is not None else (self.alpha, self.beta)), values)
         return Spline(own if own is not None else self.alpha if arg == "alpha" else self.beta, values)
 
     def per_q(self, alpha, beta) -> list:

@@ -71,15 +71,37 @@ def read_curve_points(value, unit: str, spec) -> dict:
     """Rows ``[angle, value]`` of a one-argument table at its own angles, ``unit`` ``"<angle>,
     <value>"``: :func:`read_lookup`'s table with ``"breakpoints"`` (rad, increasing)."""
     texts = [u.strip() for u in unit.split(",")]
+    if len(texts) == 3:
+        return read_grid_points(value, texts, spec)
     if len(texts) != 2:
         raise ValueError(f"unit {unit!r}: a curve at its own angles takes two units, the angle's and the "
-                         "values' (e.g. \"deg, ft^2\")")
+                         "values' (e.g. \"deg, ft^2\"); a table in alpha and beta on its own grid three (\"deg, deg, "
+                         "ft^2\")")
     if not (isinstance(value, list) and len(value) >= 2 and all(isinstance(r, list) and len(r) == 2 for r in value)):
         raise ValueError("with two units, value must be rows [angle, value] (at least two), a curve at its own "
                          "angles; give one unit for values on the section's breakpoints")
     angle = _increasing([r[0] for r in value], texts[0], "rad")
     table = read_lookup([r[1] for r in value], texts[1], spec)
     return {**table, "unit": unit, "breakpoints": angle}
+
+
+def read_grid_points(value, texts: list[str], spec) -> dict:
+    """A table in alpha and beta on its own grid, printed as a report prints it: a first row
+    ``[nan, beta_1, beta_2 ...]`` (the corner empty), then rows ``[alpha_i, value_i1, value_i2 ...]``;
+    ``texts`` the units of alpha, beta and the values. :func:`read_lookup`'s table with
+    ``"breakpoints"`` ``(alpha, beta)`` (rad)."""
+    shape = "a first row [nan, beta...] and rows [alpha, values...]"
+    if not (isinstance(value, list) and len(value) >= 3 and all(isinstance(r, list) for r in value)
+            and len({len(r) for r in value}) == 1 and len(value[0]) >= 3):
+        raise ValueError(f"with three units, value must be {shape} (at least two of each, rows of one length)")
+    corner = value[0][0]
+    if not (isinstance(corner, float) and np.isnan(corner)):
+        raise ValueError(f"the first row's first cell is {corner!r}; write nan there (the corner of the printed "
+                         f"table): {shape}")
+    beta = _increasing(value[0][1:], texts[1], "rad")
+    alpha = _increasing([r[0] for r in value[1:]], texts[0], "rad")
+    table = read_lookup([r[1:] for r in value[1:]], texts[2], spec)
+    return {**table, "unit": ", ".join(texts), "breakpoints": (alpha, beta)}
 
 
 def read_polynomial(value, unit: str, spec) -> dict:
@@ -144,7 +166,7 @@ def table_problems(values: dict) -> list[str]:
         if name not in names:
             out.append(f"fuselage_aero.{key}: {name} is not a component in {fa['axes']} axes "
                        f"({', '.join(names)})")
-        out += _shape_problems(fa, key, arg, np.asarray(table["values"]), "breakpoints" in table)
+        out += _shape_problems(fa, key, arg, np.asarray(table["values"]), table.get("breakpoints"))
         out += _form_problems(fa, key, table["form"], names.index(name) >= 3 if name in names else False)
     if not len(fa["reference_point"]) and not (len(fa["reference_station"]) and len(fa["cg_station"])):
         out.append("fuselage_aero.reference_point: missing; give the point the moments are about (x, y, z from "
@@ -154,11 +176,15 @@ def table_problems(values: dict) -> list[str]:
     return out
 
 
-def _shape_problems(fa: dict, key: str, arg: str, values: np.ndarray, own: bool = False) -> list[str]:
-    if own:
-        return [] if arg in ("alpha", "beta") else [
-            f"fuselage_aero.{key}: rows [angle, value] make a curve in one angle; give a table in alpha and beta "
-            "on the breakpoints fuselage_aero.alpha (rows) and beta (columns)"]
+def _shape_problems(fa: dict, key: str, arg: str, values: np.ndarray, own=None) -> list[str]:
+    if own is not None:
+        if (arg == "alpha_beta") == isinstance(own, tuple):
+            return []
+        return [f"fuselage_aero.{key}: rows [angle, value] make a curve in one angle; give a table in alpha and beta "
+                "as a first row [nan, beta...] and rows [alpha, values...] with three units (\"deg, deg, ft^2\")"
+                if arg == "alpha_beta" else
+                f"fuselage_aero.{key}: a table on an alpha x beta grid (three units) is for {key.partition('_')[0]}"
+                "_alpha_beta; a curve in one angle is rows [angle, value] with two units"]
     want = tuple(len(fa[a]) for a in arg.split("_") if a in ("alpha", "beta"))
     missing = [a for a in ("alpha", "beta") if a in arg and len(fa[a]) < 2]
     if missing:
@@ -270,7 +296,9 @@ def converted(data) -> list[tuple]:
         law = (f"the polynomial {meta[key]['value']} {table['unit']} in {key.partition('_')[2]} (rad) at its "
                "breakpoints; ") if "coefficients" in table else ""
         if "breakpoints" in table:
-            law = (f"at its own {key.partition('_')[2]} {[float(f'{b:.6g}') for b in table['breakpoints']]} rad; ")
+            own = table["breakpoints"] if isinstance(table["breakpoints"], tuple) else (table["breakpoints"],)
+            law = "at its own " + " and ".join(f"{a} {[float(f'{b:.6g}') for b in grid]}" for a, grid in
+                                               zip(key.partition("_")[2].split("_"), own)) + " rad; "
         unit = "m^3" if key.split("_")[0] in ("roll", "pitch", "yaw", "L", "M", "N") else "m^2"
         how = law + {"per_q": f"per dynamic pressure, from {table['unit'].rpartition(',')[2].strip()}",
                      "load": f"loads in {table['unit']}{_pound_force(table['unit'])} at {fa['reference_speed']:.4g} "
