@@ -114,3 +114,39 @@ def test_an_ill_formed_table_or_one_beside_the_analytic_section_is_a_problem(tmp
     path = _with_tables(tmp_path, {"horizontal_tail": rows} if rows else None, keep_analytic=keep)
     report = aircraft.check(path)
     assert any(p.startswith(expected) for p in report.problems), report.problems
+
+
+def test_a_table_printed_per_dynamic_pressure_or_on_the_rotor_disc_is_read_as_printed(tmp_path):
+    """The horizontal tail's table printed as L/q, D/q in ft² and the fin's as coefficients on the
+    main rotor's disc (``πR^2``) load as the plain coefficient tables on each surface's area (to
+    1e-14) and are listed with the conversion; a force column in lbf is refused, named."""
+    data = aircraft.load("bo105").data
+    plain = {s: _sampled(data[s], 10.0) for s in SURFACES}
+    area = {s: data[s]["area"] for s in SURFACES}
+    disc = math.pi * data["main_rotor"]["radius"] ** 2
+    printed = {"horizontal_tail": [[a, cl * area["horizontal_tail"] / 0.3048**2, cd * area["horizontal_tail"] / 0.3048**2]
+                                   for a, cl, cd in plain["horizontal_tail"]],
+               "vertical_fin": [[a, cl * area["vertical_fin"] / disc, cd * area["vertical_fin"] / disc]
+                                for a, cl, cd in plain["vertical_fin"]]}
+    raw = entries("bo105")
+    for section, unit in (("horizontal_tail", "rad, ft^2, ft^2"), ("vertical_fin", "rad, πR^2, πR^2")):
+        raw[section]["coefficient_table"] = {"value": printed[section], "unit": unit, "source": "report"}
+        for key in ANALYTIC:
+            raw[section].pop(key, None)
+    path = write(raw, tmp_path / "printed.toml")
+    report = aircraft.check(path)
+    assert report.ok, report.problems
+    loaded = aircraft.load(path).data
+    for section in SURFACES:
+        got, want = np.array(loaded[section]["coefficient_table"]), np.array(plain[section])
+        assert np.abs(got - want).max() <= 1e-14 * np.abs(want).max(), section
+    how = {r[0]: r[3] for r in report.converted}
+    assert how["horizontal_tail.coefficient_table"].startswith(
+        f"coefficients on horizontal_tail.area: c_L per dynamic pressure over horizontal_tail.area "
+        f"{area['horizontal_tail']:.6g} m^2; c_D per dynamic pressure")
+    assert f"c_L on the main rotor's disc area {disc:.6g} m^2 times {disc / area['vertical_fin']:.6g}" in \
+        how["vertical_fin.coefficient_table"]
+    raw["horizontal_tail"]["coefficient_table"]["unit"] = "rad, lbf, ft^2"
+    bad = aircraft.check(write(raw, tmp_path / "bad.toml"))
+    assert "horizontal_tail.coefficient_table: unit 'lbf' of a force column is a force; give - (a coefficient on the " \
+        "surface's area), an area (L/q, D/q: ft^2) or πR^2" in " ".join(bad.problems), bad.problems

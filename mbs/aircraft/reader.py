@@ -51,6 +51,7 @@ class Reading:
     problems: list[str] = field(default_factory=list)
     stations: list[stations.Given] = field(default_factory=list)
     radial: list[tuple[str, str]] = field(default_factory=list)  # span tables given in radial stations (m)
+    surface: list[tuple[str, str, list]] = field(default_factory=list)  # tail tables in L/q or on πR^2
 
     def put(self, section: str, key: str, value, meta: dict) -> None:
         self.values.setdefault(section, {})[key] = value
@@ -76,6 +77,7 @@ def read(text: str, base: Path | None = None) -> Reading:
                 _entry(out, section, key, entry, base)
     _place_stations(out)
     _radial_stations(out)
+    _surface_coefficients(out)
     _laws(out)
     _missing(out, raw)
     return out
@@ -106,6 +108,9 @@ def _entry(out: Reading, section: str, key: str, entry, base: Path | None = None
     spec = spec or Entry(derived.unit, derived.text)
     try:
         unit, radial = _radius_unit(section, key, spec, entry.get("unit"))
+        bases = [None]
+        if key == "coefficient_table" and unit is not None:
+            unit, spec, bases = _surface_columns(unit, spec)
         value = (airfoil_segments(entry["value"], unit, base) if spec.kind == "airfoils"
                  else _polynomial(entry["value"], unit, spec) if "law" in entry
                  else convert(entry["value"], unit, replace(spec, columns=("m", *spec.columns[1:])) if radial and
@@ -119,6 +124,8 @@ def _entry(out: Reading, section: str, key: str, entry, base: Path | None = None
         return
     if radial:  # over or times the radius once every entry is read
         out.radial.append((section, key))
+    if any(bases):  # over the surface's area once every entry is read
+        out.surface.append((section, key, bases))
     meta = {"unit": entry.get("unit", ""), "source": entry["source"], "note": entry.get("note", ""),
             "origin": "override" if entry.get("override") else "file", "value": entry["value"]}
     out.put(section, key, _with_gain(value, entry, meta), meta)
@@ -192,13 +199,12 @@ DISC_AREA = ("πR^2", "πR²", "piR^2", "piR²", "disc", "disk")
 
 def _rotor_reference(key: str, unit) -> tuple:
     """``(unit, radial)`` of an airframe reference given in the main rotor's ``R`` or ``πR^2``."""
-    text = str(unit).replace(" ", "").replace("*", "")
-    text = text.replace("PI", "pi").replace("Pi", "pi") if text.upper() not in ("DISC", "DISK") else text.lower()
-    if key == "reference_length" and text == "R":
+    length, disc = str(unit).replace(" ", "").replace("*", "") == "R", _is_disc(unit)
+    if key == "reference_length" and length:
         return "m", True
-    if key == "reference_area" and text in DISC_AREA:
+    if key == "reference_area" and disc:
         return "m^2", True
-    if text == "R" or text in DISC_AREA:
+    if length or disc:
         raise ValueError(f"unit {unit!r}: a reference {key.split('_')[1]} in the main rotor's "
                          f"{'radius is R' if key == 'reference_length' else 'disc area is πR^2'}")
     return unit, False
@@ -237,6 +243,54 @@ def _times_main_rotor(out: Reading, section: str, key: str) -> None:
     factor, what = (math.pi * radius**2, "the main rotor's disc area") if area else (radius, "main_rotor.radius")
     out.values[section][key] = out.values[section][key] * factor
     meta["how"] = f"times {what} {factor:.6g} m{'^2' if area else ''}: from {meta['value']} {meta['unit']}"
+
+
+def _is_disc(text: str) -> bool:
+    """Whether the unit ``text`` is the main rotor's disc area (as :data:`DISC_AREA`, any case)."""
+    compact = str(text).replace(" ", "").replace("*", "")
+    return compact.replace("PI", "pi").replace("Pi", "pi") in DISC_AREA or compact.lower() in ("disc", "disk")
+
+
+def _surface_columns(unit: str, spec: Entry) -> tuple:
+    """A tail surface's ``coefficient_table`` with its lift and drag printed per dynamic pressure
+    (an area: ``ft^2`` for L/q, D/q) or as coefficients on the main rotor's disc (``πR^2``):
+    ``(unit, spec, bases)`` to read it with, ``bases`` per force column None (a coefficient on the
+    surface's area), "area" or "disc"; :func:`_surface_coefficients` divides by the area later."""
+    texts = [u.strip() for u in str(unit).split(",")]
+    if len(texts) != 3:
+        return unit, spec, [None, None]  # the table reader names the count
+    bases, columns = [], [texts[0]]
+    for text in texts[1:]:
+        if _is_disc(text):
+            bases.append("disc")
+            columns.append("-")
+            continue
+        dims = units.parse(text).dims if text not in ("-", "") else (0, 0, 0, 0)
+        if dims not in ((2, 0, 0, 0), (0, 0, 0, 0)):
+            raise ValueError(f"unit {text!r} of a force column is {units.parse(text).describe()}; give - (a coefficient "
+                             "on the surface's area), an area (L/q, D/q: ft^2) or πR^2 (a coefficient on the main "
+                             "rotor's disc)")
+        bases.append("area" if dims == (2, 0, 0, 0) else None)
+        columns.append(text)
+    wanted = (spec.columns[0], *("m^2" if b == "area" else "-" for b in bases))
+    return ", ".join(columns), replace(spec, columns=wanted), bases
+
+
+def _surface_coefficients(out: Reading) -> None:
+    """Tail tables read in L/q (m²) or on the disc area: coefficients on the surface's ``area``."""
+    for section, key, bases in out.surface:
+        area, radius = out.values.get(section, {}).get("area"), out.values.get("main_rotor", {}).get("radius")
+        if not area or ("disc" in bases and not radius):
+            continue  # the missing area or radius is a problem of its own
+        disc = math.pi * radius**2 if radius else 0.0
+        factors = [1.0, *(1.0 if b is None else 1.0 / area if b == "area" else disc / area for b in bases)]
+        out.values[section][key] = [[v * f for v, f in zip(row, factors)] for row in out.values[section][key]]
+        meta = out.meta[section][key]
+        how = {"area": f"per dynamic pressure over {section}.area {area:.6g} m^2",
+               "disc": f"on the main rotor's disc area {disc:.6g} m^2 times {disc / area:.6g} (its ratio to "
+                       f"{section}.area {area:.6g} m^2)"}
+        said = [f"{name} {how[b]}" for name, b in zip(("c_L", "c_D"), bases) if b]
+        meta["how"] = f"coefficients on {section}.area: {'; '.join(said)}; from {meta['unit']}"
 
 
 def _over_radius(rows: list, radius: float) -> list:
