@@ -135,7 +135,7 @@ def _model_eigenvalues(res, speeds: set) -> list[tuple[float, complex]]:
     paired = {(p.speed, p.ours) for p in res.pairs}
     out = []
     for e in res.validation.eigenvalues:
-        point = res.model.at(e.speed)
+        point = res.model.at(e.speed, altitude=e.altitude)
         if e.shown_speed in speeds and point.ok and point.derivatives is not None:
             out += [(e.shown_speed, z) for z in model_eigenvalues(point.derivatives)[0]
                     if (e.shown_speed, complex(z)) not in paired]

@@ -26,6 +26,7 @@ class Row:
     within: bool | None
     source: str
     problem: str = ""
+    condition: str = ""  # the point's mass and altitude where the data give them ("2100 kg, 1500 m")
 
     def summary(self) -> dict:
         return {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in asdict(self).items()}
@@ -35,15 +36,24 @@ def rows(series, model) -> list[Row]:
     """The rows of one :class:`mbs.validate.data.Series` against the model's points."""
     convert = None
     out = []
-    for speed, shown, pub, unc in zip(series.speed, series.shown_speed, series.value, series.uncertainty):
-        point = model.at(speed)
+    for (speed, mass, altitude), shown, pub, unc in zip(series.conditions(), series.shown_speed, series.value,
+                                                        series.uncertainty):
+        point = model.at(speed, mass, altitude)
         value, problem = math.nan, point.problem
         if point.ok:
             si, si_unit = _value(series, point)
             convert = convert or converter(si_unit, series.unit, f"{series.kind} {series.quantity}")
             value = series.ours_factor * convert(si)
-        out.append(_row(series, float(shown), value, float(pub), float(unc), problem))
+        row = _row(series, float(shown), value, float(pub), float(unc), problem)
+        row.condition = describe_condition(mass, altitude)
+        out.append(row)
     return out
+
+
+def describe_condition(mass: float | None, altitude: float | None) -> str:
+    """``"2100 kg, 1500 m"`` of a point's given mass and altitude ("" without them)."""
+    return ", ".join(t for t in (None if mass is None else f"{mass:.6g} kg",
+                                 None if altitude is None else f"{altitude:.6g} m") if t)
 
 
 def _value(series, point) -> tuple[float, str]:

@@ -9,7 +9,10 @@ published data (axes, derivative normalisation, control angles and signs) and li
 * ``[[eigenvalues]]``: the published eigenvalues at one speed (``[re, im]`` pairs in 1/s, rad/s).
 
 Every series has ``quantity``, ``unit``, ``value`` (a list), ``source`` (a key of ``[sources]``
-or a text) and may have ``speed`` (default the file's ``[validation] speed``), ``uncertainty``
+or a text) and may have ``speed`` (default the file's ``[validation] speed``), ``mass`` and
+``altitude`` (the flight condition of each point, ``{ value = x or [x per point], unit = "lb" }``;
+defaults ``[validation] mass``, ``altitude``; without them the aircraft file's mass and air),
+``uncertainty``
 (the reading or measurement error, in ``unit``), ``tolerance`` (``{ absolute = x }`` in
 ``unit`` or ``{ relative = x }``, a fraction; without it the series is shown, not checked),
 ``ours_factor`` (the model's value is multiplied by it before the comparison: a sign convention
@@ -67,6 +70,23 @@ class Series:
     tolerance: Tolerance | None = None
     ours_factor: float = 1.0
     note: str = ""
+    mass: np.ndarray | None = None  # (n,) kg: each point's flight mass (None: the aircraft file's)
+    altitude: np.ndarray | None = None  # (n,) m: each point's ISA pressure altitude (None: the file's air)
+
+    def conditions(self) -> list[tuple]:
+        """Each point's flight condition ``(speed m/s, mass kg or None, altitude m or None)``."""
+        n = len(self.speed)
+        mass = [None] * n if self.mass is None else [float(m) for m in self.mass]
+        altitude = [None] * n if self.altitude is None else [float(h) for h in self.altitude]
+        return [(float(v), m, h) for v, m, h in zip(self.speed, mass, altitude)]
+
+
+def condition_key(speed: float, mass: float | None = None, altitude: float | None = None):
+    """The key of a model point: the speed (m/s, rounded) alone, or with its mass and altitude."""
+    if mass is None and altitude is None:
+        return round(float(speed), 9)
+    return (round(float(speed), 9), None if mass is None else round(mass, 6),
+            None if altitude is None else round(altitude, 6))
 
 
 @dataclass(frozen=True)
@@ -79,6 +99,7 @@ class EigenSet:
     value: np.ndarray
     source: str
     note: str = ""
+    altitude: float | None = None  # m: the ISA pressure altitude ([validation] altitude; None: the file's air)
 
 
 @dataclass(frozen=True)
@@ -121,6 +142,19 @@ class Validation:
         found += [e.speed for e in self.eigenvalues] if "eigenvalues" in kinds else []
         return sorted({round(float(v), 9) for v in found})
 
+    def conditions(self, *kinds: str) -> list[tuple]:
+        """The distinct flight conditions ``(speed, mass, altitude)`` of the series of ``kinds``
+        (and of the eigenvalues when ``"eigenvalues"`` is one of them), as :func:`condition_key`
+        rounds them."""
+        found = [c for s in self.series if s.kind in kinds for c in s.conditions()]
+        found += [(e.speed, None, e.altitude) for e in self.eigenvalues] if "eigenvalues" in kinds else []
+        keys = {_full(condition_key(*c)): c for c in found}
+        return [keys[k] for k in sorted(keys, key=lambda k: (k[0], k[1] or 0.0, k[2] or 0.0))]
+
+
+def _full(key) -> tuple:
+    return key if isinstance(key, tuple) else (key, None, None)
+
 
 def from_dict(raw: dict, path: Path) -> Validation:
     """A :class:`Validation` from the parsed TOML ``raw`` of the file ``path``."""
@@ -132,12 +166,20 @@ def from_dict(raw: dict, path: Path) -> Validation:
                                                                           default="forward-flight"),
                      speed_unit, _strings(raw.get("conventions", {}), path, "[conventions]"),
                      _strings(raw.get("sources", {}), path, "[sources]"))
+    unknown = set(head) - {"title", "aircraft", "scene", "speed_unit", "speed", *CONDITIONS}
+    if unknown:
+        raise ValidationError(f"{path}: [validation]: unknown key(s) {', '.join(sorted(unknown))}; the keys are "
+                              "title, aircraft, scene, speed_unit, speed, mass, altitude")
     default_speed = head.get("speed")
+    defaults = {k: head[k] for k in CONDITIONS if k in head}
     for kind in KINDS:
         for k, entry in enumerate(raw.get(kind, [])):
-            out.series.append(series(entry, kind, f"{path}: [[{kind}]] {k + 1}", default_speed, factor))
+            out.series.append(series(entry, kind, f"{path}: [[{kind}]] {k + 1}", default_speed, factor, defaults))
+    altitude = _condition(defaults.get("altitude"), "altitude", 1, f"{path}: [validation]")
     for k, entry in enumerate(raw.get("eigenvalues", [])):
-        out.eigenvalues.append(eigen_set(entry, f"{path}: [[eigenvalues]] {k + 1}", factor))
+        out.eigenvalues.append(eigen_set(entry, f"{path}: [[eigenvalues]] {k + 1}", factor,
+                                         None if altitude is None else float(altitude[0])))
+    _condition_problems(out, path, "mass" in defaults)
     if "eigenvalue_tolerance" in raw:
         out.eigen_tolerance = eigen_tolerance(raw["eigenvalue_tolerance"], f"{path}: [eigenvalue_tolerance]")
     unknown = set(raw) - {"validation", "conventions", "sources", "eigenvalue_tolerance", "eigenvalues", *KINDS}
@@ -160,11 +202,55 @@ def speed_factor(unit: str, where: str) -> float:
     return u.factor
 
 
-KEYS = {"quantity", "unit", "value", "speed", "uncertainty", "tolerance", "source", "ours_factor", "note"}
+KEYS = {"quantity", "unit", "value", "speed", "uncertainty", "tolerance", "source", "ours_factor", "note", "mass",
+        "altitude"}
+CONDITIONS = {"mass": ("kg", 1.0, 1e5), "altitude": ("m", -1000.0, 20000.0)}
+"""A point's flight condition: its SI unit and bounds (the ISA's altitudes, as ``--altitude``)."""
 
 
-def series(entry: dict, kind: str, where: str, default_speed, factor: float) -> Series:
-    """One ``[[trim]]`` or ``[[derivative]]`` entry, checked."""
+def _condition(raw, key: str, n: int, where: str) -> np.ndarray | None:
+    """``mass`` or ``altitude`` ``{ value = x or [n numbers], unit = "..." }`` as (n,) SI, or None."""
+    if raw is None:
+        return None
+    si, low, high = CONDITIONS[key]
+    if not isinstance(raw, dict) or set(raw) != {"value", "unit"}:
+        raise ValidationError(f"{where}: {key} must be {{ value = x or [one per point], unit = \"...\" }}, "
+                              f"not {raw!r}")
+    try:
+        scale = units.factor_to(str(raw["unit"]), si)
+    except units.UnitError as exc:
+        raise ValidationError(f"{where}: {key}: {exc}") from None
+    value = raw["value"]
+    values = np.full(n, float(value)) if _is_number(value) else _numbers(value, where, f"{key} value")
+    if len(values) != n:
+        raise ValidationError(f"{where}: {key} has {len(values)} values for {n} points; give one, or one per point")
+    values = values * scale
+    bad = values[(values < low) | (values > high)]
+    if len(bad):
+        raise ValidationError(f"{where}: {key} {bad[0] / scale:g} {raw['unit']} is outside {low:g} to {high:g} {si}")
+    return values
+
+
+def _condition_problems(v: "Validation", path: Path, file_mass: bool) -> None:
+    """A mass only on trims (the derivatives' mass and inertia are the aircraft file's), and an
+    altitude for every point or none (the ISA, or the aircraft file's air, for the whole file)."""
+    others = [s for s in v.series if s.kind != "trim"] + list(v.eigenvalues)
+    derived = next((s for s in v.series if s.kind != "trim" and s.mass is not None), None)
+    if derived is not None or (file_mass and others):
+        raise ValidationError(f"{path}: mass applies to [[trim]] series (a weight added at the CG); derivatives and "
+                              "eigenvalues take the aircraft file's mass and inertia: write an aircraft file at that "
+                              "mass (aircraft.mass)" + (f" ({derived.quantity})" if derived else ""))
+    given = [s.altitude is not None for s in v.series] + [e.altitude is not None for e in v.eigenvalues]
+    if any(given) and not all(given):
+        missing = next(s.quantity for s in v.series if s.altitude is None) if not all(given[:len(v.series)]) \
+            else "the eigenvalues"
+        raise ValidationError(f"{path}: altitude given for some points but not for {missing}: give it there, or as "
+                              "[validation] altitude for every series")
+
+
+def series(entry: dict, kind: str, where: str, default_speed, factor: float, defaults: dict | None = None) -> Series:
+    """One ``[[trim]]`` or ``[[derivative]]`` entry, checked (``defaults``: ``[validation]``'s
+    ``mass`` and ``altitude``)."""
     unknown = set(entry) - KEYS
     if unknown:
         raise ValidationError(f"{where}: unknown key(s) {', '.join(sorted(unknown))}; the keys are {', '.join(sorted(KEYS))}")
@@ -189,8 +275,10 @@ def series(entry: dict, kind: str, where: str, default_speed, factor: float) -> 
     if tol is not None and tol.relative is not None and (value == 0).any():
         raise ValidationError(f"{where} ({quantity}): a relative tolerance cannot judge the published value 0 at "
                               f"{speed[value == 0][0]:g}; give {{ absolute = x }} in {unit}")
+    given = {k: entry.get(k, (defaults or {}).get(k)) for k in CONDITIONS}
+    mass, altitude = (_condition(given[k], k, len(value), f"{where} ({quantity})") for k in ("mass", "altitude"))
     return Series(kind, quantity, unit, speed * factor, speed, value, unc, _text(entry, "source", where), tol,
-                  float(ours_factor), str(entry.get("note", "")))
+                  float(ours_factor), str(entry.get("note", "")), mass, altitude)
 
 
 def tolerance(raw, where: str) -> Tolerance | None:
@@ -206,7 +294,7 @@ def tolerance(raw, where: str) -> Tolerance | None:
     return Tolerance(**{key: float(value)})
 
 
-def eigen_set(entry: dict, where: str, factor: float) -> EigenSet:
+def eigen_set(entry: dict, where: str, factor: float, altitude: float | None = None) -> EigenSet:
     """One ``[[eigenvalues]]`` entry: ``speed``, ``value`` = list of ``[re, im]``, ``source``."""
     unknown = set(entry) - {"speed", "value", "source", "note"}
     if unknown:
@@ -219,7 +307,7 @@ def eigen_set(entry: dict, where: str, factor: float) -> EigenSet:
             isinstance(p, list) and len(p) == 2 and all(_is_number(x) for x in p) for p in pairs):
         raise ValidationError(f"{where}: value must be a list of [real, imaginary] pairs (1/s, rad/s)")
     return EigenSet(float(speed) * factor, float(speed), np.array([complex(*p) for p in pairs]),
-                    _text(entry, "source", where), str(entry.get("note", "")))
+                    _text(entry, "source", where), str(entry.get("note", "")), altitude)
 
 
 def eigen_tolerance(raw: dict, where: str) -> EigenTolerance:

@@ -22,6 +22,7 @@ class Point:
     trim: object
     derivatives: Derivatives | None = None
     problem: str = ""
+    condition: str = ""  # its mass and altitude where the data give them
 
     @property
     def ok(self) -> bool:
@@ -38,8 +39,11 @@ class Model:
     wall_s: float = 0.0
     controls: str = ""  # the conventions of the model's control angles and pilot controls, in words
 
-    def at(self, speed: float) -> Point:
-        return self.points[round(float(speed), 9)]
+    def at(self, speed: float, mass: float | None = None, altitude: float | None = None) -> Point:
+        """The point at ``speed`` (m/s) and, where the data give them, ``mass`` (kg) and ``altitude`` (m)."""
+        from mbs.validate.data import condition_key
+
+        return self.points[condition_key(speed, mass, altitude)]
 
 
 def scene_of(validation, aircraft=None, aero: str | None = None):
@@ -63,32 +67,64 @@ def scene_of(validation, aircraft=None, aero: str | None = None):
     return scene
 
 
-def run(scene, trim_speeds: list[float], derivative_speeds: list[float], method: str = "rk4",
+def run(scene, trim_speeds: list, derivative_speeds: list, method: str = "rk4",
         steps_per_rev: int | None = None, backend: str = "compiled", progress=None, check=None) -> Model:
-    """Trims at ``trim_speeds`` and derivatives at ``derivative_speeds`` (m/s) of ``scene``;
-    ``check(info)`` is called with the built system's description before the first trim."""
+    """Trims at ``trim_speeds`` and derivatives at ``derivative_speeds`` of ``scene``: speeds (m/s)
+    or flight conditions ``(speed m/s, mass kg or None, altitude m or None)``, a mass as a weight
+    added at the CG (the run-time ``payload``), an altitude in the ISA; ``check(info)`` is called
+    with the built system's description before the first trim."""
     import time
 
+    from mbs.analysis.fanplot import WithParameters
     from mbs.analysis.held import HeldStepper
     from mbs.analysis.period import periodic_scene
     from mbs.analysis.trim import evaluators, periodic_solution
+    from mbs.validate.compare import describe_condition
+    from mbs.validate.data import condition_key
 
+    trims, derivatives = ([_condition(c) for c in points] for points in (trim_speeds, derivative_speeds))
+    scene = _in_conditions(scene, trims + derivatives)
     start, scene = time.perf_counter(), periodic_scene(scene)  # the tail rotor at a ratio that repeats
     system, stepper = evaluators(scene, method, backend)
     if check is not None:
         check(system.info)
-    held = HeldStepper(scene.model(), method, backend) if derivative_speeds else None
-    speeds = sorted(set(trim_speeds) | set(derivative_speeds))
+    held = HeldStepper(scene.model(), method, backend) if derivatives else None
+    conditions = sorted(set(trims) | set(derivatives), key=lambda c: (c[0], c[1] or 0.0, c[2] or 0.0))
     out = Model(scene.name, scene.aircraft.name if scene.aircraft else "",
                 controls=controls_convention(scene.aircraft.data) if scene.aircraft else "")
-    for k, v in enumerate(speeds):
+    base = scene.aircraft.data["aircraft"]["mass"] if scene.aircraft else 0.0
+    for k, (v, mass, altitude) in enumerate(conditions):
+        values = {**({} if mass is None else {"payload": mass - base}),
+                  **({} if altitude is None else {"altitude": altitude})}
+        at = WithParameters(system, **values) if values else system
         sol = periodic_solution(scene, v, method=method, steps_per_rev=steps_per_rev, backend=backend,
-                                system=system, stepper=stepper)
-        out.points[round(v, 9)] = _point(v, sol, system, held, v in derivative_speeds, scene.aircraft)
+                                system=at, stepper=stepper)
+        point = _point(v, sol, at, held, (v, mass, altitude) in derivatives, scene.aircraft)
+        point.condition = describe_condition(mass, altitude)
+        out.points[condition_key(v, mass, altitude)] = point
         if progress:
-            progress(k + 1, len(speeds))
+            progress(k + 1, len(conditions))
     out.wall_s = time.perf_counter() - start
     return out
+
+
+def _condition(point) -> tuple:
+    """``(speed, mass, altitude)`` of a speed or a condition, rounded as the model's keys are."""
+    speed, mass, altitude = (point, None, None) if not isinstance(point, tuple) else point
+    return (round(float(speed), 9), None if mass is None else round(mass, 6),
+            None if altitude is None else round(altitude, 6))
+
+
+def _in_conditions(scene, conditions: list[tuple]):
+    """``scene`` with the run-time ``payload`` when a condition gives a mass and in the ISA when
+    one gives an altitude (ValueError: a scene without air)."""
+    from mbs.models.helicopter.air_options import environment_of_record
+
+    record = {**({"payload": 0.0} if any(c[1] is not None for c in conditions) else {}),
+              **({"atmosphere": "isa"} if any(c[2] is not None for c in conditions) else {})}
+    if record and scene.aircraft is None:
+        raise ValueError(f"scene {scene.name!r} has no aircraft: the points' mass and altitude need one")
+    return environment_of_record(scene, record)
 
 
 def controls_convention(d) -> str:

@@ -15,12 +15,12 @@ def lines(res) -> list[str]:
     """The human-readable report of :func:`mbs.validate.runner.validate`."""
     v = res.validation
     out = [f"{v.title}", f"  data: {v.path}", f"  model: {res.model.aircraft or 'default aircraft'}, scene {v.scene}; "
-           f"{len(res.model.points)} speeds in {res.model.wall_s:.1f} s",
+           f"{len(res.model.points)} flight conditions in {res.model.wall_s:.1f} s",
            *[f"  convention, {k}: {t}" for k, t in v.conventions.items()],
            *([f"  model's controls: {res.model.controls}"] if res.model.controls else []),
            *[f"  source {k}: {t}" for k, t in v.sources.items()]]
     problems = [p for p in res.model.points.values() if not p.ok]
-    out += [f"  at {p.speed:g} m/s: {p.problem}" for p in problems]
+    out += [f"  at {p.speed:g} m/s{', ' + p.condition if p.condition else ''}: {p.problem}" for p in problems]
     for s, rows in res.blocks:
         out += series_lines(s, rows, v)
     if res.pairs:
@@ -35,17 +35,21 @@ def series_lines(s, rows, v) -> list[str]:
         head.append(f"  model's value times {s.ours_factor:g}: {s.note}")
     elif s.note:
         head.append(f"  note: {s.note}")
+    if s.mass is not None or s.altitude is not None:
+        head.append("  each point at its mass (a weight at the CG) and ISA altitude as published; the aircraft file's "
+                    "where not given")
     head.append(f"  {'speed ' + v.speed_unit:>10s} {'ours':>11s} {'published':>11s} {'±':>8s} {'ours-pub':>11s} "
                 f"{'ours/pub':>9s}")
     return head + [_row_line(r) for r in rows]
 
 
 def _row_line(r) -> str:
+    at = f"  ({r.condition})" if r.condition else ""
     if r.problem:
-        return f"  {r.speed:10.4g} {'—':>11s} {r.published:+11.4g} {r.uncertainty:8.2g}  {r.problem}"
+        return f"  {r.speed:10.4g} {'—':>11s} {r.published:+11.4g} {r.uncertainty:8.2g}  {r.problem}{at}"
     ratio = f"{r.ratio:9.3f}" if math.isfinite(r.ratio) else " " * 9
     return (f"  {r.speed:10.4g} {r.ours:+11.4g} {r.published:+11.4g} {r.uncertainty:8.2g} {r.difference:+11.4g} "
-            f"{ratio} {MARK[r.within]}")
+            f"{ratio} {MARK[r.within]:3s}{at}").rstrip()
 
 
 def eigen_lines(pairs, tol: EigenTolerance, speed_unit: str) -> list[str]:

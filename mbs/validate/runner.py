@@ -39,12 +39,12 @@ def validate(validation: Validation, aircraft=None, aero: str | None = None, met
     """Compare the model (the scene of ``validation``, built with ``aircraft`` or the file's) with
     the published data of ``validation``."""
     scene = scene_of(validation, aircraft, aero)
-    model = run(scene, validation.speeds("trim"), validation.speeds("derivative", "eigenvalues"), method,
+    model = run(scene, validation.conditions("trim"), validation.conditions("derivative", "eigenvalues"), method,
                 steps_per_rev, backend, progress, check=lambda info: quantities.check(validation, info, scene.aircraft))
     out = Result(validation, model)
     for s in validation.series:
         out.blocks.append((s, compare.rows(s, model)))
     tol = validation.eigen_tolerance or EigenTolerance()
     for e in validation.eigenvalues:
-        out.pairs += eigen.pairs_at(e, model.at(e.speed), tol)
+        out.pairs += eigen.pairs_at(e, model.at(e.speed, altitude=e.altitude), tol)
     return out
