@@ -361,3 +361,22 @@ def test_curves_digitised_at_their_own_angles_are_read_as_printed(tmp_path):
             ('[-4, -6.2, -5.9, -6.0, -6.3]', '[-4, -6.2, -5.9, -6.0]', "rows of one length")):
         bad = aircraft.check(_with_section(tmp_path, OWN_ANGLES.replace(old, new), "bad.toml"))
         assert any(words in p for p in bad.problems), (words, bad.problems)
+
+
+def test_a_trim_beyond_a_tables_own_angles_warns_naming_the_table(tmp_path):
+    """The own-angle tables of OWN_ANGLES (drag -25..30 deg, pitch -20..22 deg, side force
+    -30..30 deg, lift -18..20 x -25..25 deg): a flight at alpha -24 deg warns for the pitch and
+    lift tables (not the drag's); one at beta +28 deg for the lift table only; level flight none."""
+    from mbs import aircraft
+    from mbs.models.helicopter.airframe_warnings import airframe_warnings
+
+    d = aircraft.load(_with_section(tmp_path, OWN_ANGLES, "own.toml")).data
+    level = {"fuselage.u": 40.0, "fuselage.v": 0.0, "fuselage.w": 1.0}
+    assert not any("fuselage tables" in w for w in airframe_warnings(level, d))
+    steep = {**level, "fuselage.w": 40.0 * np.tan(np.radians(-24.0))}
+    said = [w for w in airframe_warnings(steep, d) if "fuselage tables" in w]
+    assert len(said) == 2 and "fuselage_aero.pitch_alpha's own angles [-20, 22] deg" in said[0], said
+    assert "alpha -24.0 deg beyond fuselage_aero.lift_alpha_beta's own angles [-18, 20] deg" in said[1], said
+    sideslip = {**level, "fuselage.v": 40.0 * np.tan(np.radians(28.0))}
+    said = [w for w in airframe_warnings(sideslip, d) if "fuselage tables" in w]
+    assert len(said) == 1 and "beta +" in said[0] and "lift_alpha_beta's own angles [-25, 25] deg" in said[0], said

@@ -87,6 +87,25 @@ def _table_range(values: dict, d) -> list[str]:
             out.append(f"fuselage tables: {name} {np.degrees(angle):+.1f} deg beyond the breakpoints "
                        f"[{np.degrees(grid[0]):.4g}, {np.degrees(grid[-1]):.4g}] deg (fuselage_aero.{name}); the tables "
                        "are continued linearly there: give them over the range flown")
+    return out + _own_range(fa, angles)
+
+
+def _own_range(fa: dict, angles: dict) -> list[str]:
+    """Tables on their own angles (a curve digitised at its own points, a table on its own grid)
+    used beyond them."""
+    from mbs.aircraft.airframe_data import given
+
+    out = []
+    for key, table in given(fa).items():
+        own = table.get("breakpoints")
+        if own is None:
+            continue
+        names = key.partition("_")[2].split("_")
+        for name, grid in zip(names, own if isinstance(own, tuple) else (own,)):
+            if not grid[0] <= angles[name] <= grid[-1]:
+                out.append(f"fuselage tables: {name} {np.degrees(angles[name]):+.1f} deg beyond fuselage_aero.{key}'s own "
+                           f"angles [{np.degrees(grid[0]):.4g}, {np.degrees(grid[-1]):.4g}] deg; the table is "
+                           "continued linearly there: give it over the range flown")
     return out
 
 
