@@ -3,6 +3,9 @@ out of ground effect at ISA and ISA + 20 against its published figure, and the l
 from trims swept on Dask."""
 from __future__ import annotations
 
+import contextlib
+import io
+
 import numpy as np
 import pytest
 
@@ -63,3 +66,26 @@ def test_largest_level_speed_at_sea_level_and_lower_up_high():
     print({h: c.speed for h, c in res.items()})
     assert 65.0 < res[0.0].speed < 80.0
     assert res[1500.0].speed is None or res[1500.0].speed < res[0.0].speed
+
+
+def test_a_trim_needing_more_power_than_the_engines_make_warns():
+    """Hover at 2200 kg, ISA: at 3000 m the engines' 443 kW is within what they make; at 4500 m
+    the 471 kW required is beyond it, and the warning gives power_available there. In the file's
+    air the density altitude of its density is used (ISA's density inverted to 1e-6 m)."""
+    import json
+
+    from mbs.analysis.trim_checks import density_altitude
+    from mbs.cli import main
+
+    said = {}
+    for altitude in (3000.0, 4500.0):
+        out = io.StringIO()
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(io.StringIO()):
+            assert main(["trim", "--speed", "0", "--altitude", f"{altitude:g}", "--json", "--quiet"]) == 0
+        said[altitude] = [w for w in json.loads(out.getvalue())["warnings"] if w.startswith("engine.power")]
+    assert said[3000.0] == []
+    available = power_available(BO105, 4500.0) / 1e3
+    assert len(said[4500.0]) == 1 and f"more than the engines make available, {available:.1f} kW in ISA 4500 m" in \
+        said[4500.0][0], said
+    for h in (-500.0, 0.0, 2345.0, 11500.0):
+        assert density_altitude(isa.density(h)) == pytest.approx(h, abs=1e-6)

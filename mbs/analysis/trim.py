@@ -365,13 +365,19 @@ def periodic_solution(sc, speed: float | None = None, climb_rate: float = 0.0, m
         out.aircraft = sc.aircraft.name
         out.rotor = rotor_coefficients(sc.aircraft.data, out.thrust, out.speed, system.params(out.params))
         out.tail_thrust_coefficient = _tail_coefficients(sc.aircraft.data, out.output_means)
-        _pilot_figures(out, sc.aircraft.data)
+        _pilot_figures(out, sc.aircraft.data, _air(system, out.params))
     return out
 
 
-def _pilot_figures(out: Trim, d) -> None:
+def _air(system, params) -> dict:
+    """The ISA ``altitude`` and ``temperature_offset`` of a scene in the ISA ({} otherwise)."""
+    names = [q["name"] for q in system.info.parameters]
+    return {n: float(params[names.index(n)]) for n in ("altitude", "temperature_offset") if n in names}
+
+
+def _pilot_figures(out: Trim, d, air: dict | None = None) -> None:
     """The trim's controls in the aircraft's published conventions and, with a rigging, as pilot
-    positions; the warnings of :func:`mbs.analysis.trim_checks.warnings`."""
+    positions; the warnings of :func:`mbs.analysis.trim_checks.warnings` (``air``: its ISA)."""
     from mbs.aircraft import rigging
     from mbs.analysis.trim_checks import warnings
 
@@ -379,11 +385,11 @@ def _pilot_figures(out: Trim, d) -> None:
     rig = rigging.rigging(d)
     if rig is not None and all(k in out.controls for k in rigging.BLADE):
         si = rig.pilot(out.controls)
-        out.warnings = warnings(out, d, si)
+        out.warnings = warnings(out, d, si, air)
         out.pilot_units = {k: d.meta["controls"][k]["unit"] for k in si}
         out.pilot = {k: rig.in_file_unit(k, v, out.pilot_units[k]) for k, v in si.items()}
     else:
-        out.warnings = warnings(out, d)
+        out.warnings = warnings(out, d, air=air)
 
 
 def _tail_coefficients(d, means: dict) -> tuple[float, float, float] | None:

@@ -20,16 +20,49 @@ CONTROLS = {"collective": ("main_rotor", "collective"), "lateral_cyclic": ("main
             "longitudinal_cyclic": ("main_rotor", "longitudinal_cyclic"), "tail_collective": ("tail_rotor", "collective")}
 
 
-def warnings(res, d, pilot: dict | None = None) -> list[str]:
+def warnings(res, d, pilot: dict | None = None, air: dict | None = None) -> list[str]:
     """Every warning of the trim ``res`` (:class:`mbs.analysis.trim.Trim`) of the aircraft data ``d``;
-    ``pilot`` its pilot positions in SI (an aircraft with a rigging)."""
+    ``pilot`` its pilot positions in SI (an aircraft with a rigging); ``air`` its ISA ``altitude``
+    (m) and ``temperature_offset`` (K) when it flew in the ISA."""
     if not res.converged:
         return []
     from mbs.aircraft.checks import inertia_warnings
     from mbs.models.helicopter.airframe_warnings import trim_warnings
 
     return [*control_stops(res.controls, d), *pilot_stops(pilot or {}, d), *attitude(res, d), *trim_warnings(res, d),
-            *inertia_warnings(d)]
+            *power(res, d, air), *inertia_warnings(d)]
+
+
+def power(res, d, air: dict | None = None) -> list[str]:
+    """The engines' power beyond what they make available (their take-off ratings lapsed to the
+    trim's air, within the gearbox limit): an aircraft with turboshaft ratings only."""
+    from mbs.performance.available import power_available
+
+    needed = res.output_means.get("engine.power")
+    if needed is None or d["engine"].get("model") != "turboshaft":
+        return []
+    altitude, offset = (air or {}).get("altitude"), (air or {}).get("temperature_offset", 0.0)
+    where = f"ISA {altitude:g} m{f' {offset:+g} K' if offset else ''}"
+    if altitude is None:
+        altitude, offset = density_altitude(d["environment"]["rho"]), 0.0
+        where = f"the file's air (density altitude {altitude:.0f} m)"
+    available = power_available(d, altitude, offset)
+    if needed <= available:
+        return []
+    return [f"engine.power {needed / 1e3:.1f} kW is more than the engines make available, {available / 1e3:.1f} kW "
+            f"in {where} (engine.takeoff_power x count, lapsed, within engine.transmission_power): the aircraft "
+            "cannot hold this flight condition; check the mass, the air, or the engine data"]
+
+
+def density_altitude(rho: float) -> float:
+    """The ISA altitude (m) of the density ``rho`` (kg/m³), within the ISA's -1000..20000 m."""
+    from scipy.optimize import brentq
+
+    from mbs.environment import atmosphere as isa
+
+    low, high = -1000.0, 20000.0
+    rho = min(max(rho, isa.density(high)), isa.density(low))
+    return float(brentq(lambda h: isa.density(h) - rho, low, high, xtol=1e-6))
 
 
 def control_stops(controls: dict, d) -> list[str]:
