@@ -26,7 +26,8 @@ def problems(values: dict) -> list[str]:
     from mbs.aircraft.airframe_data import table_problems, tail_problems
 
     for check in (_inertia, _blades, _controls, _rotor_speed, _tail_hub, _airframe_mass, _tip_mach, _airframe_inertia,
-                  _rigging, _lag_damper, _airfoils, _polars, _distributions, _surface_tables, table_problems, tail_problems):
+                  _rigging, _lag_damper, _airfoils, _polars, _distributions, _surface_tables, table_problems,
+                  tail_problems):
         out += check(values)
     return out
 

@@ -267,9 +267,9 @@ def _surface_columns(unit: str, spec: Entry) -> tuple:
             continue
         dims = units.parse(text).dims if text not in ("-", "") else (0, 0, 0, 0)
         if dims not in ((2, 0, 0, 0), (0, 0, 0, 0)):
-            raise ValueError(f"unit {text!r} of a force column is {units.parse(text).describe()}; give - (a coefficient "
-                             "on the surface's area), an area (L/q, D/q: ft^2) or πR^2 (a coefficient on the main "
-                             "rotor's disc)")
+            raise ValueError(f"unit {text!r} of a force column is {units.parse(text).describe()}; give - (a "
+                             "coefficient on the surface's area), an area (L/q, D/q: ft^2) or πR^2 (a coefficient on "
+                             "the main rotor's disc)")
         bases.append("area" if dims == (2, 0, 0, 0) else None)
         columns.append(text)
     wanted = (spec.columns[0], *("m^2" if b == "area" else "-" for b in bases))

@@ -17,9 +17,9 @@
 Columns ``kind`` (trim, derivative, eigenvalue), ``quantity``, ``unit``, ``speed``, ``value``
 and ``source`` are required; ``imaginary``, ``uncertainty``, ``tolerance`` (``absolute x`` or
 ``relative x``), ``ours_factor``, ``note``, ``mass`` and ``altitude`` optional (a point's flight
-condition, in the units of the ``# mass_unit:`` and ``# altitude_unit:`` lines, default kg and m). Consecutive rows of the same kind,
-quantity, unit, source, tolerance, factor and note form one series (one speed each);
-eigenvalue rows of one speed form one set. The meaning of every field is that of the TOML form
+condition, in the units of the ``# mass_unit:`` and ``# altitude_unit:`` lines, default kg and m).
+Consecutive rows of the same kind, quantity, unit, source, tolerance, factor and note form one
+series (one speed each); eigenvalue rows of one speed form one set. The meaning of every field is that of the TOML form
 (:mod:`mbs.validate.data`).
 """
 from __future__ import annotations
@@ -104,8 +104,8 @@ def _row(raw: dict, row: dict, path: Path, n: int, width: int, cells: int) -> No
     speed, value = _number(row["speed"], path, n, "speed"), _number(row["value"], path, n, "value")
     if kind == "eigenvalue":
         if row.get("mass") or row.get("altitude"):
-            raise ValidationError(f"{path}: line {n}: an eigenvalue row takes no mass or altitude (the eigenvalues are at "
-                                  "the aircraft file's mass; an altitude for every point is the TOML form's "
+            raise ValidationError(f"{path}: line {n}: an eigenvalue row takes no mass or altitude (the eigenvalues "
+                                  "are at the aircraft file's mass; an altitude for every point is the TOML form's "
                                   "[validation] altitude)")
         imag = _number(row.get("imaginary") or "0", path, n, "imaginary")
         sets = raw.setdefault("eigenvalues", [])

@@ -68,7 +68,8 @@ def with_sampled_tables(aircraft, folder: Path):
     folder.mkdir(parents=True, exist_ok=True)
     for section in ("main_rotor", "tail_rotor"):
         sec = d[section]
-        section_airfoil = Airfoil(sec["lift_slope"], sec["cd0"], sec["cd2"], sec["alpha_stall"], sec["cd_stalled"], sec["cd1"])
+        section_airfoil = Airfoil(sec["lift_slope"], sec["cd0"], sec["cd2"], sec["alpha_stall"], sec["cd_stalled"],
+                                  sec["cd1"])
         comp = Compressibility(d["environment"]["speed_of_sound"], sec["mach_dd"], sec["mach_limit"])
         c81 = analytic_c81(section_airfoil, mach=MACH, compressibility=comp, name=f"{aircraft.key} {section}")
         (folder / f"{section}.c81").write_text(format_c81(c81.name, {c: c81.table(c) for c in COEFFICIENTS}))

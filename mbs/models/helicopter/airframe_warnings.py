@@ -103,8 +103,8 @@ def _own_range(fa: dict, angles: dict) -> list[str]:
         names = key.partition("_")[2].split("_")
         for name, grid in zip(names, own if isinstance(own, tuple) else (own,)):
             if not grid[0] <= angles[name] <= grid[-1]:
-                out.append(f"fuselage tables: {name} {np.degrees(angles[name]):+.1f} deg beyond fuselage_aero.{key}'s own "
-                           f"angles [{np.degrees(grid[0]):.4g}, {np.degrees(grid[-1]):.4g}] deg; the table is "
+                out.append(f"fuselage tables: {name} {np.degrees(angles[name]):+.1f} deg beyond fuselage_aero.{key}'s "
+                           f"own angles [{np.degrees(grid[0]):.4g}, {np.degrees(grid[-1]):.4g}] deg; the table is "
                            "continued linearly there: give it over the range flown")
     return out
 
