@@ -89,3 +89,12 @@ def test_a_trim_needing_more_power_than_the_engines_make_warns():
         said[4500.0][0], said
     for h in (-500.0, 0.0, 2345.0, 11500.0):
         assert density_altitude(isa.density(h)) == pytest.approx(h, abs=1e-6)
+    heavy = {**BO105, "environment": {**BO105["environment"], "rho": isa.density(4500.0)}}
+    from types import SimpleNamespace
+
+    from mbs.analysis.trim_checks import power
+
+    trim = SimpleNamespace(output_means={"engine.power": 471.1e3})
+    said = power(trim, heavy)  # the file's air, no ISA: at its density altitude
+    assert len(said) == 1 and "in the file's air (density altitude 4500 m)" in said[0], said
+    assert power(trim, BO105) == []

@@ -42,10 +42,11 @@ def power(res, d, air: dict | None = None) -> list[str]:
     if needed is None or d["engine"].get("model") != "turboshaft":
         return []
     altitude, offset = (air or {}).get("altitude"), (air or {}).get("temperature_offset", 0.0)
-    where = f"ISA {altitude:g} m{f' {offset:+g} K' if offset else ''}"
     if altitude is None:
         altitude, offset = density_altitude(d["environment"]["rho"]), 0.0
         where = f"the file's air (density altitude {altitude:.0f} m)"
+    else:
+        where = f"ISA {altitude:g} m{f' {offset:+g} K' if offset else ''}"
     available = power_available(d, altitude, offset)
     if needed <= available:
         return []
