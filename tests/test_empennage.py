@@ -103,6 +103,8 @@ def test_airframe_warnings_fire_where_they_should(tmp_path):
     assert any("horizontal tail: 17 m/s of main-rotor wake, more than" in w for w in airframe_warnings(strong, d))
     stalled = {**calm, "horizontal_tail.downwash": 0.0, "fuselage.w": 8.0}  # 22 deg nose-up flow at the tail
     assert any("horizontal tail: angle of attack" in w and "stall" in w for w in airframe_warnings(stalled, d))
+    still = {**calm, "fuselage.u": 0.0, "fuselage.w": 0.0, "horizontal_tail.downwash": 0.015, "fin.sidewash": 0.0}
+    assert not any("angle of attack" in w for w in airframe_warnings(still, d))  # hover, out of the wake: no flow
     from mbs.aircraft.template import with_polynomial_tables
 
     tables = aircraft.load(with_polynomial_tables("bo105", tmp_path)).data

@@ -45,10 +45,11 @@ def series_lines(s, rows, v) -> list[str]:
 
 def _row_line(r) -> str:
     at = f"  ({r.condition})" if r.condition else ""
+    unc = f"{r.uncertainty:8.2g}" if r.uncertainty else f"{'—':>8s}"  # not stated, not exact
     if r.problem:
-        return f"  {r.speed:10.4g} {'—':>11s} {r.published:+11.4g} {r.uncertainty:8.2g}  {r.problem}{at}"
+        return f"  {r.speed:10.4g} {'—':>11s} {r.published:+11.4g} {unc}  {r.problem}{at}"
     ratio = f"{r.ratio:9.3f}" if math.isfinite(r.ratio) else " " * 9
-    return (f"  {r.speed:10.4g} {r.ours:+11.4g} {r.published:+11.4g} {r.uncertainty:8.2g} {r.difference:+11.4g} "
+    return (f"  {r.speed:10.4g} {r.ours:+11.4g} {r.published:+11.4g} {unc} {r.difference:+11.4g} "
             f"{ratio} {MARK[r.within]:3s}{at}").rstrip()
 
 

@@ -39,10 +39,18 @@ def _wake(values: dict) -> list[str]:
     return out
 
 
+STILL_AIR = 1.0
+"""m/s: a surface in slower air than this (a tail out of the wake in hover) carries no load worth a
+warning, and its angle of attack means nothing."""
+
+
 def _stall(values: dict, d) -> list[str]:
     out = []
     for section, key, what in (("horizontal_tail", "horizontal_tail", "horizontal tail"), ("vertical_fin", "fin", "fin")):
-        alpha = values.get(f"{key}.alpha", _estimated_alpha(values, d, section))
+        alpha, speed = _estimated_flow(values, d, section)
+        alpha = values.get(f"{key}.alpha", alpha)
+        if speed is not None and speed < STILL_AIR:
+            continue
         table = d[section].get("coefficient_table")
         if table and alpha is not None and not table[0][0] <= alpha <= table[-1][0]:
             out.append(f"{what}: angle of attack {np.degrees(alpha):+.1f} deg beyond its coefficient table "
@@ -109,11 +117,11 @@ def _own_range(fa: dict, angles: dict) -> list[str]:
     return out
 
 
-def _estimated_alpha(values: dict, d, section: str):
-    """Angle of attack (rad) of a fixed surface from the trim's body velocity and the wake at it
-    (rates zero in a trim); None without the velocity."""
+def _estimated_flow(values: dict, d, section: str) -> tuple:
+    """Angle of attack (rad) and speed (m/s) of the air at a fixed surface from the trim's body
+    velocity and the wake at it (rates zero in a trim); (None, None) without the velocity."""
     if "fuselage.u" not in values or "fuselage.w" not in values:
-        return None
+        return None, None
     air = -np.array([values["fuselage.u"], values.get("fuselage.v", 0.0), values["fuselage.w"]])
     if section == "horizontal_tail":
         air[2] += values.get("horizontal_tail.downwash", 0.0)
@@ -123,4 +131,4 @@ def _estimated_alpha(values: dict, d, section: str):
         w_c, w_n = air[0], air[1]
     inc = d[section]["incidence"]
     w_c, w_n = np.cos(inc) * w_c + np.sin(inc) * w_n, -np.sin(inc) * w_c + np.cos(inc) * w_n
-    return 0.5 * np.arctan2(-2 * w_n * w_c, w_c**2 - w_n**2)
+    return 0.5 * np.arctan2(-2 * w_n * w_c, w_c**2 - w_n**2), float(np.hypot(w_c, w_n))
