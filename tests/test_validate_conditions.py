@@ -28,7 +28,8 @@ def test_points_read_in_the_reports_units_with_file_defaults(tmp_path):
     own = load(_file(tmp_path, POWER + 'altitude = { value = 1000, unit = "ft" }\n', "own.toml")).series[0]
     assert own.mass == pytest.approx([4850.2 * LB, 5511.6 * LB, 4850.2 * LB], rel=1e-14)
     assert own.altitude == pytest.approx([1000 * FT] * 3, rel=1e-14)
-    assert own.conditions()[1] == pytest.approx((40 * 1852 / 3600, 5511.6 * LB, 1000 * FT))
+    assert own.conditions()[1][:3] == pytest.approx((40 * 1852 / 3600, 5511.6 * LB, 1000 * FT))
+    assert own.conditions()[1][3] is None  # the aircraft file's CG
     path = tmp_path / "file.toml"
     path.write_text(HEAD.replace('speed_unit = "kt"\n', 'speed_unit = "kt"\naltitude = { value = 1000, unit = "ft" }\n')
                     + POWER)
@@ -44,7 +45,10 @@ def test_points_read_in_the_reports_units_with_file_defaults(tmp_path):
                            'altitude = { value = 0, unit = "m" }\n'),
      "altitude given for some points but not for main_rotor.power"),
     ('[[derivative]]\nquantity = "X_u"\nunit = "1/s"\nspeed = [40]\nvalue = [-0.02]\nsource = "FT"\n'
-     'mass = { value = 5000, unit = "lb" }\n', "mass applies to [[trim]] series"),
+     'mass = { value = 5000, unit = "lb" }\n', "mass and the CG apply to [[trim]] series"),
+    (POWER + 'cg_x = { value = 1, unit = "in" }\ncg_station = { value = 100, unit = "in" }\n',
+     "give the CG once, as cg_station or as cg_x"),
+    (POWER + 'cg_x = { value = 50, unit = "in" }\n', "cg_x 50 in is outside -1 to 1 m"),
 ])
 def test_a_bad_condition_is_refused_naming_it(tmp_path, text, words):
     with pytest.raises(ValidationError) as exc:
@@ -109,3 +113,65 @@ def test_each_point_trims_at_its_mass_and_altitude_as_the_aircraft_and_the_air_w
     rows = res.blocks[0][1]
     assert [r.condition for r in rows] == ["2200 kg, 0 m", f"{heavy:.6g} kg, 0 m", "2200 kg, 3000 m"]
     assert np.isfinite([r.ours for r in rows]).all()
+
+
+AXIS_ENTRIES = {("main_rotor", "hub_x"): "x", ("main_rotor", "hub_z"): "z", ("tail_rotor", "hub_x"): "x",
+                ("tail_rotor", "hub_y"): "y", ("tail_rotor", "hub_z"): "z", ("horizontal_tail", "x"): "x",
+                ("horizontal_tail", "z"): "z", ("vertical_fin", "x"): "x", ("vertical_fin", "z"): "z"}
+
+
+def _in_stations(tmp_path, cg_fs: float, name: str):
+    """The Bo105 with fuselage tables about the CG, every position written as its station (FS aft,
+    BL starboard, WL up; the CG at FS ``cg_fs``, BL 0, WL 0; m): moving cg_station moves the CG
+    and nothing else."""
+    import re
+
+    from mbs.aircraft.template import with_polynomial_tables
+
+    folder = tmp_path / name
+    folder.mkdir()
+    text = with_polynomial_tables("bo105", folder).read_text()
+    lines = text.splitlines()
+    section = ""
+    for i, line in enumerate(lines):
+        if line.startswith("["):
+            section = line.strip("[]")
+        key = line.split(" = ", 1)[0]
+        axis = AXIS_ENTRIES.get((section, key))
+        if axis:
+            x = float(re.search(r"value = (-?[0-9.]+)", line).group(1))
+            station = {"x": -x, "y": x, "z": -x}[axis]
+            lines[i] = f'{key} = {{ station = {station!r}, unit = "m", source = "test" }}'
+        elif section == "fuselage_aero" and key == "reference_point":
+            lines[i] = 'reference_point = { station = [0.0, 0.0, 0.0], unit = "m", source = "test" }'
+        elif section == "aircraft" and key == "mass":
+            lines[i] += f'\ncg_station = {{ value = [{cg_fs!r}, 0.0, 0.0], unit = "m", source = "test" }}'
+    path = folder / "bo105_stations.toml"
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def test_a_point_at_its_own_cg_trims_as_the_aircraft_with_that_cg(tmp_path):
+    """The Bo105 (positions as stations) at 30 m/s with the CG at FS 0 and 0.1 m forward (FS -0.1
+    m), one validation file: the forward-CG point trims to the controls and attitude of the
+    aircraft file with its CG moved there (to 0.005 deg, measured 0.0014: the weight's point moves,
+    the inertia stays), and the pitch differs from the mid CG's by more than 0.3 deg (0.49), nose
+    down."""
+    from mbs import aircraft, scenes
+    from mbs.analysis.trim import periodic_solution
+    from mbs.validate.runner import validate
+
+    base, forward = _in_stations(tmp_path, 0.0, "mid"), _in_stations(tmp_path, -0.1, "fwd")
+    assert aircraft.check(base).ok and aircraft.check(forward).ok
+    data = (f'[validation]\ntitle = "t"\naircraft = "{base}"\nspeed_unit = "m/s"\n'
+            '[[trim]]\nquantity = "pitch"\nunit = "deg"\nspeed = [30, 30]\nvalue = [0, 0]\nsource = "T"\n'
+            'cg_station = { value = [0, -100], unit = "mm" }\n')
+    (tmp_path / "cg.toml").write_text(data)
+    res = validate(load(tmp_path / "cg.toml"))
+    mid, fwd = res.model.at(30.0, cg_x=0.0).trim, res.model.at(30.0, cg_x=0.1).trim
+    want = periodic_solution(scenes.get("forward-flight", aircraft=aircraft.load(forward)), 30.0)
+    for k, value in want.controls.items():
+        assert math.degrees(abs(fwd.controls[k] - value)) < 0.005, (k, fwd.controls[k], value)
+    assert math.degrees(abs(fwd.pitch - want.pitch)) < 0.005 and math.degrees(abs(fwd.roll - want.roll)) < 0.005
+    assert math.degrees(mid.pitch - fwd.pitch) > 0.3, (mid.pitch, fwd.pitch)
+    assert [r.condition for r in res.blocks[0][1]] == ["CG +0 m", "CG +0.1 m"]

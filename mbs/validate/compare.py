@@ -36,24 +36,26 @@ def rows(series, model) -> list[Row]:
     """The rows of one :class:`mbs.validate.data.Series` against the model's points."""
     convert = None
     out = []
-    for (speed, mass, altitude), shown, pub, unc in zip(series.conditions(), series.shown_speed, series.value,
-                                                        series.uncertainty):
-        point = model.at(speed, mass, altitude)
+    for (speed, *condition), shown, pub, unc in zip(series.conditions(), series.shown_speed, series.value,
+                                                     series.uncertainty):
+        point = model.at(speed, *condition)
         value, problem = math.nan, point.problem
         if point.ok:
             si, si_unit = _value(series, point)
             convert = convert or converter(si_unit, series.unit, f"{series.kind} {series.quantity}")
             value = series.ours_factor * convert(si)
         row = _row(series, float(shown), value, float(pub), float(unc), problem)
-        row.condition = describe_condition(mass, altitude)
+        row.condition = describe_condition(*condition)
         out.append(row)
     return out
 
 
-def describe_condition(mass: float | None, altitude: float | None) -> str:
-    """``"2100 kg, 1500 m"`` of a point's given mass and altitude ("" without them)."""
+def describe_condition(mass: float | None, altitude: float | None, cg_x: float | None = None) -> str:
+    """``"2100 kg, 1500 m, CG +0.076 m"`` of a point's given mass, altitude and CG forward of the
+    aircraft file's ("" without them)."""
     return ", ".join(t for t in (None if mass is None else f"{mass:.6g} kg",
-                                 None if altitude is None else f"{altitude:.6g} m") if t)
+                                 None if altitude is None else f"{altitude:.6g} m",
+                                 None if cg_x is None else f"CG {cg_x:+.4g} m") if t)
 
 
 def _value(series, point) -> tuple[float, str]:

@@ -16,8 +16,9 @@
 
 Columns ``kind`` (trim, derivative, eigenvalue), ``quantity``, ``unit``, ``speed``, ``value``
 and ``source`` are required; ``imaginary``, ``uncertainty``, ``tolerance`` (``absolute x`` or
-``relative x``), ``ours_factor``, ``note``, ``mass`` and ``altitude`` optional (a point's flight
-condition, in the units of the ``# mass_unit:`` and ``# altitude_unit:`` lines, default kg and m).
+``relative x``), ``ours_factor``, ``note``, ``mass``, ``altitude``, ``cg_station`` and ``cg_x``
+optional (a point's flight condition, in the units of the ``# mass_unit:``, ``# altitude_unit:``,
+``# cg_station_unit:`` and ``# cg_x_unit:`` lines, default kg and m).
 Consecutive rows of the same kind, quantity, unit, source, tolerance, factor and note form one
 series (one speed each); eigenvalue rows of one speed form one set. The meaning of every field is that of the TOML form
 (:mod:`mbs.validate.data`).
@@ -30,8 +31,9 @@ from pathlib import Path
 from mbs.validate.data import ValidationError, from_dict
 
 REQUIRED = ("kind", "quantity", "unit", "speed", "value", "source")
-OPTIONAL = ("imaginary", "uncertainty", "tolerance", "ours_factor", "note", "mass", "altitude")
-HEAD_KEYS = ("title", "aircraft", "scene", "speed_unit", "mass_unit", "altitude_unit")
+CONDITIONS = {"mass": "kg", "altitude": "m", "cg_station": "m", "cg_x": "m"}
+OPTIONAL = ("imaginary", "uncertainty", "tolerance", "ours_factor", "note", *CONDITIONS)
+HEAD_KEYS = ("title", "aircraft", "scene", "speed_unit", *(f"{k}_unit" for k in CONDITIONS))
 
 
 def load_csv(path: Path) -> "Validation":  # noqa: F821
@@ -60,7 +62,7 @@ def load_csv(path: Path) -> "Validation":  # noqa: F821
                               + f"; the columns are {', '.join(REQUIRED + OPTIONAL)}")
     for (n, _), cells in zip(body[1:], reader):
         _row(raw, dict(zip(header, (c.strip() for c in cells))), path, n, len(header), len(cells))
-    condition_units = {k: raw["validation"].pop(f"{k}_unit", si) for k, si in (("mass", "kg"), ("altitude", "m"))}
+    condition_units = {k: raw["validation"].pop(f"{k}_unit", si) for k, si in CONDITIONS.items()}
     for kind in ("trim", "derivative"):
         for entry in raw.get(kind, []):
             del entry["_key"]
@@ -69,8 +71,8 @@ def load_csv(path: Path) -> "Validation":  # noqa: F821
 
 
 def _conditions(entry: dict, condition_units: dict, path: Path) -> None:
-    """A series' ``mass`` and ``altitude`` cells as the TOML form's ``{ value, unit }``: every
-    point's, or none."""
+    """A series' condition cells (mass, altitude, CG) as the TOML form's ``{ value, unit }``:
+    every point's, or none."""
     for key, unit in condition_units.items():
         cells = entry.pop(f"_{key}")
         given = [c for c in cells if c is not None]
@@ -103,10 +105,10 @@ def _row(raw: dict, row: dict, path: Path, n: int, width: int, cells: int) -> No
     kind = row["kind"]
     speed, value = _number(row["speed"], path, n, "speed"), _number(row["value"], path, n, "value")
     if kind == "eigenvalue":
-        if row.get("mass") or row.get("altitude"):
-            raise ValidationError(f"{path}: line {n}: an eigenvalue row takes no mass or altitude (the eigenvalues "
-                                  "are at the aircraft file's mass; an altitude for every point is the TOML form's "
-                                  "[validation] altitude)")
+        if any(row.get(k) for k in CONDITIONS):
+            raise ValidationError(f"{path}: line {n}: an eigenvalue row takes no flight condition (the eigenvalues "
+                                  "are at the aircraft file's mass and CG; an altitude for every point is the TOML "
+                                  "form's [validation] altitude)")
         imag = _number(row.get("imaginary") or "0", path, n, "imaginary")
         sets = raw.setdefault("eigenvalues", [])
         if not sets or sets[-1]["speed"] != speed or sets[-1]["source"] != row["source"]:
@@ -122,13 +124,13 @@ def _row(raw: dict, row: dict, path: Path, n: int, width: int, cells: int) -> No
     entries[-1]["speed"].append(speed)
     entries[-1]["value"].append(value)
     entries[-1]["uncertainty"].append(_number(row.get("uncertainty") or "0", path, n, "uncertainty"))
-    for key in ("mass", "altitude"):
+    for key in CONDITIONS:
         entries[-1][f"_{key}"].append(_number(row[key], path, n, key) if row.get(key) else None)
 
 
 def _series(key: dict, path: Path, n: int) -> dict:
     out = {"_key": key, "quantity": key["quantity"], "unit": key["unit"], "source": key["source"], "speed": [],
-           "value": [], "uncertainty": [], "_mass": [], "_altitude": []}
+           "value": [], "uncertainty": [], **{f"_{k}": [] for k in CONDITIONS}}
     if key["tolerance"]:
         word, _, number = key["tolerance"].partition(" ")
         out["tolerance"] = {word: _number(number, path, n, "tolerance")}

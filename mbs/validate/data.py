@@ -9,9 +9,10 @@ published data (axes, derivative normalisation, control angles and signs) and li
 * ``[[eigenvalues]]``: the published eigenvalues at one speed (``[re, im]`` pairs in 1/s, rad/s).
 
 Every series has ``quantity``, ``unit``, ``value`` (a list), ``source`` (a key of ``[sources]``
-or a text) and may have ``speed`` (default the file's ``[validation] speed``), ``mass`` and
-``altitude`` (the flight condition of each point, ``{ value = x or [x per point], unit = "lb" }``;
-defaults ``[validation] mass``, ``altitude``; without them the aircraft file's mass and air),
+or a text) and may have ``speed`` (default the file's ``[validation] speed``), ``mass``,
+``altitude`` and ``cg_station`` or ``cg_x`` (the flight condition of each point, ``{ value = x or
+[x per point], unit = "lb" }``; defaults in ``[validation]``; without them the aircraft file's
+mass, air and CG),
 ``uncertainty``
 (the reading or measurement error, in ``unit``), ``tolerance`` (``{ absolute = x }`` in
 ``unit`` or ``{ relative = x }``, a fraction; without it the series is shown, not checked),
@@ -72,21 +73,46 @@ class Series:
     note: str = ""
     mass: np.ndarray | None = None  # (n,) kg: each point's flight mass (None: the aircraft file's)
     altitude: np.ndarray | None = None  # (n,) m: each point's ISA pressure altitude (None: the file's air)
+    cg_x: np.ndarray | None = None  # (n,) m: each point's CG forward of the aircraft file's (None: the file's)
+    cg_station: np.ndarray | None = None  # (n,) m: the CG's fuselage station as published (:func:`resolve_cg`)
 
     def conditions(self) -> list[tuple]:
-        """Each point's flight condition ``(speed m/s, mass kg or None, altitude m or None)``."""
+        """Each point's flight condition ``(speed m/s, mass kg, altitude m, cg_x m)``, None where
+        the aircraft file's holds."""
+        if self.cg_station is not None:
+            raise ValueError("the CG's stations are not yet read against the aircraft file's (resolve_cg)")
         n = len(self.speed)
-        mass = [None] * n if self.mass is None else [float(m) for m in self.mass]
-        altitude = [None] * n if self.altitude is None else [float(h) for h in self.altitude]
-        return [(float(v), m, h) for v, m, h in zip(self.speed, mass, altitude)]
+        columns = [[None] * n if a is None else [float(x) for x in a] for a in (self.mass, self.altitude, self.cg_x)]
+        return [(float(v), *rest) for v, *rest in zip(self.speed, *columns)]
 
 
-def condition_key(speed: float, mass: float | None = None, altitude: float | None = None):
-    """The key of a model point: the speed (m/s, rounded) alone, or with its mass and altitude."""
-    if mass is None and altitude is None:
+def condition_key(speed: float, mass: float | None = None, altitude: float | None = None, cg_x: float | None = None):
+    """The key of a model point: the speed (m/s, rounded) alone, or with its mass, altitude and CG."""
+    if mass is None and altitude is None and cg_x is None:
         return round(float(speed), 9)
-    return (round(float(speed), 9), None if mass is None else round(mass, 6),
-            None if altitude is None else round(altitude, 6))
+    return (round(float(speed), 9), *(None if x is None else round(x, 6) for x in (mass, altitude, cg_x)))
+
+
+def resolve_cg(v: "Validation", d) -> "Validation":
+    """``v`` with each CG given as a fuselage station turned into ``cg_x`` (m forward of the
+    aircraft data ``d``'s CG: stations grow aft); ValidationError without ``aircraft.cg_station``."""
+    from dataclasses import replace
+
+    if not any(s.cg_station is not None for s in v.series):
+        return v
+    file_cg = d["aircraft"].get("cg_station", ())
+    if not len(file_cg):
+        raise ValidationError(f"{v.path}: a CG given as cg_station needs the aircraft file's aircraft.cg_station (its "
+                              "CG's stations); give cg_x (forward of the file's CG) instead")
+    series = [s if s.cg_station is None else replace(s, cg_x=file_cg[0] - s.cg_station, cg_station=None)
+              for s in v.series]
+    low, high = CONDITIONS["cg_x"][1:]
+    far = next((s for s in series if s.cg_x is not None and not ((low <= s.cg_x) & (s.cg_x <= high)).all()), None)
+    if far is not None:
+        x = far.cg_x[(far.cg_x < low) | (far.cg_x > high)][0]
+        raise ValidationError(f"{v.path}: {far.quantity}: a CG {x:+.3f} m from the aircraft file's (cg_station "
+                              f"{file_cg[0]:.4g} m) is more than {high:g} m away: check the stations' unit and datum")
+    return replace(v, series=series)
 
 
 @dataclass(frozen=True)
@@ -147,13 +173,13 @@ class Validation:
         (and of the eigenvalues when ``"eigenvalues"`` is one of them), as :func:`condition_key`
         rounds them."""
         found = [c for s in self.series if s.kind in kinds for c in s.conditions()]
-        found += [(e.speed, None, e.altitude) for e in self.eigenvalues] if "eigenvalues" in kinds else []
+        found += [(e.speed, None, e.altitude, None) for e in self.eigenvalues] if "eigenvalues" in kinds else []
         keys = {_full(condition_key(*c)): c for c in found}
-        return [keys[k] for k in sorted(keys, key=lambda k: (k[0], k[1] or 0.0, k[2] or 0.0))]
+        return [keys[k] for k in sorted(keys, key=lambda k: tuple(x or 0.0 for x in k))]
 
 
 def _full(key) -> tuple:
-    return key if isinstance(key, tuple) else (key, None, None)
+    return key if isinstance(key, tuple) else (key, None, None, None)
 
 
 def from_dict(raw: dict, path: Path) -> Validation:
@@ -169,7 +195,7 @@ def from_dict(raw: dict, path: Path) -> Validation:
     unknown = set(head) - {"title", "aircraft", "scene", "speed_unit", "speed", *CONDITIONS}
     if unknown:
         raise ValidationError(f"{path}: [validation]: unknown key(s) {', '.join(sorted(unknown))}; the keys are "
-                              "title, aircraft, scene, speed_unit, speed, mass, altitude")
+                              "title, aircraft, scene, speed_unit, speed, mass, altitude, cg_station, cg_x")
     default_speed = head.get("speed")
     defaults = {k: head[k] for k in CONDITIONS if k in head}
     for kind in KINDS:
@@ -179,7 +205,7 @@ def from_dict(raw: dict, path: Path) -> Validation:
     for k, entry in enumerate(raw.get("eigenvalues", [])):
         out.eigenvalues.append(eigen_set(entry, f"{path}: [[eigenvalues]] {k + 1}", factor,
                                          None if altitude is None else float(altitude[0])))
-    _condition_problems(out, path, "mass" in defaults)
+    _condition_problems(out, path, [k for k in ("mass", "cg_station", "cg_x") if k in defaults])
     if "eigenvalue_tolerance" in raw:
         out.eigen_tolerance = eigen_tolerance(raw["eigenvalue_tolerance"], f"{path}: [eigenvalue_tolerance]")
     unknown = set(raw) - {"validation", "conventions", "sources", "eigenvalue_tolerance", "eigenvalues", *KINDS}
@@ -203,13 +229,15 @@ def speed_factor(unit: str, where: str) -> float:
 
 
 KEYS = {"quantity", "unit", "value", "speed", "uncertainty", "tolerance", "source", "ours_factor", "note", "mass",
-        "altitude"}
-CONDITIONS = {"mass": ("kg", 1.0, 1e5), "altitude": ("m", -1000.0, 20000.0)}
-"""A point's flight condition: its SI unit and bounds (the ISA's altitudes, as ``--altitude``)."""
+        "altitude", "cg_station", "cg_x"}
+CONDITIONS = {"mass": ("kg", 1.0, 1e5), "altitude": ("m", -1000.0, 20000.0), "cg_station": ("m", -1e4, 1e4),
+              "cg_x": ("m", -1.0, 1.0)}
+"""A point's flight condition: its SI unit and bounds (the ISA's altitudes, as ``--altitude``; the
+CG within 1 m of the file's, the model's ``cg_x``)."""
 
 
 def _condition(raw, key: str, n: int, where: str) -> np.ndarray | None:
-    """``mass`` or ``altitude`` ``{ value = x or [n numbers], unit = "..." }`` as (n,) SI, or None."""
+    """A condition ``{ value = x or [n numbers], unit = "..." }`` as (n,) SI, or None."""
     if raw is None:
         return None
     si, low, high = CONDITIONS[key]
@@ -231,15 +259,21 @@ def _condition(raw, key: str, n: int, where: str) -> np.ndarray | None:
     return values
 
 
-def _condition_problems(v: "Validation", path: Path, file_mass: bool) -> None:
-    """A mass only on trims (the derivatives' mass and inertia are the aircraft file's), and an
-    altitude for every point or none (the ISA, or the aircraft file's air, for the whole file)."""
+def _condition_problems(v: "Validation", path: Path, file_only: list[str]) -> None:
+    """A mass or CG only on trims (the derivatives' mass and inertia are the aircraft file's), one
+    CG form per series, and an altitude for every point or none (the ISA, or the aircraft file's
+    air, for the whole file); ``file_only``: the trim-only conditions [validation] gives."""
     others = [s for s in v.series if s.kind != "trim"] + list(v.eigenvalues)
-    derived = next((s for s in v.series if s.kind != "trim" and s.mass is not None), None)
-    if derived is not None or (file_mass and others):
-        raise ValidationError(f"{path}: mass applies to [[trim]] series (a weight added at the CG); derivatives and "
-                              "eigenvalues take the aircraft file's mass and inertia: write an aircraft file at that "
-                              "mass (aircraft.mass)" + (f" ({derived.quantity})" if derived else ""))
+    trim_only = ("mass", "cg_station", "cg_x")
+    derived = next((s for s in v.series if s.kind != "trim" and any(getattr(s, k) is not None for k in trim_only)),
+                   None)
+    if derived is not None or (file_only and others):
+        raise ValidationError(f"{path}: mass and the CG apply to [[trim]] series (the weight's size and point); "
+                              "derivatives and eigenvalues take the aircraft file's mass, CG and inertia: write an "
+                              "aircraft file for that condition" + (f" ({derived.quantity})" if derived else ""))
+    both = next((s for s in v.series if s.cg_station is not None and s.cg_x is not None), None)
+    if both is not None:
+        raise ValidationError(f"{path}: {both.quantity}: give the CG once, as cg_station or as cg_x")
     given = [s.altitude is not None for s in v.series] + [e.altitude is not None for e in v.eigenvalues]
     if any(given) and not all(given):
         missing = next(s.quantity for s in v.series if s.altitude is None) if not all(given[:len(v.series)]) \
@@ -250,7 +284,7 @@ def _condition_problems(v: "Validation", path: Path, file_mass: bool) -> None:
 
 def series(entry: dict, kind: str, where: str, default_speed, factor: float, defaults: dict | None = None) -> Series:
     """One ``[[trim]]`` or ``[[derivative]]`` entry, checked (``defaults``: ``[validation]``'s
-    ``mass`` and ``altitude``)."""
+    conditions)."""
     unknown = set(entry) - KEYS
     if unknown:
         raise ValidationError(f"{where}: unknown key(s) {', '.join(sorted(unknown))}; the keys are {', '.join(sorted(KEYS))}")
@@ -276,9 +310,9 @@ def series(entry: dict, kind: str, where: str, default_speed, factor: float, def
         raise ValidationError(f"{where} ({quantity}): a relative tolerance cannot judge the published value 0 at "
                               f"{speed[value == 0][0]:g}; give {{ absolute = x }} in {unit}")
     given = {k: entry.get(k, (defaults or {}).get(k)) for k in CONDITIONS}
-    mass, altitude = (_condition(given[k], k, len(value), f"{where} ({quantity})") for k in ("mass", "altitude"))
+    read = {k: _condition(given[k], k, len(value), f"{where} ({quantity})") for k in CONDITIONS}
     return Series(kind, quantity, unit, speed * factor, speed, value, unc, _text(entry, "source", where), tol,
-                  float(ours_factor), str(entry.get("note", "")), mass, altitude)
+                  float(ours_factor), str(entry.get("note", "")), **read)
 
 
 def tolerance(raw, where: str) -> Tolerance | None:

@@ -39,11 +39,13 @@ class Model:
     wall_s: float = 0.0
     controls: str = ""  # the conventions of the model's control angles and pilot controls, in words
 
-    def at(self, speed: float, mass: float | None = None, altitude: float | None = None) -> Point:
-        """The point at ``speed`` (m/s) and, where the data give them, ``mass`` (kg) and ``altitude`` (m)."""
+    def at(self, speed: float, mass: float | None = None, altitude: float | None = None,
+           cg_x: float | None = None) -> Point:
+        """The point at ``speed`` (m/s) and, where the data give them, ``mass`` (kg), ``altitude``
+        (m) and ``cg_x`` (m forward of the aircraft file's CG)."""
         from mbs.validate.data import condition_key
 
-        return self.points[condition_key(speed, mass, altitude)]
+        return self.points[condition_key(speed, mass, altitude, cg_x)]
 
 
 def scene_of(validation, aircraft=None, aero: str | None = None):
@@ -70,9 +72,10 @@ def scene_of(validation, aircraft=None, aero: str | None = None):
 def run(scene, trim_speeds: list, derivative_speeds: list, method: str = "rk4",
         steps_per_rev: int | None = None, backend: str = "compiled", progress=None, check=None) -> Model:
     """Trims at ``trim_speeds`` and derivatives at ``derivative_speeds`` of ``scene``: speeds (m/s)
-    or flight conditions ``(speed m/s, mass kg or None, altitude m or None)``, a mass as a weight
-    added at the CG (the run-time ``payload``), an altitude in the ISA; ``check(info)`` is called
-    with the built system's description before the first trim."""
+    or flight conditions ``(speed m/s, mass kg, altitude m, cg_x m)`` (None: the aircraft file's),
+    a mass as a weight added at the CG (the run-time ``payload``), an altitude in the ISA, a CG
+    forward of the file's as the weight's point (``cg_x``); ``check(info)`` is called with the
+    built system's description before the first trim."""
     import time
 
     from mbs.analysis.fanplot import WithParameters
@@ -89,19 +92,19 @@ def run(scene, trim_speeds: list, derivative_speeds: list, method: str = "rk4",
     if check is not None:
         check(system.info)
     held = HeldStepper(scene.model(), method, backend) if derivatives else None
-    conditions = sorted(set(trims) | set(derivatives), key=lambda c: (c[0], c[1] or 0.0, c[2] or 0.0))
+    conditions = sorted(set(trims) | set(derivatives), key=lambda c: tuple(x or 0.0 for x in c))
     out = Model(scene.name, scene.aircraft.name if scene.aircraft else "",
                 controls=controls_convention(scene.aircraft.data) if scene.aircraft else "")
     base = scene.aircraft.data["aircraft"]["mass"] if scene.aircraft else 0.0
-    for k, (v, mass, altitude) in enumerate(conditions):
-        values = {**({} if mass is None else {"payload": mass - base}),
-                  **({} if altitude is None else {"altitude": altitude})}
+    for k, (v, mass, altitude, cg_x) in enumerate(conditions):
+        values = {name: value for name, value in (("payload", None if mass is None else mass - base),
+                                                  ("altitude", altitude), ("cg_x", cg_x)) if value is not None}
         at = WithParameters(system, **values) if values else system
         sol = periodic_solution(scene, v, method=method, steps_per_rev=steps_per_rev, backend=backend,
                                 system=at, stepper=stepper)
-        point = _point(v, sol, at, held, (v, mass, altitude) in derivatives, scene.aircraft)
-        point.condition = describe_condition(mass, altitude)
-        out.points[condition_key(v, mass, altitude)] = point
+        point = _point(v, sol, at, held, (v, mass, altitude, cg_x) in derivatives, scene.aircraft)
+        point.condition = describe_condition(mass, altitude, cg_x)
+        out.points[condition_key(v, mass, altitude, cg_x)] = point
         if progress:
             progress(k + 1, len(conditions))
     out.wall_s = time.perf_counter() - start
@@ -109,21 +112,22 @@ def run(scene, trim_speeds: list, derivative_speeds: list, method: str = "rk4",
 
 
 def _condition(point) -> tuple:
-    """``(speed, mass, altitude)`` of a speed or a condition, rounded as the model's keys are."""
-    speed, mass, altitude = (point, None, None) if not isinstance(point, tuple) else point
-    return (round(float(speed), 9), None if mass is None else round(mass, 6),
-            None if altitude is None else round(altitude, 6))
+    """``(speed, mass, altitude, cg_x)`` of a speed or a condition, rounded as the model's keys are."""
+    speed, *rest = (point,) if not isinstance(point, tuple) else point
+    rest = [*rest, None, None, None][:3]
+    return (round(float(speed), 9), *(None if x is None else round(x, 6) for x in rest))
 
 
 def _in_conditions(scene, conditions: list[tuple]):
-    """``scene`` with the run-time ``payload`` when a condition gives a mass and in the ISA when
-    one gives an altitude (ValueError: a scene without air)."""
+    """``scene`` with the run-time ``payload`` when a condition gives a mass, in the ISA when one
+    gives an altitude, with the CG's ``cg_x`` when one gives a CG (ValueError: a scene without air)."""
     from mbs.models.helicopter.air_options import environment_of_record
 
     record = {**({"payload": 0.0} if any(c[1] is not None for c in conditions) else {}),
-              **({"atmosphere": "isa"} if any(c[2] is not None for c in conditions) else {})}
+              **({"atmosphere": "isa"} if any(c[2] is not None for c in conditions) else {}),
+              **({"cg_shift": True} if any(c[3] is not None for c in conditions) else {})}
     if record and scene.aircraft is None:
-        raise ValueError(f"scene {scene.name!r} has no aircraft: the points' mass and altitude need one")
+        raise ValueError(f"scene {scene.name!r} has no aircraft: the points' mass, altitude and CG need one")
     return environment_of_record(scene, record)
 
 

@@ -35,9 +35,9 @@ def series_lines(s, rows, v) -> list[str]:
         head.append(f"  model's value times {s.ours_factor:g}: {s.note}")
     elif s.note:
         head.append(f"  note: {s.note}")
-    if s.mass is not None or s.altitude is not None:
-        head.append("  each point at its mass (a weight at the CG) and ISA altitude as published; the aircraft file's "
-                    "where not given")
+    if any(x is not None for x in (s.mass, s.altitude, s.cg_x)):
+        head.append("  each point at its mass (a weight at the CG), ISA altitude and CG (forward of the file's) as "
+                    "published; the aircraft file's where not given")
     head.append(f"  {'speed ' + v.speed_unit:>10s} {'ours':>11s} {'published':>11s} {'±':>8s} {'ours-pub':>11s} "
                 f"{'ours/pub':>9s}")
     return head + [_row_line(r) for r in rows]

@@ -31,7 +31,7 @@ def with_environment(scene, altitude: float | None = None, temperature_offset: f
 def environment_record(scene) -> dict:
     """The scene's air options as ``run.json`` records them (empty for the file's still air)."""
     keys = ("atmosphere", "altitude", "temperature_offset", "wind", "turbulence", "gust", "ground_effect", "height",
-            "payload")
+            "payload", "cg_shift")
     base = getattr(scene.builder, "config", Config())
     cfg = {k: scene.options.get(k, getattr(base, k)) for k in keys}
     return {} if cfg == {k: getattr(Config(), k) for k in keys} else cfg

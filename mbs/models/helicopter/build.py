@@ -11,7 +11,8 @@ from mbs.loads.rotorcraft import add_load_outputs
 from mbs.models.helicopter import frames as fr
 from mbs.models.helicopter.aero import add_airframe_aero, add_rotor_aero
 from mbs.models.helicopter.config import Config
-from mbs.models.helicopter.environment import add_air, add_height, add_payload, data_in_air, isa_defaults
+from mbs.models.helicopter.environment import (add_air, add_cg_shift, add_height, add_payload, data_in_air,
+                                               isa_defaults)
 from mbs.models.helicopter.estimate import TrimEstimate, estimate_trim
 from mbs.models.helicopter.outputs import add_outputs
 from mbs.models.helicopter.swashplate import add_actuator_inputs, add_elastic_links, add_swashplate_outputs
@@ -51,6 +52,7 @@ def build(cfg: Config = Config(), aircraft=None, name: str | None = None) -> Mod
     add_air(m, cfg, d)
     add_height(m, cfg)
     add_payload(m, d, cfg)
+    add_cg_shift(m, d, cfg)
     add_outputs(m, d, cfg)
     add_load_outputs(m, d, cfg)
     if cfg.swashplate:

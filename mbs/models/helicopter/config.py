@@ -51,7 +51,8 @@ class Config:
     turbulence_intensity: the default of the run-time ``turbulence_intensity`` (W20, m/s; None:
     moderate, 15.4 m/s). payload: None, or the default of the run-time ``payload`` (kg): weight
     added at the centre of gravity (a free fuselage; its inertia stays the file's: for trims
-    and performance at another mass).
+    and performance at another mass). cg_shift: the run-time ``cg_x``, ``cg_y`` (m): the weight
+    acting that far from the file's CG (for trims at another CG position).
     """
 
     fuselage: str = "free"
@@ -90,6 +91,7 @@ class Config:
     gust: bool = False
     turbulence_intensity: float | None = None
     payload: float | None = None
+    cg_shift: bool = False
 
     def __post_init__(self):
         from mbs.drivetrain import train

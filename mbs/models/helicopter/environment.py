@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import math
 
+import casadi as ca
+
 from mbs.environment import Air
 from mbs.environment import atmosphere as isa
 
@@ -36,6 +38,9 @@ def check(cfg) -> None:
     if cfg.payload is not None and not (cfg.fuselage == "free" and math.isfinite(cfg.payload)
                                         and abs(cfg.payload) <= PAYLOAD_LIMIT):
         raise ValueError(f"payload = {cfg.payload!r} kg: a weight on a free fuselage, within ±{PAYLOAD_LIMIT:g} kg")
+    if cfg.cg_shift and cfg.fuselage != "free":
+        raise ValueError("cg_shift moves the weight of a free fuselage; this scene's fuselage is "
+                         f"{cfg.fuselage!r}")
 
 
 def _check_motions(cfg) -> None:
@@ -77,6 +82,32 @@ def add_payload(m, d, cfg) -> None:
     m.add_parameter("payload", float(cfg.payload), "kg", "weight added at the centre of gravity (its inertia left "
                     "out: the aircraft's mass for trims and performance)", low=-PAYLOAD_LIMIT, high=PAYLOAD_LIMIT)
     m.add_force(PointForce("payload weight", "fuselage", [0.0, 0.0, lambda s: g * s.p["payload"]], frame="world"))
+CG_SHIFT_LIMIT = 1.0  # m
+
+
+def add_cg_shift(m, d, cfg) -> None:
+    """The run-time ``cg_x`` (m, forward) and ``cg_y`` (m, starboard): the aircraft's weight
+    (and the ``payload``'s) acting that far from the file's CG, as a torque ``r × W`` in body
+    axes. In a steady trim (no rotation, so no inertial loads beyond the rotor's vibration) that is
+    the CG moved there: every other load keeps its point on the airframe. The inertia stays the
+    file's."""
+    if not cfg.cg_shift:
+        return
+    from mbs.forces import BodyTorque
+
+    g, mass = d["environment"]["g"], d["aircraft"]["mass"]
+    for name, axis in (("cg_x", "forward"), ("cg_y", "starboard")):
+        m.add_parameter(name, 0.0, "m", f"the CG this far {axis} of the aircraft file's, for trims: the weight acts "
+                        "there (the inertia stays the file's)", low=-CG_SHIFT_LIMIT, high=CG_SHIFT_LIMIT)
+
+    def torque(s):
+        weight = g * (mass + (s.p["payload"] if cfg.payload is not None else 0.0))
+        down = ca.mtimes(s.body("fuselage").rotation.T, ca.DM([0.0, 0.0, 1.0])) * weight  # body components
+        return ca.cross(ca.vertcat(s.p["cg_x"], s.p["cg_y"], 0.0), down)
+
+    m.add_force(BodyTorque("weight at the shifted CG", "fuselage", torque))
+
+
 DEFAULT_HEIGHT = 100.0  # m: the default ground below a scene's start
 
 
