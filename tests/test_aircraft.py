@@ -258,6 +258,8 @@ def test_a_new_aircraft_from_the_template_loads_and_warns_until_filled_in(tmp_pa
                           for e in ENTRIES[s].values()) - 1  # all but the name
     assert cli.main(["aircraft", "check", str(path)]) == 0
     assert "still carry the template's Bo105 values" in capsys.readouterr().out
+    text = path.read_text()  # the CG's stations are offered once, in [aircraft]
+    assert text.count("cg_station = ") == 1 and "reference_station" not in text
 
 
 def test_the_templates_optional_blocks_load_when_uncommented(tmp_path, capsys):

@@ -37,6 +37,9 @@ EXAMPLES = {"airfoils": [[0.0, "root_airfoil.c81"], [0.85, "tip_airfoil.c81"]],
             "mass_table": [[0.05, 30.0], [0.2, 8.0], [1.0, 5.5]],
             "section_inertia_table": [[0.05, 0.005, 0.2, 0.2], [1.0, 0.0005, 0.03, 0.03]]}
 """What an optional entry without a value of the Bo105's looks like (written commented out)."""
+OLDER_FORMS = {("fuselage_aero", "reference_station"), ("fuselage_aero", "cg_station")}
+"""Entries still read but not offered: ``reference_point`` given as a station, with
+``aircraft.cg_station``, says the same once."""
 NEEDED_BY = {"elastic_blade": "the elastic-rotor scene's blades (elastic, 8 segments)",
              "swashplate": "the swashplate scenes, forward-flight-swashplate and forward-flight-actuators"}
 """What needs an optional section that the template writes commented out."""
@@ -50,6 +53,8 @@ def template(name: str, source: str = "TEMPLATE") -> str:
         values = base.get(section, {})
         lines = [f"[{section}]" + _optional(section)]
         for key, spec in entries.items():
+            if (section, key) in OLDER_FORMS:
+                continue
             value = name if key == "name" else values.get(key, spec.default)
             if key in EXAMPLES:
                 value = EXAMPLES[key]
