@@ -20,6 +20,7 @@ torque and the moment of the blades' weight about the shaft.
 """
 from __future__ import annotations
 
+import logging
 import re
 import time
 from dataclasses import dataclass, field
@@ -431,6 +432,10 @@ def _warm_start(sc, prob: ShootingProblem, flight: FlightPath, method: str, step
     near = periodic_scene(sc, max_revs=2)
     if near is sc:
         return z0
+    logging.getLogger(__name__).info(
+        "warm start: first a trim with the tail rotor at gear ratio %.8g (repeating within 2 revolutions), its "
+        "own model, then at %.8g", near.aircraft.data["tail_rotor"]["gear_ratio"],
+        sc.aircraft.data["tail_rotor"]["gear_ratio"])
     sol = periodic_solution(near, prob.speed, flight.climb_rate, method, steps_per_rev, backend, tol, max_iterations,
                             turn_rate=flight.turn_rate, bank=flight.bank)
     if not sol.converged:
