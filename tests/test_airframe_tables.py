@@ -380,3 +380,32 @@ def test_a_trim_beyond_a_tables_own_angles_warns_naming_the_table(tmp_path):
     sideslip = {**level, "fuselage.v": 40.0 * np.tan(np.radians(28.0))}
     said = [w for w in airframe_warnings(sideslip, d) if "fuselage tables" in w]
     assert len(said) == 1 and "beta +" in said[0] and "lift_alpha_beta's own angles [-25, 25] deg" in said[0], said
+
+
+def test_a_law_printed_with_functions_of_the_angle_is_the_law_at_the_breakpoints(tmp_path):
+    """``D/q = 33 + 12 sin²α`` (ft²) and ``N/q = -900 sin β cos β`` (ft³) written as printed with
+    ``law = "expression"`` load as the tables of their values at the breakpoints (to 1e-12); the
+    check lists the law; an unknown name, another function, an attribute and a law on a
+    two-argument table are refused, each named."""
+    from mbs import aircraft
+    from mbs.aircraft.airframe_data import fuselage_table
+
+    law = WIND_SECTION.replace('drag_alpha = { value = [40.1, 35.2, 33.0, 35.9, 42.4], unit = "ft^2"',
+                               'drag_alpha = { value = "33 + 12*sin(α)^2", law = "expression", unit = "ft^2"')
+    law += 'yaw_beta = { value = "-900 * sin(beta) * cos(beta)", law = "expression", unit = "ft^3", source = "R1" }\n'
+    grid_a, grid_b = np.radians([-20, -10, 0, 10, 20]), np.radians([-20, 0, 20])
+    plain = WIND_SECTION.replace("[40.1, 35.2, 33.0, 35.9, 42.4]", str((33 + 12 * np.sin(grid_a) ** 2).tolist()))
+    plain += f'yaw_beta = {{ value = {(-900 * np.sin(grid_b) * np.cos(grid_b)).tolist()}, unit = "ft^3", source = "R1" }}\n'
+    tables = [fuselage_table(aircraft.load(_with_section(tmp_path, s, n)).data)
+              for s, n in ((law, "law.toml"), (plain, "plain.toml"))]
+    _assert_same_loads(tables, 1e-12)
+    how = {r[0]: r[3] for r in aircraft.check(_with_section(tmp_path, law, "law.toml")).converted}
+    assert how["fuselage_aero.drag_alpha"].startswith("the law '33 + 12*sin(α)^2' ft^2 in alpha (rad)")
+    for old, new, words in (("sin(α)^2", "sin(gamma)^2", "'gamma' is not known; the law may use alpha (rad), pi"),
+                            ("sin(α)^2", "np.sin(alpha)", "a call of one argument to sin, cos, tan, exp, sqrt, abs"),
+                            ("sin(α)^2", "alpha.real", "Attribute is not accepted"),
+                            ("-900 * sin(beta)", "-900 * sin(alpha)", "'alpha' is not known; the law may use beta"),
+                            ("lift_alpha_beta = { value", 'lift_alpha_beta = { law = "expression", value',
+                             'law = "expression" applies to a fuselage_aero table in alpha or in beta only')):
+        report = aircraft.check(_with_section(tmp_path, law.replace(old, new), "bad.toml"))
+        assert any(words in p for p in report.problems), (words, report.problems)

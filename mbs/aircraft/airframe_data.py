@@ -128,9 +128,26 @@ def read_polynomial(value, unit: str, spec) -> dict:
     return {"form": base["form"], "unit": str(unit), "coefficients": coefficients}
 
 
+def read_expression(value, unit: str, spec, angle: str) -> dict:
+    """A one-argument component table printed as a law in its ``angle`` (rad), ``value`` the law's
+    text (:mod:`mbs.aircraft.laws`), ``unit`` its value's (read as :func:`read_lookup` reads one
+    value): ``{"form", "unit", "expression", "factor"}``; :func:`at_breakpoints` values it."""
+    from mbs.aircraft import laws
+
+    laws.parse(value, angle)
+    base = read_lookup([1.0], unit, spec)
+    return {"form": base["form"], "unit": str(unit), "expression": value, "factor": base["values"][0], "angle": angle}
+
+
 def at_breakpoints(table: dict, breakpoints) -> dict:
-    """``table`` of :func:`read_polynomial` with its ``values`` at ``breakpoints`` (rad)."""
+    """``table`` of :func:`read_polynomial` or :func:`read_expression` with its ``values`` at
+    ``breakpoints`` (rad)."""
     x = np.asarray(breakpoints, dtype=float)
+    if "expression" in table:
+        from mbs.aircraft import laws
+
+        values = table["factor"] * laws.value(laws.parse(table["expression"], table["angle"]), table["angle"], x)
+        return {**table, "values": values.tolist()}
     return {**table, "values": np.polynomial.polynomial.polyval(x, table["coefficients"]).tolist()}
 
 
@@ -295,6 +312,8 @@ def converted(data) -> list[tuple]:
         factor = scale(fa, key, rho)
         law = (f"the polynomial {meta[key]['value']} {table['unit']} in {key.partition('_')[2]} (rad) at its "
                "breakpoints; ") if "coefficients" in table else ""
+        if "expression" in table:
+            law = f"the law {table['expression']!r} {table['unit']} in {table['angle']} (rad) at its breakpoints; "
         if "breakpoints" in table:
             own = table["breakpoints"] if isinstance(table["breakpoints"], tuple) else (table["breakpoints"],)
             law = "at its own " + " and ".join(f"{a} {[float(f'{b:.6g}') for b in grid]}" for a, grid in

@@ -112,7 +112,7 @@ def _entry(out: Reading, section: str, key: str, entry, base: Path | None = None
         if key == "coefficient_table" and unit is not None:
             unit, spec, bases = _surface_columns(unit, spec)
         value = (airfoil_segments(entry["value"], unit, base) if spec.kind == "airfoils"
-                 else _polynomial(entry["value"], unit, spec) if "law" in entry
+                 else _polynomial(entry["value"], unit, spec, entry["law"], key) if "law" in entry
                  else convert(entry["value"], unit, replace(spec, columns=("m", *spec.columns[1:])) if radial and
                               spec.kind == "table" else spec))
     except ValueError as exc:
@@ -376,27 +376,36 @@ def _law(entry: dict, key: str, spec) -> str | None:
     """A table printed as a law in its angle: ``law = "polynomial"`` on a one-argument fuselage table."""
     if "law" not in entry:
         return None
-    if entry["law"] != "polynomial":
-        return f"law {entry['law']!r} is not known; the one law is \"polynomial\" (coefficients of the angle^0, ^1 ...)"
+    if entry["law"] not in LAWS:
+        return (f"law {entry['law']!r} is not known; the laws are \"polynomial\" (coefficients of the angle^0, ^1 ...) "
+                "and \"expression\" (the law as printed, e.g. \"12.5 + 30.2*sin(alpha)^2\")")
     if spec is None or spec.kind != "lookup" or key.endswith("alpha_beta"):
-        return "law = \"polynomial\" applies to a fuselage_aero table in alpha or in beta only"
+        return f"law = \"{entry['law']}\" applies to a fuselage_aero table in alpha or in beta only"
     return None
 
 
-def _polynomial(value, unit, spec: Entry) -> dict:
+LAWS = ("polynomial", "expression")
+
+
+def _polynomial(value, unit, spec: Entry, law: str = "polynomial", key: str = "") -> dict:
+    from mbs.aircraft import airframe_data
+
+    if law == "expression":
+        if unit is None:
+            raise ValueError("no unit: give the unit of the law's value, e.g. unit = \"ft^2\"")
+        return airframe_data.read_expression(value, unit, spec, key.rpartition("_")[2])
     if unit is None:
         raise ValueError("no unit: give one unit per coefficient, e.g. unit = \"ft^3, ft^3/rad\"")
-    from mbs.aircraft import airframe_data
     return airframe_data.read_polynomial(value, unit, spec)
 
 
 def _laws(out: Reading) -> None:
-    """Tables printed as a polynomial in their angle, valued at the section's breakpoints (rad)."""
+    """Tables printed as a law in their angle, valued at the section's breakpoints (rad)."""
     from mbs.aircraft import airframe_data
 
     section = out.values.get("fuselage_aero", {})
     for key, table in section.items():
-        if isinstance(table, dict) and "coefficients" in table:
+        if isinstance(table, dict) and ("coefficients" in table or "expression" in table):
             breakpoints = section.get(key.rpartition("_")[2], [])
             section[key] = airframe_data.at_breakpoints(table, breakpoints)
 
