@@ -175,3 +175,27 @@ def test_a_point_at_its_own_cg_trims_as_the_aircraft_with_that_cg(tmp_path):
     assert math.degrees(abs(fwd.pitch - want.pitch)) < 0.005 and math.degrees(abs(fwd.roll - want.roll)) < 0.005
     assert math.degrees(mid.pitch - fwd.pitch) > 0.3, (mid.pitch, fwd.pitch)
     assert [r.condition for r in res.blocks[0][1]] == ["CG +0 m", "CG +0.1 m"]
+
+
+def test_the_chart_shows_the_model_at_every_points_condition():
+    """Three points at one speed and three CGs: the chart's model marks all three values (a line
+    through speeds kept only one of them); points without conditions keep the line."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from mbs.validate import charts
+    from mbs.validate.compare import Row
+
+    def row(ours, condition=""):
+        return Row("trim", "pitch", "deg", 0.0, ours, 1.0, 0.0, ours - 1.0, ours, None, "T", "", condition)
+
+    fig, ax = plt.subplots()
+    charts._model(ax, [row(0.5, "CG +0.076 m"), row(2.2, "CG +0 m"), row(4.4, "CG -0.1 m")], "")
+    (line,) = ax.get_lines()
+    assert sorted(line.get_ydata()) == [0.5, 2.2, 4.4] and line.get_linestyle() == "None"
+    ax.clear()
+    charts._model(ax, [row(0.5), row(2.2)], "")
+    assert len(ax.get_lines()[0].get_ydata()) == 1  # one speed: the plain line's one point
+    plt.close(fig)

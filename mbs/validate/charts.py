@@ -61,9 +61,7 @@ def series_chart(blocks, res, path: Path, kind: str) -> Path:
         for k, (s, rows) in enumerate(group):
             _published(ax, s, rows, MARKERS[k % len(MARKERS)])
         s = group[0][0]
-        ours = sorted({r.speed: r.ours for _, rows in group for r in rows}.items())
-        ax.plot([x for x, _ in ours], [y for _, y in ours], "-", marker=".", color="tab:red", lw=1.3,
-                label="model" + ("" if s.ours_factor == 1 else f" × {s.ours_factor:g}"))
+        _model(ax, [r for _, rows in group for r in rows], "" if s.ours_factor == 1 else f" × {s.ours_factor:g}")
         ax.set_title(f"{s.quantity}", fontsize=9)
         ax.set_xlim(min(speeds) - pad, max(speeds) + pad)  # one speed axis for every panel
         ax.set_xlabel(f"speed ({v.speed_unit})", fontsize=8)
@@ -72,6 +70,17 @@ def series_chart(blocks, res, path: Path, kind: str) -> Path:
         ax.grid(alpha=0.3)
         ax.legend(fontsize=6, loc="best")
     return _save(fig, plt, path, f"{v.title}: {kind}s, model against published", v)
+
+
+def _model(ax, rows, factor: str) -> None:
+    """The model's values of a panel: a line through its speeds, or, when the points have flight
+    conditions of their own (several at one speed), a cross at each point."""
+    if any(r.condition for r in rows):
+        ax.plot([r.speed for r in rows], [r.ours for r in rows], "x", color="tab:red", ms=5,
+                label=f"model{factor} (at each point's condition)")
+        return
+    ours = sorted({r.speed: r.ours for r in rows}.items())
+    ax.plot([x for x, _ in ours], [y for _, y in ours], "-", marker=".", color="tab:red", lw=1.3, label=f"model{factor}")
 
 
 def _published(ax, s, rows, marker: str) -> None:
