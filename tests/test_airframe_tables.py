@@ -385,8 +385,8 @@ def test_a_trim_beyond_a_tables_own_angles_warns_naming_the_table(tmp_path):
 def test_a_law_printed_with_functions_of_the_angle_is_the_law_at_the_breakpoints(tmp_path):
     """``D/q = 33 + 12 sin²α`` (ft²) and ``N/q = -900 sin β cos β`` (ft³) written as printed with
     ``law = "expression"`` load as the tables of their values at the breakpoints (to 1e-12); the
-    check lists the law; an unknown name, another function, an attribute and a law on a
-    two-argument table are refused, each named."""
+    check lists the law; an unknown name, another function, an attribute, a law infinite at a
+    breakpoint and a law on a two-argument table are refused, each named."""
     from mbs import aircraft
     from mbs.aircraft.airframe_data import fuselage_table
 
@@ -404,6 +404,7 @@ def test_a_law_printed_with_functions_of_the_angle_is_the_law_at_the_breakpoints
     for old, new, words in (("sin(α)^2", "sin(gamma)^2", "'gamma' is not known; the law may use alpha (rad), pi"),
                             ("sin(α)^2", "np.sin(alpha)", "a call of one argument to sin, cos, tan, exp, sqrt, abs"),
                             ("sin(α)^2", "alpha.real", "Attribute is not accepted"),
+                            ("12*sin(α)^2", "12/sin(α)", "the law '33 + 12/sin(α)' is not finite at alpha = 0 deg"),
                             ("-900 * sin(beta)", "-900 * sin(alpha)", "'alpha' is not known; the law may use beta"),
                             ("lift_alpha_beta = { value", 'lift_alpha_beta = { law = "expression", value',
                              'law = "expression" applies to a fuselage_aero table in alpha or in beta only')):

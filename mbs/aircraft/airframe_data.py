@@ -146,7 +146,12 @@ def at_breakpoints(table: dict, breakpoints) -> dict:
     if "expression" in table:
         from mbs.aircraft import laws
 
-        values = table["factor"] * laws.value(laws.parse(table["expression"], table["angle"]), table["angle"], x)
+        with np.errstate(all="ignore"):
+            values = table["factor"] * laws.value(laws.parse(table["expression"], table["angle"]), table["angle"], x)
+        bad = ~np.isfinite(values)
+        if bad.any():
+            raise ValueError(f"the law {table['expression']!r} is not finite at {table['angle']} = "
+                             f"{np.degrees(x[bad][0]):.6g} deg, a breakpoint; write it so that it is")
         return {**table, "values": values.tolist()}
     return {**table, "values": np.polynomial.polynomial.polyval(x, table["coefficients"]).tolist()}
 

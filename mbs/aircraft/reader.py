@@ -407,7 +407,10 @@ def _laws(out: Reading) -> None:
     for key, table in section.items():
         if isinstance(table, dict) and ("coefficients" in table or "expression" in table):
             breakpoints = section.get(key.rpartition("_")[2], [])
-            section[key] = airframe_data.at_breakpoints(table, breakpoints)
+            try:
+                section[key] = airframe_data.at_breakpoints(table, breakpoints)
+            except ValueError as exc:
+                out.problems.append(f"fuselage_aero.{key}: {exc}")
 
 
 def _override(entry: dict, derived) -> str | None:
