@@ -26,7 +26,7 @@ class Row:
     within: bool | None
     source: str
     problem: str = ""
-    condition: str = ""  # the point's mass and altitude where the data give them ("2100 kg, 1500 m")
+    condition: str = ""  # the point's mass, altitude and CG where the data give them ("2100 kg, 1500 m")
 
     def summary(self) -> dict:
         return {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in asdict(self).items()}

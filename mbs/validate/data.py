@@ -12,10 +12,9 @@ Every series has ``quantity``, ``unit``, ``value`` (a list), ``source`` (a key o
 or a text) and may have ``speed`` (default the file's ``[validation] speed``), ``mass``,
 ``altitude`` and ``cg_station`` or ``cg_x`` (the flight condition of each point, ``{ value = x or
 [x per point], unit = "lb" }``; defaults in ``[validation]``; without them the aircraft file's
-mass, air and CG),
-``uncertainty``
-(the reading or measurement error, in ``unit``), ``tolerance`` (``{ absolute = x }`` in
-``unit`` or ``{ relative = x }``, a fraction; without it the series is shown, not checked),
+mass, air and CG), ``uncertainty`` (the reading or measurement error, in ``unit``),
+``tolerance`` (``{ absolute = x }`` in ``unit`` or ``{ relative = x }``, a fraction; without it
+the series is shown, not checked),
 ``ours_factor`` (the model's value is multiplied by it before the comparison: a sign convention
 that differs, stated in ``note``) and ``note``. Speeds are in ``[validation] speed_unit``.
 The CSV form (:mod:`mbs.validate.csvdata`) carries the same information, one point a row.
@@ -169,7 +168,7 @@ class Validation:
         return sorted({round(float(v), 9) for v in found})
 
     def conditions(self, *kinds: str) -> list[tuple]:
-        """The distinct flight conditions ``(speed, mass, altitude)`` of the series of ``kinds``
+        """The distinct flight conditions ``(speed, mass, altitude, cg_x)`` of the series of ``kinds``
         (and of the eigenvalues when ``"eigenvalues"`` is one of them), as :func:`condition_key`
         rounds them."""
         found = [c for s in self.series if s.kind in kinds for c in s.conditions()]

@@ -22,7 +22,7 @@ class Point:
     trim: object
     derivatives: Derivatives | None = None
     problem: str = ""
-    condition: str = ""  # its mass and altitude where the data give them
+    condition: str = ""  # its mass, altitude and CG where the data give them
 
     @property
     def ok(self) -> bool:
