@@ -295,19 +295,18 @@ def _beyond_range(system, speed: float, aircraft) -> str:
 
 
 def _at_stops(system, lay: TrimLayout, z) -> str:
-    """A note naming the controls at (within 1 % of) a range's end at the last iterate ``z`` of a
-    failed trim (the trim likely needs more than the range), or ""."""
-    from mbs.analysis.trim_checks import CONTROLS
+    """A note naming the controls at (within :data:`mbs.analysis.trim_checks.STOP_MARGIN` of) a
+    range's end at the last iterate ``z`` of a failed trim (the trim likely needs more than the
+    range), or ""."""
+    from mbs.analysis.trim_checks import CONTROLS, near_stop
 
     out = []
     for i, name, value in zip(lay.controls, lay.control_names, z):
         q = system.info.parameters[i]
-        low, high = q.get("low", -np.inf), q.get("high", np.inf)
-        margin = 0.01 * (high - low)
-        if value <= low + margin or value >= high - margin:
-            end = "low" if value <= low + margin else "high"
-            entry = CONTROLS.get(name)
-            entry = f" ({entry[0]}.{entry[1]}_{'min' if end == 'low' else 'max'})" if entry else ""
+        stop = near_stop(value, q.get("low", -np.inf), q.get("high", np.inf))
+        if stop:
+            end = {"min": "low", "max": "high"}[stop]
+            entry = f" ({CONTROLS[name][0]}.{CONTROLS[name][1]}_{stop})" if name in CONTROLS else ""
             out.append(f"{name} = {value:.4f} rad at its {end} stop {q[end]:g} rad{entry}")
     return (f"; at the last iterate {', '.join(out)}: the trim likely needs more than the control's range; widen "
             "the range if the aircraft has it, or check the flight condition") if out else ""

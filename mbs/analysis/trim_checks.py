@@ -66,6 +66,15 @@ def density_altitude(rho: float) -> float:
     return float(brentq(lambda h: isa.density(h) - rho, low, high, xtol=1e-6))
 
 
+def near_stop(value: float, low: float, high: float) -> str | None:
+    """"min" or "max": the end of the range [low, high] that ``value`` is at or within
+    :data:`STOP_MARGIN` of (or beyond); None inside, or for a range without two ends."""
+    if not np.isfinite(high - low):
+        return None
+    margin = STOP_MARGIN * (high - low)
+    return "min" if value <= low + margin else "max" if value >= high - margin else None
+
+
 def control_stops(controls: dict, d) -> list[str]:
     """Blade-angle controls at or within :data:`STOP_MARGIN` of their ranges' ends."""
     out = []
@@ -73,10 +82,9 @@ def control_stops(controls: dict, d) -> list[str]:
         if name not in CONTROLS:
             continue
         section, key = CONTROLS[name]
-        low, high = d[section][f"{key}_min"], d[section][f"{key}_max"]
-        margin = STOP_MARGIN * (high - low)
-        if value <= low + margin or value >= high - margin:
-            end = f"{section}.{key}_min" if value <= low + margin else f"{section}.{key}_max"
+        stop = near_stop(value, d[section][f"{key}_min"], d[section][f"{key}_max"])
+        if stop:
+            end = f"{section}.{key}_{stop}"
             out.append(f"{name} = {np.degrees(value):.3f} deg is at its stop {end} = {np.degrees(d[section][end.split('.')[1]]):.3f} "
                        "deg: the trim holds only at the limit of control; check the range, or the flight condition")
     return out
