@@ -36,6 +36,7 @@ def warnings(res, d, pilot: dict | None = None, air: dict | None = None) -> list
 def power(res, d, air: dict | None = None) -> list[str]:
     """The engines' power beyond what they make available (their take-off ratings lapsed to the
     trim's air, within the gearbox limit): an aircraft with turboshaft ratings only."""
+    from mbs.environment.atmosphere import density_altitude
     from mbs.performance.available import power_available
 
     needed = res.output_means.get("engine.power")
@@ -54,16 +55,6 @@ def power(res, d, air: dict | None = None) -> list[str]:
             f"in {where} (engine.takeoff_power x count, lapsed, within engine.transmission_power): the aircraft "
             "cannot hold this flight condition; check the mass, the air, or the engine data"]
 
-
-def density_altitude(rho: float) -> float:
-    """The ISA altitude (m) of the density ``rho`` (kg/m³), within the ISA's -1000..20000 m."""
-    from scipy.optimize import brentq
-
-    from mbs.environment import atmosphere as isa
-
-    low, high = -1000.0, 20000.0
-    rho = min(max(rho, isa.density(high)), isa.density(low))
-    return float(brentq(lambda h: isa.density(h) - rho, low, high, xtol=1e-6))
 
 
 def near_stop(value: float, low: float, high: float) -> str | None:

@@ -86,6 +86,16 @@ def density(h, offset=0.0):
     return pressure(h) / (R * temperature(h, offset))
 
 
+def density_altitude(rho: float) -> float:
+    """The pressure altitude (m) at which the standard day has the density ``rho`` (kg/m³),
+    clipped to :data:`ALTITUDE_RANGE`."""
+    from scipy.optimize import brentq
+
+    low, high = ALTITUDE_RANGE
+    rho = min(max(rho, density(high)), density(low))
+    return float(brentq(lambda h: density(h) - rho, low, high, xtol=1e-6))
+
+
 def speed_of_sound(h, offset=0.0):
     """Speed of sound (m/s), ``sqrt(γ R T)``."""
     return _sqrt(GAMMA * R * temperature(h, offset))

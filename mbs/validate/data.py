@@ -28,6 +28,8 @@ from pathlib import Path
 import numpy as np
 
 from mbs.aircraft import units
+from mbs.environment import atmosphere as isa
+from mbs.models.helicopter.environment import CG_SHIFT_LIMIT
 
 KINDS = ("trim", "derivative")
 
@@ -229,8 +231,8 @@ def speed_factor(unit: str, where: str) -> float:
 
 KEYS = {"quantity", "unit", "value", "speed", "uncertainty", "tolerance", "source", "ours_factor", "note", "mass",
         "altitude", "cg_station", "cg_x"}
-CONDITIONS = {"mass": ("kg", 1.0, 1e5), "altitude": ("m", -1000.0, 20000.0), "cg_station": ("m", -1e4, 1e4),
-              "cg_x": ("m", -1.0, 1.0)}
+CONDITIONS = {"mass": ("kg", 1.0, 1e5), "altitude": ("m", *isa.ALTITUDE_RANGE), "cg_station": ("m", -1e4, 1e4),
+              "cg_x": ("m", -CG_SHIFT_LIMIT, CG_SHIFT_LIMIT)}
 """A point's flight condition: its SI unit and bounds (the ISA's altitudes, as ``--altitude``; the
 CG within 1 m of the file's, the model's ``cg_x``)."""
 
