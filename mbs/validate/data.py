@@ -87,11 +87,18 @@ class Series:
         return [(float(v), *rest) for v, *rest in zip(self.speed, *columns)]
 
 
+def condition(point) -> tuple:
+    """``(speed, mass, altitude, cg_x)`` of a speed (m/s) or a condition tuple (its missing tail
+    None), rounded as the model's points are keyed."""
+    speed, *rest = point if isinstance(point, tuple) else (point,)
+    rest = [*rest, None, None, None][:3]
+    return (round(float(speed), 9), *(None if x is None else round(x, 6) for x in rest))
+
+
 def condition_key(speed: float, mass: float | None = None, altitude: float | None = None, cg_x: float | None = None):
     """The key of a model point: the speed (m/s, rounded) alone, or with its mass, altitude and CG."""
-    if mass is None and altitude is None and cg_x is None:
-        return round(float(speed), 9)
-    return (round(float(speed), 9), *(None if x is None else round(x, 6) for x in (mass, altitude, cg_x)))
+    key = condition((speed, mass, altitude, cg_x))
+    return key[0] if key[1:] == (None, None, None) else key
 
 
 def resolve_cg(v: "Validation", d) -> "Validation":
@@ -175,12 +182,8 @@ class Validation:
         rounds them."""
         found = [c for s in self.series if s.kind in kinds for c in s.conditions()]
         found += [(e.speed, None, e.altitude, None) for e in self.eigenvalues] if "eigenvalues" in kinds else []
-        keys = {_full(condition_key(*c)): c for c in found}
+        keys = {condition(c): c for c in found}
         return [keys[k] for k in sorted(keys, key=lambda k: tuple(x or 0.0 for x in k))]
-
-
-def _full(key) -> tuple:
-    return key if isinstance(key, tuple) else (key, None, None, None)
 
 
 def from_dict(raw: dict, path: Path) -> Validation:

@@ -83,9 +83,9 @@ def run(scene, trim_speeds: list, derivative_speeds: list, method: str = "rk4",
     from mbs.analysis.period import periodic_scene
     from mbs.analysis.trim import evaluators, periodic_solution
     from mbs.validate.compare import describe_condition
-    from mbs.validate.data import condition_key
+    from mbs.validate.data import condition, condition_key
 
-    trims, derivatives = ([_condition(c) for c in points] for points in (trim_speeds, derivative_speeds))
+    trims, derivatives = ([condition(c) for c in points] for points in (trim_speeds, derivative_speeds))
     scene = _in_conditions(scene, trims + derivatives)
     start, scene = time.perf_counter(), periodic_scene(scene)  # the tail rotor at a ratio that repeats
     system, stepper = evaluators(scene, method, backend)
@@ -109,13 +109,6 @@ def run(scene, trim_speeds: list, derivative_speeds: list, method: str = "rk4",
             progress(k + 1, len(conditions))
     out.wall_s = time.perf_counter() - start
     return out
-
-
-def _condition(point) -> tuple:
-    """``(speed, mass, altitude, cg_x)`` of a speed or a condition, rounded as the model's keys are."""
-    speed, *rest = (point,) if not isinstance(point, tuple) else point
-    rest = [*rest, None, None, None][:3]
-    return (round(float(speed), 9), *(None if x is None else round(x, 6) for x in rest))
 
 
 def _in_conditions(scene, conditions: list[tuple]):
