@@ -11,6 +11,7 @@ from fractions import Fraction
 import numpy as np
 
 from mbs.aircraft.mass import rotor_masses
+from mbs.aircraft.performance import profile_drag
 
 MAX_PERIOD_REVS = 16
 """Longest common period of the rotors (main-rotor revolutions) a periodic analysis shoots over;
@@ -211,7 +212,7 @@ def _polars(v: dict) -> list[str]:
         if "cd0" not in sec or sec.get("coefficient_table") or sec.get("airfoils"):
             continue
         alpha = np.linspace(-sec["alpha_stall"], sec["alpha_stall"], 401)
-        cd = sec["cd0"] + sec.get("cd1", 0.0) * alpha + sec.get("cd2", 0.0) * alpha**2
+        cd = profile_drag(sec, alpha)
         if cd.min() <= 0:
             at = alpha[np.argmin(cd)]
             out.append(f"{name}: the drag polar cd0 + cd1 alpha + cd2 alpha^2 = {cd.min():.4g} at alpha = "

@@ -44,6 +44,12 @@ class Hover:
         return self.main.power + self.tail.power
 
 
+def profile_drag(sec: dict, alpha):
+    """The analytic section's drag polar ``cd0 + cd1 α + cd2 α²`` of the rotor or surface section
+    ``sec`` at the angle ``alpha`` (rad, a float or an array; attached flow)."""
+    return sec["cd0"] + sec.get("cd1", 0.0) * alpha + sec.get("cd2", 0.0) * alpha**2
+
+
 def rotor_hover(sec: dict, thrust: float, omega: float, rho: float) -> RotorHover:
     """Hover of the rotor of section ``sec`` at ``thrust`` (N) and rotor speed ``omega`` (rad/s):
     ``v_i = sqrt(T / (2 ρ A))``, ``P_i = κ T v_i``, ``P_0 = ρ A (Ω R)³ σ δ / 8`` with the profile
@@ -53,8 +59,7 @@ def rotor_hover(sec: dict, thrust: float, omega: float, rho: float) -> RotorHove
     sigma = sec["n_blades"] * sec["chord"] / (math.pi * radius)
     ct = thrust / (rho * area * tip**2)
     v_i = math.sqrt(abs(thrust) / (2 * rho * area))
-    alpha_mean = 6 * ct / (sigma * sec["lift_slope"])
-    delta = sec["cd0"] + sec["cd1"] * alpha_mean + sec["cd2"] * alpha_mean**2
+    delta = profile_drag(sec, 6 * ct / (sigma * sec["lift_slope"]))
     profile = rho * area * tip**3 * sigma * delta / 8
     induced = sec["kappa"] * abs(thrust) * v_i
     return RotorHover(thrust, sigma, ct, v_i, induced, profile, (induced + profile) / omega, tip, thrust / area)

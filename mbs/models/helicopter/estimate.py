@@ -7,6 +7,7 @@ import numpy as np
 
 from mbs.aero import momentum_inflow
 from mbs.aircraft.derived import flap_frequency
+from mbs.aircraft.performance import profile_drag
 from mbs.models.helicopter.frames import main_sense
 
 
@@ -67,8 +68,7 @@ def estimate_trim(d, speed: float) -> TrimEstimate:
     hub_spring = mr["flap_stiffness"] + e * mr["blade_mass"] * (big_r - e) / 2 * omega**2  # per blade, N m/rad
     hub_moment_tilt = weight * -mr["hub_x"] / (mr["n_blades"] / 2 * hub_spring - weight * mr["hub_z"])
     cl_mean = 6 * ct / sigma
-    alpha_mean = cl_mean / mr["lift_slope"]
-    delta = mr["cd0"] + mr["cd1"] * alpha_mean + mr["cd2"] * alpha_mean**2
+    delta = profile_drag(mr, cl_mean / mr["lift_slope"])
     torque = rho * area * tip**2 * big_r * (ct * lam + sigma * delta / 8 * (1 + 3 * mu**2))
     side = torque / (mr["hub_x"] - tr["hub_x"])
     t_thrust = side if tr["cant"] == 0.0 and tr["toe"] == 0.0 else side / (np.cos(tr["cant"]) * np.cos(tr["toe"]))
