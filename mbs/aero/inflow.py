@@ -1,4 +1,5 @@
-"""Induced inflow of a rotor: uniform momentum inflow and Pitt–Peters three-state dynamic inflow.
+"""Induced inflow of a rotor: uniform momentum inflow, Pitt–Peters three-state dynamic inflow, and
+the uniform inflow of a ducted fan (a fan-in-fin tail rotor) with its duct's thrust.
 
 Velocities in m/s, positive down through the disc (against the thrust axis); loads in N (the
 moments as first moments of the thrust per radius, see :func:`pitt_peters_rates`). Flow at the
@@ -16,6 +17,7 @@ import numpy as np
 from mbs.aero.sections import EPS
 
 INFLOW_MODELS = ("uniform", "pitt-peters")
+DUCT_EXIT_RATIO = (0.5, 2.0)  # accepted σ_d: at ½ the duct carries nothing in hover; beyond 2 no fan-in-fin
 HARMONICS = ("", "_1s", "_1c")  # state-name suffixes: uniform, sine and cosine components
 SKEW_ROUNDING = 0.5  # m/s: rounding of the in-plane speed in the wake skew (see wake_skew)
 APPARENT_MASS = (8 / (3 * np.pi), 16 / (45 * np.pi), 16 / (45 * np.pi))  # Peters' M, nondimensional
@@ -42,6 +44,47 @@ def uniform_rate(v, thrust, v_inplane2, v_normal, rho: float, radius: float, are
     v_total = ca.sqrt(v_inplane2 + (v_normal + v) ** 2 + EPS**2)
     apparent_mass = 8.0 / 3.0 * rho * radius**3
     return (thrust - 2 * rho * area * v_total * v) / apparent_mass
+
+
+def _ducted_flow(v, v_normal, exit_ratio: float):
+    """Through-flow at the fan ``U = V_normal + v`` and far-wake speed ``w = U / σ_d`` (m/s),
+    with ``|U|``, ``|w|``, ``|V_normal|`` smoothed (``sqrt(x² + EPS²)``)."""
+    through = v_normal + v
+    wake = through / exit_ratio
+    def size(x):
+        return ca.sqrt(x**2 + EPS**2)
+    return through, wake, size(through), size(wake), size(v_normal)
+
+
+def ducted_fan_thrust(v, v_normal, rho: float, radius: float, exit_ratio: float, area_factor: float = 1.0):
+    """``(T_fan, T_duct)`` (N): the thrust of the fan and of its duct when the fan's induced
+    velocity is ``v`` (m/s, down through the disc) and the hub moves at ``v_normal`` (m/s) along
+    the thrust axis, for a duct whose exit area is ``exit_ratio`` σ_d times the disc's.
+
+    Ideal axial momentum theory of a shrouded rotor (J. L. Pereira, *Hover and Wind-Tunnel
+    Testing of Shrouded Rotors for Improved Micro Air Vehicle Design*, PhD thesis, University of
+    Maryland, 2008, ch. 2; T. Jardin et al., "Revisiting Froude's Theory for Hovering Shrouded
+    Rotor", AIAA 2015): the duct fixes the far wake's area at σ_d A, so the wake leaves at
+    ``w = U/σ_d``; the mass flow ``ρ A U`` gains ``w − V_normal``, ``T = ρ A |U| (w − V_normal)``,
+    and the fan's pressure jump ``½ ρ (w|w| − V_normal|V_normal|)`` (Bernoulli before and after
+    it) carries ``T_fan = ½ ρ A (w|w| − V_normal|V_normal|)``; the duct's lip suction carries the
+    rest. In
+    hover ``T_fan/T = 1/(2 σ_d)`` and the power ``T^1.5 / sqrt(4 σ_d ρ A)``; σ_d = ½ is the open
+    rotor's hover. The in-plane flow does not enter the duct's mass flow (the duct turns the flow
+    through it axial): no translational lift. ``area_factor`` B² as in :func:`uniform_rate`.
+    """
+    area = area_factor * np.pi * radius**2
+    through, wake, through_size, wake_size, normal_size = _ducted_flow(v, v_normal, exit_ratio)
+    fan = 0.5 * rho * area * (wake * wake_size - v_normal * normal_size)
+    return fan, rho * area * through_size * (wake - v_normal) - fan
+
+
+def ducted_rate(v, thrust, v_normal, rho: float, radius: float, exit_ratio: float, area_factor: float = 1.0):
+    """``dv/dt`` (m/s²) of a ducted fan's uniform inflow ``v`` (m/s) under the fan's blade-element
+    ``thrust`` (N): ``(8/3) ρ R³ v' = T − T_fan(v)`` with :func:`ducted_fan_thrust`'s ``T_fan``, the
+    apparent mass of :func:`uniform_rate`; its equilibrium is the ducted rotor's momentum theory."""
+    fan, _ = ducted_fan_thrust(v, v_normal, rho, radius, exit_ratio, area_factor)
+    return (thrust - fan) / (8.0 / 3.0 * rho * radius**3)
 
 
 def wake_skew(v0, v_inplane2, v_normal):

@@ -107,17 +107,25 @@ class RotorModel:
     radius factor B (1: off); ``compressibility`` (None: off); ``wake`` the geometry of the
     wake the rotor publishes for the airframe (None: no wake on the airframe); ``ground_effect``:
     the induced velocity reduced near the ground (:mod:`mbs.aero.ground`; the ground plane at the
-    world's ``z`` = the run-time parameter ``height``, m)."""
+    world's ``z`` = the run-time parameter ``height``, m); ``duct_exit_ratio``: a ducted fan
+    whose duct's exit area is σ_d times the disc's (:func:`mbs.aero.inflow.ducted_fan_thrust`;
+    0: an open rotor)."""
 
     inflow: str = "uniform"
     tip_loss: float = 1.0
     compressibility: Compressibility | None = None
     wake: WakeGeometry | None = None
     ground_effect: bool = False
+    duct_exit_ratio: float = 0.0
 
     def __post_init__(self):
         if self.inflow not in inf.INFLOW_MODELS:
             raise ValueError(f"inflow {self.inflow!r}: choose one of {', '.join(inf.INFLOW_MODELS)}")
+        low, high = inf.DUCT_EXIT_RATIO
+        if self.duct_exit_ratio and not low <= self.duct_exit_ratio <= high:
+            raise ValueError(f"duct exit ratio {self.duct_exit_ratio} outside [{low}, {high}] (0: an open rotor)")
+        if self.duct_exit_ratio and (self.inflow != "uniform" or self.ground_effect or self.wake is not None):
+            raise ValueError("a ducted fan takes uniform inflow, without ground effect or a published wake")
         if not 0.5 < self.tip_loss <= 1.0:
             raise ValueError(f"tip-loss factor B = {self.tip_loss} outside (0.5, 1]")
 
@@ -199,9 +207,24 @@ class RotorAero(ForceElement):
         for name, rate in zip(self.states, self._inflow_rates(hub_velocity, axis, v, disc, air.rho)):
             loads.set_rate(name, rate)
         self._publish(state, hub, disc)
+        if self.model.duct_exit_ratio:
+            self._duct(state, loads, shaft[:, 2], ca.dot(hub_velocity, axis), v[0], air.rho)
         if self.model.wake is not None:
             state.signals[f"{self.rotor.name}.wake"] = Wake(hub.position, shaft, v, -hub_velocity, disc.torque,
                                                             self.rotor.radius, air.rho, self.model.wake)
+
+    def _duct(self, state: State, loads: Loads, axis, v_normal, v0, rho) -> None:
+        """The duct's thrust along the non-rotating thrust ``axis`` (world), on the body that holds
+        the shaft at the hub's centre; published as ``<rotor>.duct_thrust`` (N)."""
+        _, duct = inf.ducted_fan_thrust(v0, v_normal, rho, self.rotor.radius, self.model.duct_exit_ratio,
+                                        self.model.tip_loss**2)
+        state.signals[f"{self.rotor.name}.duct_thrust"] = duct
+        body = self.rotor.shaft_body
+        if body is None:  # a shaft on the ground: the duct's thrust goes into it
+            return
+        frame = state.body(body)
+        centre = ca.mtimes(frame.rotation.T, state.body(self.rotor.hub).position - frame.position)
+        loads.add_force(body, duct * axis, point=centre, frame="world", rotation=frame.rotation)
 
     def _ground(self, state: State, hub, axis, hub_velocity, v):
         """The share of the induced velocity the blades see near the ground (:mod:`mbs.aero.ground`),
@@ -353,6 +376,9 @@ class RotorAero(ForceElement):
         v_normal = ca.dot(hub_velocity, axis)
         v_inplane2 = ca.dot(hub_velocity, hub_velocity) - v_normal**2
         area_factor = self.model.tip_loss**2
+        if self.model.duct_exit_ratio:
+            return [inf.ducted_rate(v[0], disc.thrust, v_normal, rho, self.rotor.radius, self.model.duct_exit_ratio,
+                                    area_factor)]
         if len(v) == 1:
             return [inf.uniform_rate(v[0], disc.thrust, v_inplane2, v_normal, rho, self.rotor.radius, area_factor)]
         loads = (disc.thrust, disc.moment_s, disc.moment_c)

@@ -26,9 +26,9 @@ def problems(values: dict) -> list[str]:
     out = []
     from mbs.aircraft.airframe_data import table_problems, tail_problems
 
-    for check in (_inertia, _blades, _controls, _rotor_speed, _tail_hub, _airframe_mass, _tip_mach, _airframe_inertia,
-                  _rigging, _lag_damper, _airfoils, _polars, _distributions, _surface_tables, table_problems,
-                  tail_problems):
+    for check in (_inertia, _blades, _controls, _rotor_speed, _tail_hub, _duct, _airframe_mass, _tip_mach,
+                  _airframe_inertia, _rigging, _lag_damper, _airfoils, _polars, _distributions, _surface_tables,
+                  table_problems, tail_problems):
         out += check(values)
     return out
 
@@ -193,6 +193,18 @@ def _rotor_speed(v: dict) -> list[str]:
         return [f"main_rotor.omega: {mr['omega']:g} rad/s outside the range omega_min..omega_max "
                 f"({mr['omega_min']:g}..{mr['omega_max']:g} rad/s)"]
     return []
+
+
+def _duct(v: dict) -> list[str]:
+    """A fan-in-fin's duct exit ratio: 0 (open) or within :data:`mbs.aero.inflow.DUCT_EXIT_RATIO`."""
+    from mbs.aero.inflow import DUCT_EXIT_RATIO
+
+    ratio, (low, high) = v["tail_rotor"]["duct_exit_ratio"], DUCT_EXIT_RATIO
+    if ratio == 0.0 or low <= ratio <= high:
+        return []
+    return [f"tail_rotor.duct_exit_ratio: {ratio:g} below {low:g}: the duct would pull against the fan in hover "
+            f"(it carries 2 sigma_d - 1 times the fan's thrust); give the exit over the disc area, {low:g} to "
+            f"{high:g}, or 0 for an open rotor"]
 
 
 def _tail_hub(v: dict) -> list[str]:

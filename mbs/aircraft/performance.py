@@ -11,8 +11,9 @@ from dataclasses import dataclass
 
 @dataclass(frozen=True)
 class RotorHover:
-    """One rotor in hover: thrust (N), solidity, thrust coefficient, induced velocity (m/s),
-    induced and profile power (W), shaft torque (N m), tip speed (m/s), disc loading (N/m²)."""
+    """One rotor in hover: thrust (N, of the blades), solidity, thrust coefficient, induced velocity
+    (m/s), induced and profile power (W), shaft torque (N m), tip speed (m/s), disc loading
+    (N/m², of the whole thrust) and, for a fan-in-fin, its duct's thrust (N)."""
 
     thrust: float
     solidity: float
@@ -23,6 +24,7 @@ class RotorHover:
     torque: float
     tip_speed: float
     disc_loading: float
+    duct_thrust: float = 0.0
 
     @property
     def power(self) -> float:
@@ -53,16 +55,20 @@ def profile_drag(sec: dict, alpha):
 def rotor_hover(sec: dict, thrust: float, omega: float, rho: float) -> RotorHover:
     """Hover of the rotor of section ``sec`` at ``thrust`` (N) and rotor speed ``omega`` (rad/s):
     ``v_i = sqrt(T / (2 ρ A))``, ``P_i = κ T v_i``, ``P_0 = ρ A (Ω R)³ σ δ / 8`` with the profile
-    drag ``δ = c_d0 + c_d1 ᾱ + c_d2 ᾱ²`` at the mean angle ``ᾱ = 6 C_T / (σ a)``."""
-    radius = sec["radius"]
+    drag ``δ = c_d0 + c_d1 ᾱ + c_d2 ᾱ²`` at the mean angle ``ᾱ = 6 C_T / (σ a)`` of the blades'
+    ``C_T``. A fan-in-fin (``duct_exit_ratio`` σ_d > 0) shares ``thrust`` with its duct: the blades
+    carry ``T / (2 σ_d)`` at ``v_i = sqrt(σ_d T / (ρ A))`` (:func:`mbs.aero.inflow.ducted_fan_thrust`)."""
+    radius, ducted = sec["radius"], sec.get("duct_exit_ratio", 0.0)
     area, tip = math.pi * radius**2, omega * radius
     sigma = sec["n_blades"] * sec["chord"] / (math.pi * radius)
-    ct = thrust / (rho * area * tip**2)
-    v_i = math.sqrt(abs(thrust) / (2 * rho * area))
+    blades = thrust / (2 * ducted) if ducted else thrust
+    ct = blades / (rho * area * tip**2)
+    v_i = math.sqrt(abs(thrust) * (ducted / (rho * area) if ducted else 1 / (2 * rho * area)))
     delta = profile_drag(sec, 6 * ct / (sigma * sec["lift_slope"]))
     profile = rho * area * tip**3 * sigma * delta / 8
-    induced = sec["kappa"] * abs(thrust) * v_i
-    return RotorHover(thrust, sigma, ct, v_i, induced, profile, (induced + profile) / omega, tip, thrust / area)
+    induced = sec["kappa"] * abs(blades) * v_i
+    return RotorHover(blades, sigma, ct, v_i, induced, profile, (induced + profile) / omega, tip, thrust / area,
+                      thrust - blades)
 
 
 def hover(values: dict) -> Hover:

@@ -186,6 +186,7 @@ def figures(data: Data) -> list[tuple]:
         ("hover power estimate, tail rotor", hov.tail.power, "W"),
         ("hover power estimate, total", hov.power, "W"),
         ("hover tail-rotor thrust", hov.tail.thrust, "N"),
+        *([("hover tail-rotor duct thrust", hov.tail.duct_thrust, "N")] if hov.tail.duct_thrust else []),
         ("main-rotor mass (hub and blades)", main_mass, "kg"), ("tail-rotor mass", tail_mass, "kg"),
         ("airframe mass", data["aircraft"]["mass"] - main_mass - tail_mass, "kg"),
         *_inertia_figures(data), *_damper_figures(data),

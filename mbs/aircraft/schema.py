@@ -290,8 +290,12 @@ ENTRIES: dict[str, dict[str, Entry]] = {
         **_controls("longitudinal_cyclic", "longitudinal cyclic pitch theta_1s"),
     },
     "tail_rotor": {
-        "n_blades": count("number of tail-rotor blades (a fan-in-fin has up to 18; its duct is not modelled: give "
-                          "the fan as an open rotor)", 2, 18),
+        "n_blades": count("number of tail-rotor blades (a fan-in-fin has up to 18: see duct_exit_ratio)", 2, 18),
+        "duct_exit_ratio": num("-", "a fan-in-fin (Fenestron, fantail): its duct's exit area over the fan's disc "
+                               "area, sigma_d (ideal momentum theory of a shrouded rotor: in hover the duct carries "
+                               "(2 sigma_d - 1) times the fan's thrust, the power is T^1.5 / sqrt(4 sigma_d rho A); "
+                               "the flow through the duct is axial: no translational lift); 0: an open rotor",
+                               0.0, 2.0, default=0.0),
         "hub_type": choice("teetering (two blades on a seesaw), flapping (each blade on its own flap hinge: an "
                            "articulated rotor, or the equivalent hinge and spring of a hingeless or bearingless one) "
                            "or rigid (blades on pitch bearings only)", "teetering", "rigid", "flapping"),

@@ -28,7 +28,8 @@ def rotor_model(d, cfg, section: str) -> RotorModel:
                       tip_loss=sec["tip_loss"] if cfg.tip_loss else 1.0,
                       compressibility=comp if cfg.compressibility else None,
                       wake=wake if section == "main_rotor" and (cfg.tail_wake or cfg.download) else None,
-                      ground_effect=cfg.ground_effect and section == "main_rotor")
+                      ground_effect=cfg.ground_effect and section == "main_rotor",
+                      duct_exit_ratio=sec.get("duct_exit_ratio", 0.0))
 
 
 def main_rotor_wake(d) -> WakeGeometry:

@@ -84,7 +84,12 @@ def _tail_collective(d, thrust: float, speed: float) -> tuple[float, float]:
     omega_t = tr["gear_ratio"] * d["main_rotor"]["omega"]
     tip = omega_t * tr["radius"]
     sigma = tr["n_blades"] * tr["chord"] / (np.pi * tr["radius"])
+    ducted = tr.get("duct_exit_ratio", 0.0)
+    if ducted:  # the fan's share and inflow of the axial-flow duct (mbs.aero.inflow.ducted_fan_thrust)
+        v = float(np.sqrt(abs(thrust) * ducted / (rho * np.pi * tr["radius"] ** 2)))
+        thrust = thrust / (2 * ducted)
+    else:
+        v = momentum_inflow(thrust, rho, tr["radius"], speed)
     ct, mu = thrust / (rho * np.pi * tr["radius"] ** 2 * tip**2), speed / tip
-    v = momentum_inflow(thrust, rho, tr["radius"], speed)
     theta = (2 * ct / (sigma * tr["lift_slope"]) + tr["kappa"] * v / tip / 2) / (1 / 3 + mu**2 / 2)
     return theta, v

@@ -81,6 +81,9 @@ def _add_rotor_outputs(m: Model, d, cfg, name: str, speed_ratio: float) -> None:
     what, tip = name.replace("_", "-"), speed_ratio * d[name]["radius"]
     for key, unit, text in ROTOR_OUTPUTS:
         m.add_output(f"{name}.{key}", lambda s, k=f"{name}.{key}": s.signals[k], unit, f"{what} {text}")
+    if rotor_model(d, cfg, name).duct_exit_ratio:
+        m.add_output(f"{name}.duct_thrust", lambda s, k=f"{name}.duct_thrust": s.signals[k], "N",
+                     f"{what} duct thrust along the fan's thrust axis (the blades' is {name}.thrust)")
     for state in rotor_model(d, cfg, name).inflow_states(name) if "omega" in m.parameters else ():
         suffix = state[len(name) + len(".inflow"):]
         m.add_output(f"{name}.inflow_ratio{suffix}", lambda s, z=state: s.z(z) / (tip * s.p["omega"]), "1",
