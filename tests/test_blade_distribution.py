@@ -156,7 +156,7 @@ def test_a_broken_distribution_is_one_line_naming_its_entry(what, tmp_path, caps
     assert code == 2 and len(err.strip().splitlines()) == 1 and words in err, err
 
 
-def test_an_elastic_blade_refuses_a_mass_table_it_would_ignore(tmp_path, capsys):
+def test_an_elastic_blade_refuses_a_mass_table_or_mass_override_it_would_ignore(tmp_path, capsys):
     path = _file(tmp_path, drop=("I_flap", "blade_mass"), mass_table=([[0.0, 6.0], [1.0, 6.0]], "-, kg/m"))
     code, err = run_main(["simulate", "elastic-rotor", "--aircraft", str(path), "--revs", "0.1",
                           "--out", str(tmp_path / "o")], capsys)
@@ -164,6 +164,10 @@ def test_an_elastic_blade_refuses_a_mass_table_it_would_ignore(tmp_path, capsys)
     code, err = run_main(["simulate", "elastic-rotor-modal", "--aircraft", str(path), "--revs", "0.1",
                           "--out", str(tmp_path / "o")], capsys)
     assert code == 2 and "main_rotor.mass_table: the modal blade is a uniform beam" in err, err
+    path = _printed(tmp_path, "printed.toml", 34.0, first=70.0)
+    code, err = run_main(["simulate", "elastic-rotor-modal", "--aircraft", str(path), "--revs", "0.1",
+                          "--out", str(tmp_path / "o")], capsys)
+    assert code == 2 and "main_rotor.blade_mass: the modal blade is a uniform beam" in err, err
 
 
 # -- tip sweep ----------------------------------------------------------------------------------
@@ -236,3 +240,51 @@ def test_a_long_table_in_degrees_is_listed_by_column_not_a_traceback(tmp_path, c
     line = next(x for x in lines(check(path)) if "main_rotor.twist_table" in x)
     assert f"columns 0.2 .. 1, {math.radians(-5.9):.6g} .. 0 (8 rows; --json lists them)" in line, line
     assert run_main(["aircraft", "check", str(path), "--json"], capsys)[0] == 0
+
+
+def _printed(tmp_path, name: str, mass_kg: float, lock: float | None = None, first: float | None = None):
+    """The Bo105's file with a blade mass given beside its flap inertia (or a Lock number), as
+    reports print them, and optionally its first moment about the hinge."""
+    raw = entries("bo105")
+    raw["main_rotor"]["blade_mass"] = {"value": mass_kg, "unit": "kg", "source": "test", "override": True}
+    if lock is not None:
+        raw["main_rotor"].pop("I_flap")
+        raw["main_rotor"]["lock_number"] = {"value": lock, "unit": "-", "source": "test"}
+    if first is not None:
+        raw["main_rotor"]["first_moment"] = {"value": first, "unit": "kg m", "source": "test", "override": True}
+    return write(raw, tmp_path / name)
+
+
+def test_a_blade_mass_given_beside_its_flap_inertia_keeps_all_three_in_the_model(tmp_path):
+    """A blade of 34 kg and first moment 70 kg m beside the Bo105's I_flap 231.7 kg m^2: the
+    model's blade body (the tree's) has that mass, first moment and flap inertia about the hinge,
+    to 1e-12, where the uniform box would have had 273 kg m^2 (the Lock number 18 % low). The
+    flap frequency is sqrt(1 + e S / I + K / (I Omega^2)); the shipped files keep their box."""
+    from mbs.aircraft import derived, mass
+
+    path = _printed(tmp_path, "printed.toml", 34.0, first=70.0)
+    report = check(path)
+    assert report.ok, report.problems
+    mr = aircraft.load(path).data["main_rotor"]
+    body = scenes.get("hover").with_aircraft(aircraft.load(path)).model().bodies["blade1"]
+    span = mr["radius"] - mr["flap_hinge_offset"]
+    assert body.mass == pytest.approx(34.0, rel=1e-12)
+    assert body.mass * body.com[0] == pytest.approx(70.0, rel=1e-12)
+    assert np.asarray(body.inertia)[1, 1] + body.mass * body.com[0] ** 2 == pytest.approx(231.7, rel=1e-12)
+    assert 34.0 * span**2 / 3 > 1.15 * 231.7
+    nu2 = 1 + mr["flap_hinge_offset"] * 70.0 / 231.7 + mr["flap_stiffness"] / (231.7 * mr["omega"] ** 2)
+    assert derived.flap_frequency(mr) == pytest.approx(math.sqrt(nu2), rel=1e-14)
+    for name in ("bo105", "lynx", "puma"):
+        d = aircraft.load(name).data["main_rotor"]
+        assert mass.is_uniform_blade(d) and not d.get("mass_table")
+
+
+def test_a_blade_with_negative_inertia_about_its_own_centre_of_mass_is_refused(tmp_path):
+    """A report's blade weight (93.9 kg) beside its Lock number (I_flap 975 kg m^2 from it)
+    cannot be one uniform-mass blade: S^2/m exceeds I_flap; the check names the three values."""
+    report = check(_printed(tmp_path, "impossible.toml", 93.9, lock=2.2))
+    assert any(p.startswith("main_rotor.blade_mass: 93.9 kg with the first moment") and
+               "negative inertia about its own centre of mass" in p and "from lock_number" in p
+               for p in report.problems), report.problems
+    report = check(_printed(tmp_path, "off.toml", 30.0, first=200.0))
+    assert any("main_rotor.first_moment: 200 kg m puts the blade's centre of mass" in p for p in report.problems)

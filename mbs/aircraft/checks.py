@@ -148,7 +148,28 @@ def _blades(v: dict) -> list[str]:
     if mr["flap_hinge_offset"] >= mr["radius"] * (1 - 1e-9):
         out.append(f"main_rotor.flap_hinge_offset: {mr['flap_hinge_offset']:g} m puts the hinge outside the blade "
                    f"(radius {mr['radius']:g} m)")
+    elif not mr.get("mass_table"):
+        out += _blade_body(mr)
     return out + _tail_hub_type(v["tail_rotor"])
+
+
+def _blade_body(mr: dict) -> list[str]:
+    """A blade given by its mass, first moment and flap inertia (:func:`mbs.aircraft.mass.main_blade`):
+    its centre of mass on the span, a positive flap inertia about it."""
+    from mbs.aircraft.mass import own_flap_inertia
+
+    span, m, first = mr["radius"] - mr["flap_hinge_offset"], mr["blade_mass"], mr["first_moment"]
+    given = "from lock_number" if mr.get("lock_number") else "as given"
+    if not 0.0 < first / m < span:
+        return [f"main_rotor.first_moment: {first:g} kg m puts the blade's centre of mass {first / m:g} m from the "
+                f"flap hinge, off the blade (span {span:g} m)"]
+    if own_flap_inertia(mr) <= 0.0:
+        return [f"main_rotor.blade_mass: {m:g} kg with the first moment {first:g} kg m (centre of mass {first / m:.4g} m "
+                f"from the hinge) needs a flap inertia above S^2/m = {first**2 / m:.5g} kg m^2 about the hinge, but "
+                f"I_flap is {mr['I_flap']:.5g} kg m^2 ({given}): the blade would have a negative inertia about its "
+                f"own centre of mass. Mass, first moment and flap inertia are not of one blade: check them (a uniform "
+                f"blade of this I_flap weighs {3 * mr['I_flap'] / span**2:.5g} kg), or give a mass_table"]
+    return []
 
 
 def _tail_hub_type(tr: dict) -> list[str]:

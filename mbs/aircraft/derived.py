@@ -59,9 +59,13 @@ def lag_stiffness(mr: dict) -> float:
 
 
 def flap_frequency(mr: dict) -> float:
-    """1/rev: first flap frequency of the rigid blade with its hinge offset and spring."""
+    """1/rev: first flap frequency of the rigid blade with its hinge offset and spring,
+    ``ν² = 1 + e S / I + K / (I Ω²)`` (``e S / I = 1.5 e / (R − e)`` for the uniform blade)."""
+    from mbs.aircraft.mass import is_uniform_blade
+
     e, span = mr["flap_hinge_offset"], mr["radius"] - mr["flap_hinge_offset"]
-    return math.sqrt(1 + 1.5 * e / span + mr["flap_stiffness"] / (mr["I_flap"] * mr["omega"] ** 2))
+    offset = 1.5 * e / span if is_uniform_blade(mr) else e * mr["first_moment"] / mr["I_flap"]
+    return math.sqrt(1 + offset + mr["flap_stiffness"] / (mr["I_flap"] * mr["omega"] ** 2))
 
 
 def tail_flap_frequency(tr: dict, omega: float, pitch: float = 0.0) -> float:

@@ -52,19 +52,45 @@ def combine(parts: list[Part]) -> Part:
     return Part(mass, com, sum(p.about(com) for p in parts))
 
 
+UNIFORM_TOLERANCE = 1e-3
+"""Relative difference within which a blade's mass, first moment and flap inertia are the uniform
+box's (a rounded override such as the Bo105's blade mass keeps the box)."""
+
+
+def is_uniform_blade(mr: dict) -> bool:
+    """Whether the main-rotor data's blade mass ``m``, first moment ``S`` and flap inertia ``I``
+    (about the flap hinge) are a uniform blade's over the span ``R − e``: ``S = m (R − e)/2``,
+    ``I = m (R − e)²/3``, each to :data:`UNIFORM_TOLERANCE`."""
+    span, m = mr["radius"] - mr["flap_hinge_offset"], mr["blade_mass"]
+    return (abs(m * span / 2 - mr["first_moment"]) <= UNIFORM_TOLERANCE * mr["first_moment"]
+            and abs(m * span**2 / 3 - mr["I_flap"]) <= UNIFORM_TOLERANCE * mr["I_flap"])
+
+
+def own_flap_inertia(mr: dict) -> float:
+    """kg m²: the blade's flap inertia about its own centre of mass, ``I − S²/m`` (must be positive)."""
+    return mr["I_flap"] - mr["first_moment"] ** 2 / mr["blade_mass"]
+
+
 def main_blade(d) -> Part:
     """A main-rotor blade in its frame (x along the span from its flap hinge): integrated from its
-    mass table (:class:`mbs.aircraft.blade.Distribution`), else the uniform box of the blade's
-    mass, span, chord and thickness."""
+    mass table (:class:`mbs.aircraft.blade.Distribution`); else the uniform box of the blade's
+    mass, span, chord and thickness when its mass, first moment and flap inertia are a uniform
+    blade's (:func:`is_uniform_blade`); else a body of exactly that mass, first moment and flap
+    inertia about the hinge, with the box's chordwise and thickness terms (a blade whose mass is
+    given beside its flap inertia or Lock number, as reports print them)."""
     mr = d["main_rotor"]
     if mr.get("mass_table"):
         from mbs.aircraft.blade import Distribution
 
         mass, com, inertia = Distribution(mr).body()
         return Part(mass, np.asarray(com, dtype=float), np.asarray(inertia, dtype=float))
-    span = mr["radius"] - mr["flap_hinge_offset"]
-    return Part(mr["blade_mass"], np.array([span / 2, 0.0, 0.0]),
-                box_inertia(mr["blade_mass"], span, mr["chord"], mr["blade_thickness"]))
+    span, m = mr["radius"] - mr["flap_hinge_offset"], mr["blade_mass"]
+    if is_uniform_blade(mr):
+        return Part(m, np.array([span / 2, 0.0, 0.0]), box_inertia(m, span, mr["chord"], mr["blade_thickness"]))
+    chord2, thick2 = mr["chord"] ** 2, mr["blade_thickness"] ** 2
+    flap = own_flap_inertia(mr)
+    return Part(m, np.array([mr["first_moment"] / m, 0.0, 0.0]),
+                np.diag([m * (chord2 + thick2) / 12, flap, flap + m * (chord2 - thick2) / 12]))
 
 
 def main_hub(d) -> Part:

@@ -114,11 +114,18 @@ def air_ratios(cfg: Config):
 
 def _check_distributions(d, cfg: Config) -> None:
     """The elastic and modal blades are uniform beams: refuse a mass distribution they would ignore."""
-    given = [k for k in ("mass_table", "section_inertia_table") if d["main_rotor"].get(k)]
+    from mbs.aircraft.mass import is_uniform_blade
+
+    mr = d["main_rotor"]
+    given = [k for k in ("mass_table", "section_inertia_table") if mr.get(k)]
+    if not given and not is_uniform_blade(mr):
+        given = ["blade_mass"]
     if given and (cfg.blade_segments or cfg.blade_modes):
         kind = "segmented elastic" if cfg.blade_segments else "modal"
+        what = "a mass distribution" if given[0] != "blade_mass" else "a blade whose mass, first moment and I_flap " \
+            "are not one uniform blade's"
         raise ValueError(f"main_rotor.{given[0]}: the {kind} blade is a uniform beam of main_rotor.blade_mass; it "
-                         "does not take a mass distribution yet: fly rigid blades, or leave the table out for this "
+                         f"does not take {what} yet: fly rigid blades, or leave the table or override out for this "
                          "scene")
 
 
