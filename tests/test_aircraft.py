@@ -336,3 +336,21 @@ def test_a_fan_in_fin_tail_rotor_of_13_blades_is_taken_and_19_refused(tmp_path):
         problems = aircraft.check(write(raw, tmp_path / f"fan{n}.toml")).problems
         assert (not any("n_blades" in p for p in problems)) == ok, problems
         assert ok or any("tail_rotor.n_blades: 19 is outside [2, 18]" in p for p in problems), problems
+
+
+def test_a_tail_rotor_overlapping_the_main_disc_in_plan_view_is_warned_and_one_under_it_refused(tmp_path):
+    """The UH-1H's tail disc overlaps its main rotor's by about 0.03 m in plan view (the blades
+    clear by coning and height): a warning giving the overlap at the hub plane, sqrt(R_t² − Δz²)
+    wide there; a tail hub under the main disc is refused, named."""
+    d = aircraft.load("bo105").data
+    mr, tr = d["main_rotor"], d["tail_rotor"]
+    half = math.sqrt(tr["radius"] ** 2 - (tr["hub_z"] - mr["hub_z"]) ** 2)
+    near = mr["hub_x"] - (mr["radius"] + half - 0.05)
+    report = aircraft.check(write(with_tail_rotor(entries("bo105"), hub_x=(near, "m")), tmp_path / "near.toml"))
+    assert report.ok, report.problems
+    assert any(w.startswith("tail_rotor.hub_x: the tail-rotor disc overlaps the main rotor's by 0.05 m")
+               for w in report.warnings), report.warnings
+    assert not any("overlaps" in w for w in aircraft.check("bo105").warnings)
+    report = aircraft.check(write(with_tail_rotor(entries("bo105"), hub_x=(-3.0, "m")), tmp_path / "under.toml"))
+    assert any(p.startswith("tail_rotor.hub_x: -3 m puts the tail-rotor hub under the main rotor's disc")
+               for p in report.problems), report.problems

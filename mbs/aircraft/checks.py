@@ -229,12 +229,31 @@ def _duct(v: dict) -> list[str]:
 
 
 def _tail_hub(v: dict) -> list[str]:
+    """The tail-rotor hub inside the main rotor's disc (in plan view, within a tail radius of its
+    height): surely a wrong position."""
     mr, tr = v["main_rotor"], v["tail_rotor"]
-    clearance = abs(mr["hub_x"] - tr["hub_x"]) - mr["radius"] - tr["radius"]
-    if clearance < 0 and abs(tr["hub_z"] - mr["hub_z"]) < tr["radius"]:
-        return [f"tail_rotor.hub_x: {tr['hub_x']:g} m puts the tail-rotor disc inside the main rotor's "
-                f"({-clearance:.3g} m overlap)"]
+    if abs(mr["hub_x"] - tr["hub_x"]) < mr["radius"] and abs(tr["hub_z"] - mr["hub_z"]) < tr["radius"]:
+        return [f"tail_rotor.hub_x: {tr['hub_x']:g} m puts the tail-rotor hub under the main rotor's disc "
+                f"({abs(mr['hub_x'] - tr['hub_x']):.4g} m from the main-rotor shaft, radius {mr['radius']:g} m): check "
+                "the position and its sign (x forward from the CG)"]
     return []
+
+
+def tail_clearance_note(v: dict) -> list[str]:
+    """The discs overlapping in plan view at the main rotor's hub plane (the tail disc's half-width
+    there ``sqrt(R_t² − Δz²)``), as on aircraft whose blades clear only by coning and height: the
+    model flies them (it has no blade collision), so this is a warning."""
+    mr, tr = v["main_rotor"], v["tail_rotor"]
+    dz, dx = abs(tr["hub_z"] - mr["hub_z"]), abs(mr["hub_x"] - tr["hub_x"])
+    if dz >= tr["radius"] or dx < mr["radius"]:
+        return []
+    overlap = mr["radius"] + math.sqrt(tr["radius"] ** 2 - dz**2) - dx
+    if overlap <= 0:
+        return []
+    return [f"tail_rotor.hub_x: the tail-rotor disc overlaps the main rotor's by {overlap:.3g} m in plan view at the "
+            f"main-rotor hub's height ({dz:.3g} m from the tail hub's): the blades clear only by coning, flapping or "
+            "height, which the model does not check (it has no blade collision); check the position if it is not "
+            "the aircraft's"]
 
 
 def _polars(v: dict) -> list[str]:
