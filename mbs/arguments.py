@@ -54,21 +54,51 @@ def real_number(low: float = -math.inf, strict: bool = False) -> Callable[[str],
 
 class Within:
     """Type: a finite number in ``[low, high]`` (``unit``); ``what`` names the range in the
-    message and ``hint(value)`` adds what the user may have meant. :meth:`check` checks a value
-    found otherwise (one of a sweep's)."""
+    message and ``hint(value)`` adds what the user may have meant. ``units`` (name -> factor to
+    ``unit``) lets the number carry a unit, ``60kt`` or ``60 kt``; a bare number is in ``unit``.
+    :meth:`check` checks a value found otherwise (one of a sweep's)."""
 
-    def __init__(self, low: float, high: float, unit: str, what: str, hint: Callable[[float], str] = lambda v: ""):
+    def __init__(self, low: float, high: float, unit: str, what: str, hint: Callable[[float], str] = lambda v: "",
+                 units: dict[str, float] | None = None):
         self.low, self.high, self.unit, self.what, self.hint = low, high, unit, what, hint
+        self.units = units or {}
 
     def __call__(self, text: str) -> float:
-        value = real_number()(text)
-        self.check(value, text)
+        number, name = self._split(text)
+        if not name:
+            value = real_number()(text)
+            self.check(value, text)
+            return value
+        value = real_number()(number) * self.units[name]
+        if not self.low <= value <= self.high:
+            raise Bad(f"{text.strip()} ({value:.4g} {self.unit}) is outside {self.what}, {self.low:g} to "
+                      f"{self.high:g} {self.unit}")
         return value
+
+    def _split(self, text: str) -> tuple[str, str]:
+        """``(number, unit)`` of ``text``; the unit "" when it is a bare number (or not a number)."""
+        stripped = text.strip()
+        for name in sorted(self.units, key=len, reverse=True):
+            if stripped.lower().endswith(name.lower()) and len(stripped) > len(name):
+                return stripped[:-len(name)].strip(), name
+        number = stripped.rstrip("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ/ ")
+        if self.units and number != stripped and number and _is_number(number):
+            raise Bad(f"{text!r}: unknown unit {stripped[len(number):].strip()!r}; give a number in {self.unit}, "
+                      f"or with one of {', '.join(self.units)} (e.g. 60kt)")
+        return stripped, ""
 
     def check(self, value: float, text: str | None = None) -> None:
         if not self.low <= value <= self.high:
             raise Bad(f"{text or f'{value:g}'} {self.unit} is outside {self.what}, {self.low:g} to {self.high:g} "
                       f"{self.unit}{self.hint(value)}")
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
 
 
 KNOT = 0.514444  # m/s
@@ -77,11 +107,16 @@ KNOT = 0.514444  # m/s
 def _knots(value: float) -> str:
     """`` (speeds are in m/s: 100 kt would be 51.4 m/s)`` when ``value`` in knots would be a speed."""
     ms = value * KNOT
-    return f" (speeds are in m/s: {value:g} kt would be {ms:.3g} m/s)" if SPEED_RANGE[0] <= ms <= SPEED_RANGE[1] \
-        else ""
+    if not SPEED_RANGE[0] <= ms <= SPEED_RANGE[1]:
+        return ""
+    return f" (speeds are in m/s: {value:g} kt would be {ms:.3g} m/s, or write {value:g}kt)"
 
 
-flight_speed = Within(*SPEED_RANGE, "m/s", "the flight speeds the model covers (rearward flight to 175 kt)", _knots)
+SPEED_UNITS = {"m/s": 1.0, "kt": KNOT, "kn": KNOT, "km/h": 1 / 3.6, "ft/s": 0.3048, "mph": 0.44704}
+"""Units a flight speed on the command line may carry (factor to m/s)."""
+
+flight_speed = Within(*SPEED_RANGE, "m/s", "the flight speeds the model covers (rearward flight to 175 kt)", _knots,
+                      SPEED_UNITS)
 climb_rate = Within(*CLIMB_RANGE, "m/s", "the climb rates the model covers (4000 ft/min down or up)")
 
 

@@ -226,7 +226,9 @@ CASES = [
     ("simulate structural --out run.csv", ["--out", "'run.csv' is named like a file", "'run'"]),
     ("trim hover --tol 1", ["--tol", "1 is too loose for a periodic solution"]),
     ("trim hover --speed 1e3", ["--speed", "1e3 m/s is outside the flight speeds the model covers", "-20 to 90 m/s"]),
-    ("trim hover --speed 100", ["--speed", "100 kt would be 51.4 m/s"]),
+    ("trim hover --speed 100", ["--speed", "100 kt would be 51.4 m/s, or write 100kt"]),
+    ("trim hover --speed 60knots", ["--speed", "unknown unit 'knots'", "kt, kn, km/h, ft/s, mph"]),
+    ("derivatives hover --speed 200kt", ["--speed", "200kt (102.9 m/s) is outside the flight speeds", "-20 to 90"]),
     ("trim hover --climb-rate 50", ["--climb-rate", "50 m/s is outside the climb rates"]),
     ("loads --speed 300", ["--speed", "300 m/s is outside the flight speeds"]),
     ("loads ground-run --speed 20", ["--speed 20", "scene 'ground-run' has no free fuselage"]),
@@ -448,3 +450,17 @@ def test_scenes_does_not_call_velocities_degrees_of_freedom(capsys):
     assert ("  15 degrees of freedom + 4 extra states (main_rotor.inflow, main_rotor.inflow_1s, main_rotor.inflow_1c, "
             "tail_rotor.inflow)") in out
     assert "  16 position coordinates: fuselage.x, fuselage.y, fuselage.z, fuselage.qw" in out
+
+
+def test_a_flight_speed_may_carry_its_unit(capsys):
+    """``--speed 60kt`` (or ``60 kt``, ``100km/h``, ``ft/s``, ``mph``) is converted to m/s; a bare
+    number stays m/s; the trim of ``--speed 20kt`` is the trim at 10.28888 m/s."""
+    import json
+
+    from mbs import arguments as A
+
+    for text, ms in (("60kt", 60 * 0.514444), ("60 KT", 60 * 0.514444), ("100km/h", 100 / 3.6), ("30", 30.0),
+                     ("-10 ft/s", -3.048), ("50 mph", 50 * 0.44704), ("12 m/s", 12.0), ("40kn", 40 * 0.514444)):
+        assert A.flight_speed(text) == pytest.approx(ms, rel=1e-15), text
+    assert cli.main(["trim", "hover", "--speed", "20kt", "--json", "--quiet"]) == 0
+    assert json.loads(capsys.readouterr().out)["speed"] == pytest.approx(20 * 0.514444, rel=1e-15)
