@@ -615,8 +615,8 @@ def _add_periodic_arguments(p) -> None:
     A.add_scene(p, nargs="?", default="forward-flight", what="scene (default forward-flight)")
     A.add_aircraft(p)
     p.add_argument("--speed", type=A.flight_speed, default=None,
-                   help=f"flight speed in m/s, {SPEED_RANGE[0]:g} to {SPEED_RANGE[1]:g}, or with a unit: 60kt, 100km/h, "
-                        "ft/s, mph (default: the scene's)")
+                   help=f"flight speed in m/s, {SPEED_RANGE[0]:g} to {SPEED_RANGE[1]:g}, or with a unit: 60kt, "
+                        "100km/h, ft/s, mph (default: the scene's)")
     p.add_argument("--method", choices=("rk4", "rk8"), default="rk4", help="fixed-step method (default rk4)")
     _steps_per_rev(p)
     _backend(p)
