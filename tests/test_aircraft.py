@@ -89,7 +89,7 @@ BROKEN = {  # what is wrong -> (the change, the words of the one line)
     "missing unit": (lambda raw: raw["main_rotor"]["chord"].pop("unit"), "main_rotor.chord: no unit"),
     "unknown unit": (_set("main_rotor", "chord", unit="cubit"), "main_rotor.chord: unit 'cubit': unknown symbol"),
     "not a number": (_set("main_rotor", "chord", value="0.27 m"), "main_rotor.chord: '0.27 m' is not a number"),
-    "negative mass": (_set("aircraft", "mass", value=-2200.0), "aircraft.mass: -2200 kg is outside > 0"),
+    "negative mass": (_set("aircraft", "mass", value=-2200.0), "aircraft.mass: -2200 kg must be > 0"),
     "triangle inequality": (_set("aircraft", "Izz", value=9000.0), "aircraft.Izz: principal moments"),
     "hinge outside the blade": (_set("main_rotor", "flap_hinge_offset", value=5.2),
                                 "main_rotor.flap_hinge_offset: 5.2 m puts the hinge outside the blade"),

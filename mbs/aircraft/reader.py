@@ -471,7 +471,8 @@ def _bounded(x: float, spec: Entry):
     low_bad = x < spec.low or (spec.open_low and x == spec.low)
     high_bad = x > spec.high or (spec.open_high and x == spec.high)
     if low_bad or high_bad:
-        raise ValueError(f"{_show(x, spec.unit)} is outside {_range(spec)}")
+        one_sided = math.inf in (spec.high, -spec.low) and spec.low != spec.high
+        raise ValueError(f"{_show(x, spec.unit)} {'must be' if one_sided else 'is outside'} {_range(spec)}")
     return x
 
 
