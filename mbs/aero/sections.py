@@ -61,6 +61,25 @@ class Airfoil:
         return self.lift_slope * a, cd
 
 
+@dataclass(frozen=True)
+class ZeroLiftShift:
+    """A cambered section: ``section`` (an :class:`Airfoil`) about its zero-lift line, which lies
+    at ``alpha_0`` (rad, negative when the section lifts at zero angle) from the chord:
+    ``c_L = a (α − α_0)``, the stall guard and the drag polar at ``α − α_0`` as well."""
+
+    section: Airfoil
+    alpha_0: float
+
+    def coefficients(self, alpha):
+        """``(c_L, c_D)`` at angle of attack ``alpha`` (rad, from the chord)."""
+        return self.section.coefficients(alpha - self.alpha_0)
+
+    def coefficients_of(self, alpha, sin2_alpha):
+        """:meth:`coefficients` (``sin2_alpha`` of the chord's angle, unused: the shifted one is computed)."""
+        shifted = alpha - self.alpha_0
+        return self.section.coefficients_of(shifted, ca.sin(shifted) ** 2)
+
+
 @dataclass
 class TableSection:
     """Section coefficients as published: ``c_L`` and ``c_D`` against the angle of attack

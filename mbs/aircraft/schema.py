@@ -77,6 +77,9 @@ def _airfoil(what: str, cd2_default=None) -> dict[str, Entry]:
         "alpha_stall": num("rad", f"{what} stall angle: a guard that bounds the lift, not a stall model", 0.0,
                            math.pi / 2, open_low=True),
         "cd_stalled": num("-", f"{what} flat-plate drag coefficient beyond stall", 0.0, 3.0, default=1.8),
+        "zero_lift_angle": angle(f"{what} section's zero-lift angle alpha_0 from the chord (a cambered section's, "
+                                 "negative when it lifts at zero angle): c_L = a (alpha - alpha_0), the drag polar "
+                                 "and the stall angle counted from the zero-lift line as well", 15, default=0.0),
     }
 
 
@@ -144,9 +147,9 @@ def _surface(what: str, arg: str = "alpha", flow: str = "downwash") -> dict[str,
                                        "attack (within +-90 deg: flow from the trailing edge is folded onto it, as "
                                        "for the analytic section), c_L, c_D; natural cubic splines through the rows, "
                                        "continued linearly beyond the first and last (a trim there warns); replaces "
-                                       "lift_slope, cd0, cd1, cd2, alpha_stall and cd_stalled", "table",
-                                       columns=("rad", "-", "-"), default=(),
-                                       replaces="lift_slope cd0 cd1 cd2 alpha_stall cd_stalled"),
+                                       "lift_slope, cd0, cd1, cd2, alpha_stall, cd_stalled and zero_lift_angle",
+                                       "table", columns=("rad", "-", "-"), default=(),
+                                       replaces="lift_slope cd0 cd1 cd2 alpha_stall cd_stalled zero_lift_angle"),
             **_interference(what, arg, flow)}
 
 

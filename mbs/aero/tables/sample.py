@@ -13,7 +13,7 @@ import casadi as ca
 import numpy as np
 
 from mbs.aero.compressibility import Compressibility
-from mbs.aero.sections import Airfoil
+from mbs.aero.sections import Airfoil, ZeroLiftShift
 from mbs.aero.tables.c81 import C81, CoefficientTable
 
 ATTACHED_STEP = 1.0  # deg, the table's spacing within ±ATTACHED
@@ -70,6 +70,8 @@ def with_sampled_tables(aircraft, folder: Path):
         sec = d[section]
         section_airfoil = Airfoil(sec["lift_slope"], sec["cd0"], sec["cd2"], sec["alpha_stall"], sec["cd_stalled"],
                                   sec["cd1"])
+        if sec.get("zero_lift_angle"):
+            section_airfoil = ZeroLiftShift(section_airfoil, sec["zero_lift_angle"])
         comp = Compressibility(d["environment"]["speed_of_sound"], sec["mach_dd"], sec["mach_limit"])
         c81 = analytic_c81(section_airfoil, mach=MACH, compressibility=comp, name=f"{aircraft.key} {section}")
         (folder / f"{section}.c81").write_text(format_c81(c81.name, {c: c81.table(c) for c in COEFFICIENTS}))

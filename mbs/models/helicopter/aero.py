@@ -7,7 +7,7 @@ import numpy as np
 from mbs.aero import (Airfoil, Compressibility, Download, FuselageAero, FuselageTables, HubDrag, LiftingSurface, Rotor,
                       RotorAero, RotorModel, WakeGeometry)
 from mbs.aero.empennage import TailSurface
-from mbs.aero.sections import TableSection
+from mbs.aero.sections import TableSection, ZeroLiftShift
 from mbs.aircraft.airframe_data import fuselage_table, interference_tables, stabilator_schedule
 from mbs.aero.tables import BladeAirfoils
 from mbs.models.modal_blade import rotor_pieces
@@ -105,12 +105,14 @@ def blade_airfoils(d, cfg, section: str) -> BladeAirfoils | None:
                          d["environment"]["speed_of_sound"], cfg.compressibility)
 
 
-def airfoil(sec: dict) -> Airfoil | TableSection:
-    """The section of a rotor or a tail surface: its published coefficient table, else the analytic section."""
+def airfoil(sec: dict) -> Airfoil | TableSection | ZeroLiftShift:
+    """The section of a rotor or a tail surface: its published coefficient table, else the analytic
+    section (about its zero-lift line when the file gives one)."""
     table = sec.get("coefficient_table")
     if table:
         return TableSection(*(tuple(column) for column in zip(*table)))
-    return Airfoil(sec["lift_slope"], sec["cd0"], sec["cd2"], sec["alpha_stall"], sec["cd_stalled"], sec["cd1"])
+    section = Airfoil(sec["lift_slope"], sec["cd0"], sec["cd2"], sec["alpha_stall"], sec["cd_stalled"], sec["cd1"])
+    return ZeroLiftShift(section, sec["zero_lift_angle"]) if sec.get("zero_lift_angle") else section
 
 
 def tail_surface(d, cfg, section: str, name: str, normal, wake: str | None) -> LiftingSurface:

@@ -60,11 +60,12 @@ def _stall(values: dict, d) -> list[str]:
             continue
         if table:
             continue  # the table models the stall
-        stall = d[section]["alpha_stall"]
-        if alpha is not None and abs(alpha) >= stall:
+        stall, zero = d[section]["alpha_stall"], d[section].get("zero_lift_angle", 0.0)
+        if alpha is not None and abs(alpha - zero) >= stall:
+            line = f" from its zero-lift angle {np.degrees(zero):+.1f} deg" if zero else ""
             out.append(f"{what}: angle of attack {np.degrees(alpha):+.1f} deg at or beyond its stall angle "
-                       f"{np.degrees(stall):.1f} deg ({section}.alpha_stall): its lift is only bounded there, not "
-                       "modelled")
+                       f"{np.degrees(stall):.1f} deg{line} ({section}.alpha_stall): its lift is only bounded there, "
+                       "not modelled")
     return out
 
 

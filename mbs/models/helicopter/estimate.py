@@ -59,7 +59,8 @@ def estimate_trim(d, speed: float) -> TrimEstimate:
     ct, mu = weight / (rho * area * tip**2), speed / tip
     lam_i = momentum_inflow(weight, rho, big_r, speed, speed * tilt) / tip
     lam = mu * tilt + mr["kappa"] * lam_i
-    theta0 = (2 * ct / (sigma * mr["lift_slope"]) - mr["twist"] / 4 * (1 + mu**2) + lam / 2) / (1 / 3 + mu**2 / 2)
+    theta0 = (2 * ct / (sigma * mr["lift_slope"]) - mr["twist"] / 4 * (1 + mu**2) + lam / 2) / (1 / 3 + mu**2 / 2) \
+        + mr.get("zero_lift_angle", 0.0)
     lock = rho * mr["lift_slope"] * mr["chord"] * big_r**4 / mr["I_flap"]
     nu2 = flap_frequency(mr) ** 2
     coning = lock / (8 * nu2) * (theta0 * (1 + mu**2) + 0.8 * mr["twist"] * (1 + 5 / 6 * mu**2) - 4 / 3 * lam)
@@ -92,4 +93,4 @@ def _tail_collective(d, thrust: float, speed: float) -> tuple[float, float]:
         v = momentum_inflow(thrust, rho, tr["radius"], speed)
     ct, mu = thrust / (rho * np.pi * tr["radius"] ** 2 * tip**2), speed / tip
     theta = (2 * ct / (sigma * tr["lift_slope"]) + tr["kappa"] * v / tip / 2) / (1 / 3 + mu**2 / 2)
-    return theta, v
+    return theta + tr.get("zero_lift_angle", 0.0), v
