@@ -20,7 +20,7 @@ DOWNWASH_DEG = [1.0, 2.5, 3.0, 3.5, 4.0]
 Q_RATIO = [0.8, 0.85, 0.9, 0.85, 0.8]
 
 
-def _file(tmp_path, collective_gain: float) -> str:
+def _file(tmp_path, collective_gain: float, cyclic_gain: float = 0.0) -> str:
     """The Bo105 with a stabilator (schedule, collective gain about 10 deg, stops -10/+35 deg) and
     published-style downwash and dynamic-pressure tables at the horizontal tail (test data)."""
     text = aircraft.resolve("bo105").read_text()
@@ -35,8 +35,10 @@ def _file(tmp_path, collective_gain: float) -> str:
                        f'collective_gain = {{ value = {collective_gain}, unit = "-", source = "TEST" }}',
                        'collective_reference = { value = 10.0, unit = "deg", source = "TEST" }',
                        'incidence_min = { value = -10.0, unit = "deg", source = "TEST" }',
-                       'incidence_max = { value = 35.0, unit = "deg", source = "TEST" }', ""])
-    path = tmp_path / f"bo105_stabilator_{collective_gain:g}.toml"
+                       'incidence_max = { value = 35.0, unit = "deg", source = "TEST" }',
+                       *([f'cyclic_gain = {{ value = {cyclic_gain}, unit = "-", source = "TEST" }}'] if cyclic_gain
+                         else []), ""])
+    path = tmp_path / f"bo105_stabilator_{collective_gain:g}_{cyclic_gain:g}.toml"
     path.write_text(text)
     return str(path)
 
@@ -92,6 +94,23 @@ def test_trimmed_stabilator_follows_its_schedule_and_interference_tables(tmp_pat
     assert stop.converged and stop.output_means["stabilator.incidence"] == pytest.approx(np.radians(35), abs=0.01)
     d5 = aircraft.load(_file(tmp_path, 20.0)).data
     assert any("stabilator: at its stop +35.0 deg" in w for w in trim_warnings(stop, d5))
+
+
+def test_an_elevator_linked_to_the_cyclic_follows_it(tmp_path):
+    """The stabilator file with an elevator gain of -2 rad per rad of longitudinal cyclic (and no
+    collective gain), trimmed at 50 kt: its incidence is the schedule plus -2 theta_1s of the
+    trim, within the stops (1e-6 rad, as above); without the gain the schedule alone."""
+    from mbs.analysis.trim import periodic_solution
+
+    res = periodic_solution(scenes.get("forward-flight").with_aircraft(_file(tmp_path, 0.0, -2.0)), 50 * KT)
+    assert res.converged
+    x = res.state
+    speed = np.sqrt(x["fuselage.u"] ** 2 + x["fuselage.v"] ** 2 + x["fuselage.w"] ** 2)
+    raw = Spline(np.array(SCHEDULE_KT) * KT, np.radians(SCHEDULE_DEG))(speed) \
+        - 2.0 * res.controls["longitudinal_cyclic"]
+    assert abs(res.controls["longitudinal_cyclic"]) > 0.005
+    assert res.output_means["stabilator.incidence"] == pytest.approx(
+        float(smooth_clamp(raw, np.radians(-10), np.radians(35))), abs=1e-6)
 
 
 def test_airframe_warnings_fire_where_they_should(tmp_path):

@@ -2,8 +2,9 @@
 
 A stabilator is a horizontal tail whose incidence (rad, leading edge up positive, i.e. trailing
 edge down) a schedule sets: a table against airspeed (m/s) plus gains on the collective (rad per
-rad, about a reference collective) and the pitch rate (rad per rad/s), held within its stops by a
-smooth clamp (:func:`smooth_clamp`). Interference tables replace the rotor-wake model at a
+rad, about a reference collective), the longitudinal cyclic (rad per rad: an elevator linked to
+the cyclic stick, as the UH-1H's synchronized elevator) and the pitch rate (rad per rad/s), held
+within its stops by a smooth clamp (:func:`smooth_clamp`). Interference tables replace the rotor-wake model at a
 surface with published ratios against the fuselage angle of attack: the dynamic-pressure ratio
 ``η = q_tail / q`` (the air speed at the surface scales by ``sqrt η``) and the downwash angle
 ``ε`` (rad, the flow turned down at the horizontal tail; for the fin the sidewash angle ``σ``
@@ -35,7 +36,8 @@ def smooth_clamp(x, low: float, high: float, width: float = CLAMP_SMOOTHING):
 class Schedule:
     """Stabilator incidence against ``airspeed`` (m/s) breakpoints: ``incidence`` (rad) values,
     ``collective_gain`` (rad/rad) about ``collective_reference`` (rad), ``pitch_rate_gain``
-    (rad per rad/s), stops ``low``/``high`` (rad)."""
+    (rad per rad/s), stops ``low``/``high`` (rad), ``cyclic_gain`` (rad per rad of the model's
+    longitudinal cyclic θ1s)."""
 
     airspeed: tuple
     incidence: tuple
@@ -44,12 +46,15 @@ class Schedule:
     pitch_rate_gain: float
     low: float
     high: float
+    cyclic_gain: float = 0.0
 
-    def __call__(self, airspeed, collective, pitch_rate):
+    def __call__(self, airspeed, collective, pitch_rate, cyclic=0.0):
         """The scheduled incidence (rad) and the incidence before the stops (rad)."""
         raw = Spline(self.airspeed, self.incidence)(airspeed)
         if self.collective_gain:
             raw = raw + self.collective_gain * (collective - self.collective_reference)
+        if self.cyclic_gain:
+            raw = raw + self.cyclic_gain * cyclic
         if self.pitch_rate_gain:
             raw = raw + self.pitch_rate_gain * pitch_rate
         return smooth_clamp(raw, self.low, self.high), raw
@@ -97,7 +102,8 @@ class TailSurface(LiftingSurface):
         own = ca.mtimes(m.rotation.T, m.velocity)
         airspeed = ca.sqrt(ca.dot(own, own) + EPS**2)
         collective = state.p["collective"] if self.schedule.collective_gain else 0.0
-        incidence, raw = self.schedule(airspeed, collective, m.omega[1])
+        cyclic = state.p["longitudinal_cyclic"] if self.schedule.cyclic_gain else 0.0
+        incidence, raw = self.schedule(airspeed, collective, m.omega[1], cyclic)
         state.signals[f"{self.name}.incidence"], state.signals[f"{self.name}.incidence_raw"] = incidence, raw
         return incidence
 

@@ -353,7 +353,7 @@ def stabilator_schedule(d):
         return None
     st = d["stabilator"]
     return Schedule(tuple(st["airspeed"]), tuple(st["incidence"]), st["collective_gain"], st["collective_reference"],
-                    st["pitch_rate_gain"], st["incidence_min"], st["incidence_max"])
+                    st["pitch_rate_gain"], st["incidence_min"], st["incidence_max"], st["cyclic_gain"])
 
 
 def interference_tables(d, section: str):

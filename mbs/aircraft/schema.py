@@ -171,6 +171,8 @@ def _stabilator() -> dict[str, Entry]:
         "collective_gain": num("-", "incidence per collective (rad/rad) about collective_reference", default=0.0),
         "collective_reference": angle("collective at which the collective term is zero", 60, default=0.0),
         "pitch_rate_gain": num("s", "incidence per pitch rate (rad per rad/s, nose up positive)", default=0.0),
+        "cyclic_gain": num("-", "incidence per longitudinal cyclic (rad per rad of the model's theta_1s, positive: "
+                           "the disc tilts aft): an elevator linked to the cyclic stick", default=0.0),
         "incidence_min": angle("stop: least incidence (trailing edge up)", 90),
         "incidence_max": angle("stop: largest incidence (trailing edge down)", 90),
     }
