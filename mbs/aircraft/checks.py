@@ -164,11 +164,12 @@ def _blade_body(mr: dict) -> list[str]:
         return [f"main_rotor.first_moment: {first:g} kg m puts the blade's centre of mass {first / m:g} m from the "
                 f"flap hinge, off the blade (span {span:g} m)"]
     if own_flap_inertia(mr) <= 0.0:
-        return [f"main_rotor.blade_mass: {m:g} kg with the first moment {first:g} kg m (centre of mass {first / m:.4g} m "
-                f"from the hinge) needs a flap inertia above S^2/m = {first**2 / m:.5g} kg m^2 about the hinge, but "
-                f"I_flap is {mr['I_flap']:.5g} kg m^2 ({given}): the blade would have a negative inertia about its "
-                f"own centre of mass. Mass, first moment and flap inertia are not of one blade: check them (a uniform "
-                f"blade of this I_flap weighs {3 * mr['I_flap'] / span**2:.5g} kg), or give a mass_table"]
+        return [f"main_rotor.blade_mass: {m:g} kg with the first moment {first:g} kg m (centre of mass "
+                f"{first / m:.4g} m from the hinge) needs a flap inertia above S^2/m = {first**2 / m:.5g} kg m^2 "
+                f"about the hinge, but I_flap is {mr['I_flap']:.5g} kg m^2 ({given}): the blade would have a "
+                f"negative inertia about its own centre of mass. Mass, first moment and flap inertia are not of one "
+                f"blade: check them (a uniform blade of this I_flap weighs {3 * mr['I_flap'] / span**2:.5g} kg), or "
+                f"give a mass_table"]
     return []
 
 
@@ -186,6 +187,15 @@ def _tail_hub_type(tr: dict) -> list[str]:
         out.append(f"tail_rotor.delta3: {math.degrees(tr['delta3']):.4g} deg on a rigid hub, which does not flap: "
                    "pitch-flap coupling needs hub_type = \"teetering\" or \"flapping\" (or delta3 = 0)")
     return out
+
+
+def main_rotor_notes(mr: dict) -> list[str]:
+    """Entries of the main rotor that are valid but act less than they may seem to."""
+    if mr["precone"] != 0.0 and mr["flap_stiffness"] == 0.0:
+        return [f"main_rotor.precone: {math.degrees(mr['precone']):.4g} deg without a flap spring does nothing (it "
+                "is the spring's rest angle; an articulated blade cones freely): give flap_stiffness, or leave "
+                "precone out"]
+    return []
 
 
 def tail_rotor_notes(tr: dict) -> list[str]:

@@ -286,6 +286,8 @@ ENTRIES: dict[str, dict[str, Entry]] = {
                                        radial=True),
         "flap_hinge_offset": num("m", "flap hinge (or equivalent hinge) distance from the rotor axis", 0.0),
         "flap_stiffness": num("N m/rad", "flap spring (centre-spring equivalent of a hingeless rotor)", 0.0),
+        "precone": angle("precone of the main-rotor blades: the rest angle of the flap spring (a hingeless or "
+                         "bearingless rotor's built-in coning); nothing without flap_stiffness", 20, default=0.0),
         "lag_frequency": positive("1/rev", "first rotating lag frequency"),
         "lag_damping": num("N m s/rad", "lead-lag damper", 0.0),
         "hub_radius": positive("m", "hub radius (inertia of a solid disc, display)"),

@@ -120,6 +120,10 @@ def _check_distributions(d, cfg: Config) -> None:
     given = [k for k in ("mass_table", "section_inertia_table") if mr.get(k)]
     if not given and not is_uniform_blade(mr):
         given = ["blade_mass"]
+    if mr.get("precone") and (cfg.blade_segments or cfg.blade_modes):
+        raise ValueError(f"main_rotor.precone: the {'segmented elastic' if cfg.blade_segments else 'modal'} blade "
+                         "is a straight beam from the hub; it does not take a precone yet: fly rigid blades, or "
+                         "leave precone out for this scene")
     if given and (cfg.blade_segments or cfg.blade_modes):
         kind = "segmented elastic" if cfg.blade_segments else "modal"
         what = "a mass distribution" if given[0] != "blade_mass" else "a blade whose mass, first moment and I_flap " \

@@ -63,7 +63,8 @@ def estimate_trim(d, speed: float) -> TrimEstimate:
         + mr.get("zero_lift_angle", 0.0)
     lock = rho * mr["lift_slope"] * mr["chord"] * big_r**4 / mr["I_flap"]
     nu2 = flap_frequency(mr) ** 2
-    coning = lock / (8 * nu2) * (theta0 * (1 + mu**2) + 0.8 * mr["twist"] * (1 + 5 / 6 * mu**2) - 4 / 3 * lam)
+    coning = lock / (8 * nu2) * (theta0 * (1 + mu**2) + 0.8 * mr["twist"] * (1 + 5 / 6 * mu**2) - 4 / 3 * lam) \
+        + mr["flap_stiffness"] * mr.get("precone", 0.0) / (mr["I_flap"] * omega**2 * nu2)
     blowback = 2 * mu * (4 / 3 * theta0 + mr["twist"] - lam) / (1 - mu**2 / 2)
     e = mr["flap_hinge_offset"]
     hub_spring = mr["flap_stiffness"] + e * mr["blade_mass"] * (big_r - e) / 2 * omega**2  # per blade, N m/rad

@@ -161,6 +161,8 @@ def blade_joint(d, cfg, k: int, psi0: float, sense: int) -> LoopJoint | Serial:
 
 def link_joint(d, cfg, k: int, psi0: float, sense: int) -> LoopJoint:
     """Blade ``k`` (from 1)'s flap, lag and pitch hinges, its pitch solved by its pitch link."""
+    from mbs.models.helicopter.tree import main_flap_hinge  # tree builds its blades with this module
+
     mr, sp = d["main_rotor"], Swashplate.of(d)
     plate = plate_of(d, cfg)
 
@@ -175,7 +177,7 @@ def link_joint(d, cfg, k: int, psi0: float, sense: int) -> LoopJoint:
                     Assembly(0.0, tuple(sp.neutral_anchor(sense))), inboard=sp.horn == "housing")
     loop = link if cfg.loop_solver == "closed-form" else Newton(link, _pitch_guess(sp, plate, psi),
                                                                 iterations=NEWTON_ITERATIONS)
-    return LoopJoint(Hinge((0, -1, 0), name="flap", stiffness=mr["flap_stiffness"]),
+    return LoopJoint(main_flap_hinge(mr),
                      Hinge((0, 0, -sense), name="lag", stiffness=mr["lag_stiffness"],
                            damping=mr["lag_damping"] if cfg.dampers else 0.0),
                      Hinge((sense, 0, 0), name="pitch"), loop=loop)

@@ -65,9 +65,16 @@ def _pitch_law(psi0: float):
     return angle
 
 
+def main_flap_hinge(mr: dict) -> Hinge:
+    """A main-rotor blade's flap hinge: its spring relaxed at the precone."""
+    if mr.get("precone"):
+        return Hinge((0, -1, 0), name="flap", stiffness=mr["flap_stiffness"], rest_angle=mr["precone"])
+    return Hinge((0, -1, 0), name="flap", stiffness=mr["flap_stiffness"])
+
+
 def _blade_joint(d, cfg, psi0: float, sense: int):
     mr = d["main_rotor"]
-    parts = [Hinge((0, -1, 0), name="flap", stiffness=mr["flap_stiffness"]),
+    parts = [main_flap_hinge(mr),
              Hinge((0, 0, -sense), name="lag", stiffness=mr["lag_stiffness"],
                    damping=mr["lag_damping"] if cfg.dampers else 0.0)]
     if cfg.pitch_hinge:
