@@ -544,7 +544,7 @@ def _derivative_lines(res) -> list[str]:
         period = f"{m.period_s:9.2f}" if m.period_s else " " * 9
         lines.append(f"  {m.name:22s} {m.eigenvalue.real:+10.4f} {m.eigenvalue.imag:11.4f} "
                      f"{m.damping_ratio:+7.3f} {period}")
-    return lines
+    return lines + [f"  warning: {w}" for w in res.warnings]
 
 
 SYMBOLS = {"theta": "θ", "phi": "φ"}

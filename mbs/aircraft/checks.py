@@ -150,7 +150,29 @@ def _blades(v: dict) -> list[str]:
                    f"(radius {mr['radius']:g} m)")
     elif not mr.get("mass_table"):
         out += _blade_body(mr)
-    return out + _tail_hub_type(v["tail_rotor"])
+    return out + _main_hub_type(v) + _tail_hub_type(v["tail_rotor"])
+
+
+def _main_hub_type(v: dict) -> list[str]:
+    """A teetering main rotor: two blades on a seesaw on the axis, and none of the sections that
+    act on per-blade flap and lag hinges."""
+    mr = v["main_rotor"]
+    if mr["hub_type"] != "teetering":
+        return []
+    out = []
+    if mr["n_blades"] != 2:
+        out.append(f"main_rotor.n_blades: a teetering main rotor has 2 blades, not {mr['n_blades']}; use hub_type = "
+                   "\"flapping\" for more")
+    if mr["flap_hinge_offset"] != 0.0:
+        out.append(f"main_rotor.flap_hinge_offset: {mr['flap_hinge_offset']:g} m on a teetering hub, whose blades "
+                   "start at the teeter hinge on the axis: give 0 (an undersling is not modelled)")
+    if "lag_stiffness" in mr:
+        out.append("main_rotor.lag_stiffness: applies only when main_rotor.hub_type = 'flapping' (a teetering "
+                   "rotor has no lag hinge); leave it out")
+    if v.get("lag_damper", {}).get("force_curve"):
+        out.append("[lag_damper]: a lag-damper strut on a teetering main rotor, which has no lag hinge: leave the "
+                   "section out, or give hub_type = \"flapping\"")
+    return out
 
 
 def _blade_body(mr: dict) -> list[str]:
@@ -191,7 +213,7 @@ def _tail_hub_type(tr: dict) -> list[str]:
 
 def main_rotor_notes(mr: dict) -> list[str]:
     """Entries of the main rotor that are valid but act less than they may seem to."""
-    if mr["precone"] != 0.0 and mr["flap_stiffness"] == 0.0:
+    if mr["precone"] != 0.0 and mr["flap_stiffness"] == 0.0 and mr["hub_type"] == "flapping":
         return [f"main_rotor.precone: {math.degrees(mr['precone']):.4g} deg without a flap spring does nothing (it "
                 "is the spring's rest angle; an articulated blade cones freely): give flap_stiffness, or leave "
                 "precone out"]

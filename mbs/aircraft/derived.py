@@ -63,6 +63,8 @@ def flap_frequency(mr: dict) -> float:
     ``ν² = 1 + e S / I + K / (I Ω²)`` (``e S / I = 1.5 e / (R − e)`` for the uniform blade)."""
     from mbs.aircraft.mass import is_uniform_blade
 
+    if mr.get("hub_type") == "teetering":  # both blades on one seesaw: twice a blade's inertia on the hub spring
+        return math.sqrt(1 + mr["flap_stiffness"] / (2 * mr["I_flap"] * mr["omega"] ** 2))
     e, span = mr["flap_hinge_offset"], mr["radius"] - mr["flap_hinge_offset"]
     offset = 1.5 * e / span if is_uniform_blade(mr) else e * mr["first_moment"] / mr["I_flap"]
     return math.sqrt(1 + offset + mr["flap_stiffness"] / (mr["I_flap"] * mr["omega"] ** 2))
@@ -106,12 +108,13 @@ def complete(values: dict) -> list[str]:
     _distributions(values)
     _set(mr, "blade_mass", lambda: blade_mass(mr))
     _set(mr, "first_moment", lambda: mr["blade_mass"] * (mr["radius"] - mr["flap_hinge_offset"]) / 2)
-    _set(mr, "lag_stiffness", lambda: lag_stiffness(mr))
+    if mr["hub_type"] == "flapping":
+        _set(mr, "lag_stiffness", lambda: lag_stiffness(mr))
     hover = performance.hover(values)
     _set(mr, "tip_loss", lambda: tip_loss(hover.main.thrust_coefficient, mr["n_blades"]))
     _set(tr, "tip_loss", lambda: tip_loss(hover.tail.thrust_coefficient, tr["n_blades"]))
     _set(values.setdefault("wake", {}), "core", lambda: mr["root_cutout"])
-    if "elastic_blade" in values and values["elastic_blade"]:
+    if "elastic_blade" in values and values["elastic_blade"] and mr["hub_type"] == "flapping":
         _elastic(values)
     if values.get("swashplate"):
         _swashplate(values["swashplate"], mr["flap_hinge_offset"])
@@ -169,7 +172,7 @@ def _swashplate(sp: dict, hinge_offset: float) -> None:
 
 def _problems(values: dict) -> list[str]:
     mr, out = values["main_rotor"], []
-    if mr["lag_stiffness"] < 0:
+    if mr["hub_type"] == "flapping" and mr["lag_stiffness"] < 0:
         own = math.sqrt(max(mr["lag_frequency"] ** 2 - mr["lag_stiffness"] / (lag_inertia(mr) * mr["omega"] ** 2), 0))
         out.append(f"main_rotor.lag_frequency: {mr['lag_frequency']:g}/rev is below the {own:.3g}/rev the hinge "
                    "offset alone gives; no lag spring can lower it")

@@ -126,13 +126,20 @@ def seesaw(d) -> Part:
     return Part(tr["seesaw_mass"], np.zeros(3), box_inertia(tr["seesaw_mass"], *tr["seesaw_size"]))
 
 
+def main_seesaw(d) -> Part:
+    """A teetering main rotor's yoke, a box along the blades."""
+    mr = d["main_rotor"]
+    return Part(mr["seesaw_mass"], np.zeros(3), box_inertia(mr["seesaw_mass"], *mr["seesaw_size"]))
+
+
 def main_rotor(d) -> Part:
-    """The main rotor (hub and blades) in its hub frame, averaged over a revolution."""
+    """The main rotor (hub, a teetering hub's yoke, and blades) in its hub frame, averaged over a revolution."""
     mr = d["main_rotor"]
     sense, e = geo.main_sense(d), mr["flap_hinge_offset"]
     blades = [main_blade(d).placed(e * geo.rz(sense * psi)[:, 0], geo.rz(sense * psi))
               for psi in geo.blade_azimuths(mr["n_blades"])]
-    return _averaged(combine([main_hub(d), *blades]))
+    yoke = [main_seesaw(d)] if mr.get("hub_type") == "teetering" else []
+    return _averaged(combine([main_hub(d), *yoke, *blades]))
 
 
 def tail_rotor(d) -> Part:
@@ -167,10 +174,11 @@ def published_inertia(d) -> np.ndarray:
 
 
 def rotor_masses(v: dict) -> tuple[float, float]:
-    """Masses (kg) of the main rotor (hub and blades) and of the tail rotor (hub, seesaw, blades)."""
+    """Masses (kg) of the main rotor (hub, yoke, blades) and of the tail rotor (hub, seesaw, blades)."""
     mr, tr = v["main_rotor"], v["tail_rotor"]
     seesaw = tr.get("seesaw_mass", 0.0) if tr["hub_type"] == "teetering" else 0.0
-    return (mr["hub_mass"] + mr["n_blades"] * mr["blade_mass"],
+    yoke = mr.get("seesaw_mass", 0.0) if mr.get("hub_type") == "teetering" else 0.0
+    return (mr["hub_mass"] + yoke + mr["n_blades"] * mr["blade_mass"],
             tr["hub_mass"] + seesaw + tr["n_blades"] * tr["blade_mass"])
 
 

@@ -143,7 +143,7 @@ def _warnings(data: Data, rows: list[tuple]) -> list[str]:
                    f"e.g. {', '.join(template[:3])}: replace them with your aircraft's data and sources")
     out += checks.inertia_warnings(data)
     damper = checks.lag_damper_figures(data)
-    if damper and data["main_rotor"]["lag_damping"] > 0:
+    if damper and data["main_rotor"].get("lag_damping", 0.0) > 0:
         out.append(f"main_rotor.lag_damping: {data['main_rotor']['lag_damping']:g} N m s/rad on the lag hinge as well as "
                    f"the [lag_damper] strut ({damper[2]:.4g} N m s/rad at rest): both act; set lag_damping to the "
                    "blade's structural damping only (or 0)")
@@ -176,7 +176,8 @@ def figures(data: Data) -> list[tuple]:
     return [*airfoil_rows(data),
         ("main-rotor solidity", hov.main.solidity, "-"), ("tail-rotor solidity", hov.tail.solidity, "-"),
         ("Lock number", performance.lock_number(mr, env["rho"]), "-"),
-        ("flap frequency", derived.flap_frequency(mr), "1/rev"), ("lag frequency", mr["lag_frequency"], "1/rev"),
+        ("teeter frequency" if mr["hub_type"] == "teetering" else "flap frequency", derived.flap_frequency(mr),
+         "1/rev"), *([("lag frequency", mr["lag_frequency"], "1/rev")] if mr["hub_type"] == "flapping" else []),
         ("disc loading", hov.main.disc_loading, "N/m^2"),
         ("main-rotor tip speed", hov.main.tip_speed, "m/s"),
         ("main-rotor tip Mach number", hov.main.tip_speed / env["speed_of_sound"], "-"),

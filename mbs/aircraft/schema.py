@@ -264,6 +264,14 @@ ENTRIES: dict[str, dict[str, Entry]] = {
     },
     "main_rotor": {
         "n_blades": count("number of main-rotor blades", 2, 12),
+        "hub_type": choice("flapping (each blade on its own flap and lag hinges: an articulated rotor, or the "
+                           "equivalent hinges and springs of a hingeless one) or teetering (two blades on a seesaw "
+                           "across the shaft, stiff in plane: no lag hinge; a Bell or Robinson rotor)", "flapping",
+                           "teetering", default="flapping"),
+        "seesaw_mass": positive("kg", "teetering hub: the yoke's mass, teetering with the blades (hub_mass is the "
+                                "mast head's)", only_if=("hub_type", "teetering")),
+        "seesaw_size": Entry("m", "teetering hub: the yoke as a box along the blades (inertia, display)", "vector",
+                             0.0, math.inf, open_low=True, length=3, only_if=("hub_type", "teetering")),
         "rotation": choice("sense of rotation seen from above", "counter-clockwise", "clockwise"),
         "omega": positive("rad/s", "nominal main-rotor speed"),
         "omega_min": positive("rad/s", "least rotor speed the omega parameter accepts", default="0.5 omega"),
@@ -284,12 +292,15 @@ ENTRIES: dict[str, dict[str, Entry]] = {
                                        "(about the chord), lag (about the normal), torsion (about the span); "
                                        "default: a box of the chord and blade_thickness", "table", columns=("-", "kg m", "kg m", "kg m"), default=(),
                                        radial=True),
-        "flap_hinge_offset": num("m", "flap hinge (or equivalent hinge) distance from the rotor axis", 0.0),
-        "flap_stiffness": num("N m/rad", "flap spring (centre-spring equivalent of a hingeless rotor)", 0.0),
+        "flap_hinge_offset": num("m", "flap hinge (or equivalent hinge) distance from the rotor axis (0 on a "
+                                 "teetering hub, whose blades start at the teeter hinge on the axis)", 0.0),
+        "flap_stiffness": num("N m/rad", "flap spring (centre-spring equivalent of a hingeless rotor; on a teetering "
+                              "hub the hub spring on the teeter angle)", 0.0),
         "precone": angle("precone of the main-rotor blades: the rest angle of the flap spring (a hingeless or "
-                         "bearingless rotor's built-in coning); nothing without flap_stiffness", 20, default=0.0),
-        "lag_frequency": positive("1/rev", "first rotating lag frequency"),
-        "lag_damping": num("N m s/rad", "lead-lag damper", 0.0),
+                         "bearingless rotor's built-in coning; nothing without flap_stiffness), built into the yoke "
+                         "of a teetering hub", 20, default=0.0),
+        "lag_frequency": positive("1/rev", "first rotating lag frequency", only_if=("hub_type", "flapping")),
+        "lag_damping": num("N m s/rad", "lead-lag damper", 0.0, only_if=("hub_type", "flapping")),
         "hub_radius": positive("m", "hub radius (inertia of a solid disc, display)"),
         **_rotor("main-rotor"),
         **_controls("collective", "main-rotor collective pitch at the blade root"),

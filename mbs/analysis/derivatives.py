@@ -77,6 +77,7 @@ class Derivatives:
     published: dict[str, float] = field(default_factory=dict)  # control derivatives per published control angle
     pilot: dict[str, float] = field(default_factory=dict)  # control derivatives per pilot position (SI)
     B_pilot: np.ndarray | None = None  # (8, 4): B per pilot position, PILOT order
+    warnings: list[str] = field(default_factory=list)
 
     @property
     def states(self) -> list[str]:
@@ -94,6 +95,7 @@ class Derivatives:
                 "control_derivatives_published": self.published, "control_derivatives_pilot": self.pilot,
                 "B_pilot": None if self.B_pilot is None else self.B_pilot.tolist(),
                 "period": self.trim.period_summary() if hasattr(self.trim, "period_summary") else None,
+                "warnings": self.warnings,
                 "convention": "Padfield 8-state x = (u, w, q, theta, v, p, phi, r), u = (theta0, theta1s, "
                               "theta1c, theta0T); forces per unit mass, moments per unit inertia (primed L, N); "
                               "quasi-static rotor in its periodic equilibrium"}
@@ -197,7 +199,22 @@ def derivatives(scene: str = "forward-flight", speed: float | None = None, metho
     res = linearise(sol, system, held_stepper, sol.radius, start)
     if sc.aircraft is not None:
         in_pilot_controls(res, sc.aircraft.data)
+        res.warnings += two_bladed_warning(sc.aircraft.data)
     return res
+
+
+TWO_BLADED = ("two-bladed main rotor: its quasi-static derivatives are not validated. A two-bladed rotor's loads "
+              "vary at 2/rev even in hover, and its roll and pitch damping here depend on its lag and precone "
+              "(a UH-1H: L_p -1.78 and +0.67 1/s on flapping blades of lag frequency 0.7 and 1.5/rev, +0.03 and "
+              "+0.43 on a teetering hub without and with 2.75 deg precone, where the same rotor as three or four "
+              "blades of the same solidity gives -0.62 and -0.63, and a disc's thrust tilt about -0.5): check L_p, "
+              "M_q and the modes with heli floquet, which is exact for the model")
+"""The measured reason a two-bladed main rotor's derivatives carry a warning."""
+
+
+def two_bladed_warning(d) -> list[str]:
+    """:data:`TWO_BLADED` for an aircraft whose main rotor has two blades, else nothing."""
+    return [TWO_BLADED] if d["main_rotor"]["n_blades"] == 2 else []
 
 
 def in_pilot_controls(res: Derivatives, d) -> None:

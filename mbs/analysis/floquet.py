@@ -120,6 +120,8 @@ def group_of(name: str) -> str:
     """The participation group of a coordinate name."""
     if name.startswith(("seesaw.", "tail_rotor.", "tail_blade")):
         return "tail rotor"
+    if name.startswith("main_seesaw."):  # a teetering main rotor's flapping
+        return "flap"
     if ".inflow" in name:
         return "inflow"
     for key in ("flap", "lag", "torsion"):

@@ -262,15 +262,14 @@ def _aircraft_estimate(system, lay: TrimLayout, speed: float, d) -> tuple[np.nda
     """Initial state and parameters from :func:`mbs.models.helicopter.estimate_trim` at ``speed``."""
     from mbs import _rotation as rot
     from mbs.models.helicopter import estimate_trim
+    from mbs.models.helicopter.estimate import flap_start
 
     e, omega, names = estimate_trim(d, speed), d["main_rotor"]["omega"], system.info.state_names
     x = system.x0()
     x[lay.rotor] = 0.0
     x[lay.quaternion] = rot.euler_to_quat(e.roll, e.pitch, 0.0)
-    for k in range(int(d["main_rotor"]["n_blades"])):
-        psi = 2 * np.pi * k / d["main_rotor"]["n_blades"]
-        x[names.index(f"blade{k + 1}.flap")] = e.coning - e.a1s * np.cos(psi)
-        x[names.index(f"blade{k + 1}.flap_rate")] = e.a1s * omega * np.sin(psi)
+    for name, value in flap_start(d, int(d["main_rotor"]["n_blades"]), e.coning, e.a1s, omega).items():
+        x[names.index(name)] = value
     for name, value in (("main_rotor.inflow", e.inflow_main), ("tail_rotor.inflow", e.inflow_tail)):
         if name in names:
             x[names.index(name)] = value
@@ -360,7 +359,8 @@ def periodic_solution(sc, speed: float | None = None, climb_rate: float = 0.0, m
         res = _continuation(system, stepper, sc, prob, steps_per_rev, tol, max_iterations, res)
     if not res.converged and prob.lay.free:
         res.reason += _beyond_range(system, prob.speed, sc.aircraft) or _at_stops(system, prob.lay, res.z)
-    out = _result(sc.name, prob, res, steps_per_rev, setup_s, system.nfev - nfev0)
+    cone = sc.aircraft.data["main_rotor"]["precone"] if getattr(sc, "aircraft", None) is not None else 0.0
+    out = _result(sc.name, prob, res, steps_per_rev, setup_s, system.nfev - nfev0, cone)
     if sc.aircraft is not None:
         out.aircraft = sc.aircraft.name
         out.rotor = rotor_coefficients(sc.aircraft.data, out.thrust, out.speed, system.params(out.params))
@@ -481,7 +481,7 @@ def _problem(system, stepper, sc, speed, flight: FlightPath, steps_per_rev) -> S
                            reference_radius(sc))
 
 
-def _result(scene: str, prob: ShootingProblem, res, steps_per_rev, setup_s, nfev) -> Trim:
+def _result(scene: str, prob: ShootingProblem, res, steps_per_rev, setup_s, nfev, cone: float = 0.0) -> Trim:
     x0, p = prob.start(res.z)[:2]
     controls, attitude = prob.lay.split(res.z)[:2]
     flight = prob.flight
@@ -494,15 +494,16 @@ def _result(scene: str, prob: ShootingProblem, res, steps_per_rev, setup_s, nfev
                flight=flight, sideslip=sideslip)
     out.output_units = {o["name"]: o["unit"] for o in prob.system.info.outputs}
     if res.converged:
-        out.output_means, out.flapping = _period_figures(prob, res.z)
+        out.output_means, out.flapping = _period_figures(prob, res.z, cone)
     out.thrust = out.output_means.get("main_rotor.thrust")
     return out
 
 
-def _period_figures(prob: ShootingProblem, z) -> tuple[dict[str, float], dict[str, float]]:
+def _period_figures(prob: ShootingProblem, z, cone: float = 0.0) -> tuple[dict[str, float], dict[str, float]]:
     """The model's outputs averaged over the shooting interval (azimuths left out) and the
     main-rotor blades' flapping ``β = β0 + β1c cos ψ + β1s sin ψ`` (rad, relative to the shaft;
-    ψ of each blade from the tail in the sense of rotation), averaged over the blades."""
+    ψ of each blade from the tail in the sense of rotation), averaged over the blades; a
+    teetering rotor's blades flap by ± its teeter angle on its precone ``cone`` (rad)."""
     from mbs.analysis.signals import azimuth_harmonics
 
     info = prob.system.info
@@ -512,11 +513,14 @@ def _period_figures(prob: ShootingProblem, z) -> tuple[dict[str, float], dict[st
     traj = prob.run(z, every=1)
     y = prob.system.history("outputs", traj, prob.start(z)[1])[1:]
     means = {n: float(y[:, info.output_names.index(n)].mean()) for n in names}
-    flaps = [i for i, n in enumerate(info.state_names) if re.fullmatch(r"blade\d+\.flap", n)]
+    flaps = [traj.x[1:, i] for i, n in enumerate(info.state_names) if re.fullmatch(r"blade\d+\.flap", n)]
+    if "main_seesaw.teeter" in info.state_names:  # blade 1 up by the teeter angle, blade 2 down, on the precone
+        teeter = traj.x[1:, info.state_names.index("main_seesaw.teeter")]
+        flaps = [cone + teeter, cone - teeter]
     if "main_rotor.azimuth" not in info.output_names or not flaps:
         return means, {}
     psi = y[:, info.output_names.index("main_rotor.azimuth")]
-    rows = [azimuth_harmonics(psi + 2 * np.pi * k / len(flaps), traj.x[1:, i]) for k, i in enumerate(flaps)]
+    rows = [azimuth_harmonics(psi + 2 * np.pi * k / len(flaps), flap) for k, flap in enumerate(flaps)]
     beta0, beta1c, beta1s = np.mean(rows, axis=0)
     return means, {"beta0": float(beta0), "beta1c": float(beta1c), "beta1s": float(beta1s)}
 

@@ -13,7 +13,7 @@ from mbs.models.helicopter.aero import add_airframe_aero, add_rotor_aero
 from mbs.models.helicopter.config import Config
 from mbs.models.helicopter.environment import (add_air, add_cg_shift, add_height, add_payload, data_in_air,
                                                isa_defaults)
-from mbs.models.helicopter.estimate import TrimEstimate, estimate_trim
+from mbs.models.helicopter.estimate import TrimEstimate, estimate_trim, flap_start
 from mbs.models.helicopter.outputs import add_outputs
 from mbs.models.helicopter.swashplate import add_actuator_inputs, add_elastic_links, add_swashplate_outputs
 from mbs.models.helicopter.tree import add_fuselage, add_main_rotor, add_tail_rotor
@@ -176,9 +176,8 @@ def _set_initial(m: Model, d, cfg: Config, trim: TrimEstimate, stored: dict | No
         u, v, w = r.T @ np.array([cfg.speed, 0.0, 0.0])
         m.set_initial(**{"fuselage.qw": q[0], "fuselage.qx": q[1], "fuselage.qy": q[2], "fuselage.qz": q[3],
                          "fuselage.u": u, "fuselage.v": v, "fuselage.w": w})
-    for k, psi in enumerate(fr.blade_azimuths(mr["n_blades"])[:cfg.blade_count(mr["n_blades"])]):
-        m.set_initial(**{f"blade{k + 1}.flap": trim.coning - trim.a1s * np.cos(psi),
-                         f"blade{k + 1}.flap_rate": trim.a1s * omega * np.sin(psi)})
+    m.set_initial(**flap_start(d, cfg.blade_count(mr["n_blades"]), trim.coning, trim.a1s, omega))
+    for k in range(cfg.blade_count(mr["n_blades"])):
         if cfg.rotors == "free" and cfg.pitch_hinge:
             m.set_initial(**{f"blade{k + 1}.pitch": trim.collective})
     if cfg.rotors == "free" or cfg.drive_train:

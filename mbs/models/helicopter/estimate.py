@@ -68,7 +68,8 @@ def estimate_trim(d, speed: float) -> TrimEstimate:
     blowback = 2 * mu * (4 / 3 * theta0 + mr["twist"] - lam) / (1 - mu**2 / 2)
     e = mr["flap_hinge_offset"]
     hub_spring = mr["flap_stiffness"] + e * mr["blade_mass"] * (big_r - e) / 2 * omega**2  # per blade, N m/rad
-    hub_moment_tilt = weight * -mr["hub_x"] / (mr["n_blades"] / 2 * hub_spring - weight * mr["hub_z"])
+    springs = mr["flap_stiffness"] / 2 if mr.get("hub_type") == "teetering" else mr["n_blades"] / 2 * hub_spring
+    hub_moment_tilt = weight * -mr["hub_x"] / (springs - weight * mr["hub_z"])
     cl_mean = 6 * ct / sigma
     delta = profile_drag(mr, cl_mean / mr["lift_slope"])
     torque = rho * area * tip**2 * big_r * (ct * lam + sigma * delta / 8 * (1 + 3 * mu**2))
@@ -95,3 +96,19 @@ def _tail_collective(d, thrust: float, speed: float) -> tuple[float, float]:
     ct, mu = thrust / (rho * np.pi * tr["radius"] ** 2 * tip**2), speed / tip
     theta = (2 * ct / (sigma * tr["lift_slope"]) + tr["kappa"] * v / tip / 2) / (1 / 3 + mu**2 / 2)
     return theta + tr.get("zero_lift_angle", 0.0), v
+
+
+def flap_start(d, blades: int, coning: float, a1s: float, omega: float) -> dict[str, float]:
+    """Start values of the main rotor's flap coordinates for the flapping ``β_k = β0 − a1s cos ψ_k``
+    (rad; ψ_k the blade's azimuth at t = 0): per blade on a flapping hub (the first ``blades``),
+    the seesaw's teeter (blade 1's, less the precone) on a teetering one."""
+    mr = d["main_rotor"]
+    if mr.get("hub_type") == "teetering":
+        return {"main_seesaw.teeter": -a1s, "main_seesaw.teeter_rate": 0.0}
+    out = {}
+    for k, psi in enumerate(2 * np.pi * np.arange(mr["n_blades"]) / mr["n_blades"]):
+        if k < blades:
+            out.update({f"blade{k + 1}.flap": coning - a1s * np.cos(psi),
+                        f"blade{k + 1}.flap_rate": a1s * omega * np.sin(psi)})
+    return out
+

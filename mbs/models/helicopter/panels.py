@@ -22,9 +22,13 @@ def config_plots(cfg: Config, n_blades: int) -> dict:
 
 def plots(scene) -> dict:
     """The hinge-angle panels of a helicopter scene (:class:`mbs.scenes.Scene`) for its aircraft
-    (teeter only if it teeters, the tail blades' flap if they flap)."""
+    (a teetering main rotor's teeter in place of its blades' flap and lag; the tail's teeter only if
+    it teeters, the tail blades' flap if they flap)."""
     data, cfg = scene.aircraft.data, config_of(scene)
     panels = config_plots(cfg, data["main_rotor"]["n_blades"])
+    if data["main_rotor"]["hub_type"] == "teetering":
+        panels.pop("main-rotor lag (rad)")
+        panels["main-rotor flap (rad)"] = ["main_seesaw.teeter"]
     tr = data["tail_rotor"]
     if tr["hub_type"] != "teetering":
         panels.pop("tail-rotor seesaw (rad)", None)

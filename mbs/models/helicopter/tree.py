@@ -72,15 +72,22 @@ def main_flap_hinge(mr: dict) -> Hinge:
     return Hinge((0, -1, 0), name="flap", stiffness=mr["flap_stiffness"])
 
 
+def _pitch_bearing(cfg, psi0: float, sense: int):
+    """A main blade's pitch bearing: driven by the pitch law, free, or None (no pitch hinges)."""
+    if not cfg.pitch_hinge:
+        return None
+    if cfg.rotors == "driven" and not cfg.drive_train:
+        return DrivenHinge((sense, 0, 0), _pitch_law(psi0), name="pitch")
+    return Hinge((sense, 0, 0), name="pitch")
+
+
 def _blade_joint(d, cfg, psi0: float, sense: int):
     mr = d["main_rotor"]
     parts = [main_flap_hinge(mr),
              Hinge((0, 0, -sense), name="lag", stiffness=mr["lag_stiffness"],
                    damping=mr["lag_damping"] if cfg.dampers else 0.0)]
-    if cfg.pitch_hinge:
-        parts.append(DrivenHinge((sense, 0, 0), _pitch_law(psi0), name="pitch")
-                     if cfg.rotors == "driven" and not cfg.drive_train else Hinge((sense, 0, 0), name="pitch"))
-    return Serial(*parts)
+    pitch = _pitch_bearing(cfg, psi0, sense)
+    return Serial(*parts, *([pitch] if pitch else []))
 
 
 def _azimuth_joint(cfg, speed_ratio: float, sense: int):
@@ -97,6 +104,9 @@ def add_main_rotor(m: Model, d, cfg, parent: str) -> None:
     m.add_body("main_hub", parent, _azimuth_joint(cfg, 1.0, sense), mass=hub.mass, inertia=hub.inertia, at=at,
                frame=fr.shaft_frame(tilt), shape={"kind": "cylinder", "radius": mr["hub_radius"], "length": d["geometry"]["hub_height"], "axis": [0, 0, 1],
                       "color": "#50565e"})
+    if mr["hub_type"] == "teetering":
+        _add_teetering_blades(m, d, cfg, sense)
+        return
     big_r, c, t = mr["radius"], mr["chord"], mr["blade_thickness"]
     e, blade = mr["flap_hinge_offset"], mass_props.main_blade(d)
     for k, psi0 in enumerate(fr.blade_azimuths(mr["n_blades"])[:cfg.blade_count(mr["n_blades"])]):
@@ -115,6 +125,30 @@ def add_main_rotor(m: Model, d, cfg, parent: str) -> None:
                           "color": BLADE_COLORS[k % 4]})
         if has_damper(d) and cfg.dampers:
             add_lag_damper(m, d, f"blade{k + 1}", frame, sense)
+
+
+def _add_teetering_blades(m: Model, d, cfg, sense: int) -> None:
+    """A teetering main rotor: the yoke on the teeter hinge across the shaft (its spring the
+    file's flap_stiffness), both blades on it at their precone, each on its pitch bearing only
+    (stiff in plane: no lag hinge). The teeter angle lifts blade 1 and lowers blade 2."""
+    mr = d["main_rotor"]
+    if cfg.swashplate or cfg.blade_segments or cfg.blade_modes or cfg.blade_count(2) != 2:
+        raise ValueError("main_rotor.hub_type: a teetering main rotor is built with its two rigid blades and their "
+                         "pitch law; this scene needs per-blade hinges (swashplate, elastic or single blades): fly "
+                         "another scene, or give hub_type = \"flapping\"")
+    yoke = mass_props.main_seesaw(d)
+    m.add_body("main_seesaw", "main_hub", Hinge((0, -1, 0), name="teeter", stiffness=mr["flap_stiffness"]),
+               mass=yoke.mass, inertia=yoke.inertia,
+               shape={"kind": "box", "size": mr["seesaw_size"], "color": "#50565e"})
+    big_r, c, t = mr["radius"], mr["chord"], mr["blade_thickness"]
+    blade = mass_props.main_blade(d)
+    for k, psi0 in enumerate(fr.blade_azimuths(2)):
+        frame = fr.rz(sense * psi0) @ fr.precone_frame(mr["precone"])
+        pitch = _pitch_bearing(cfg, psi0, sense)
+        m.add_body(f"blade{k + 1}", "main_seesaw", pitch or Fixed(), mass=blade.mass, com=blade.com,
+                   inertia=blade.inertia, frame=frame,
+                   shape={"kind": "box", "size": [big_r, c, t], "offset": [big_r / 2, 0, 0],
+                          "color": BLADE_COLORS[k % 4]})
 
 
 def add_tail_rotor(m: Model, d, cfg, parent: str) -> None:
