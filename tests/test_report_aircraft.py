@@ -103,14 +103,37 @@ def test_the_blade_integrates_to_the_published_mass_first_moment_and_flap_inerti
 def trims():
     """Trims of the forward-flight scene at 0, 1 (G2's hover column), 40, 80, 120 and 140 kt,
     one compiled system shared; each speed's wall time."""
+    import logging
+
     sc = scenes.get("forward-flight", aircraft.load(PATH))
     system, stepper = evaluators(sc)
-    out = {}
-    for kt in (0.0, 1.0, 40.0, 80.0, 120.0, 140.0):
-        start = time.perf_counter()
-        res = periodic_solution(sc, kt * KT, system=system, stepper=stepper)
-        out[kt] = res, time.perf_counter() - start
+    out, log = {}, logging.getLogger("mbs.analysis.trim")
+    handler = logging.Handler(logging.DEBUG)
+    handler.emit = lambda record: WARM_STARTS.append((record.levelno, record.getMessage()))
+    log.addHandler(handler)
+    level, log.level = log.level, logging.DEBUG
+    try:
+        for kt in (0.0, 1.0, 40.0, 80.0, 120.0, 140.0):
+            start = time.perf_counter()
+            res = periodic_solution(sc, kt * KT, system=system, stepper=stepper)
+            out[kt] = res, time.perf_counter() - start
+    finally:
+        log.removeHandler(handler)
+        log.level = level
     return out
+
+
+WARM_STARTS: list[tuple[int, str]] = []
+"""The trim log's records while the fixture ``trims`` runs."""
+
+
+def test_the_warm_start_is_announced_once_for_the_aircraft(trims):
+    """Six trims of the same file each warm-start from the near gear ratio's trim; the message
+    says so once (INFO), the repeats go to DEBUG."""
+    import logging
+
+    said = [level for level, text in WARM_STARTS if text.startswith("warm start: first a trim")]
+    assert said.count(logging.INFO) <= 1 and said.count(logging.DEBUG) >= 5, said
 
 
 def _line(kt: float, res, wall: float) -> str:

@@ -421,6 +421,11 @@ WARM_START_REVS = 6
 the nearest tail-rotor gear ratio that repeats within two (:func:`_warm_start`)."""
 
 
+_WARM_STARTS_SAID: set[tuple[str, str]] = set()
+"""Scenes and aircraft files whose warm start was announced in this process (said once: a
+validation or sweep trims the same aircraft at many speeds)."""
+
+
 def _warm_start(sc, prob: ShootingProblem, flight: FlightPath, method: str, steps_per_rev: int, backend: str,
                 tol: float, max_iterations: int, z0: np.ndarray) -> np.ndarray:
     """Unknowns of the trim of ``sc`` with its tail rotor turning at the nearest gear ratio that
@@ -431,10 +436,13 @@ def _warm_start(sc, prob: ShootingProblem, flight: FlightPath, method: str, step
     near = periodic_scene(sc, max_revs=2)
     if near is sc:
         return z0
-    logging.getLogger(__name__).info(
+    said = (sc.name, str(getattr(sc.aircraft, "path", "")))
+    logging.getLogger(__name__).log(
+        logging.DEBUG if said in _WARM_STARTS_SAID else logging.INFO,
         "warm start: first a trim with the tail rotor at gear ratio %.8g (repeating within 2 revolutions), its "
         "own model, then at %.8g", near.aircraft.data["tail_rotor"]["gear_ratio"],
         sc.aircraft.data["tail_rotor"]["gear_ratio"])
+    _WARM_STARTS_SAID.add(said)
     sol = periodic_solution(near, prob.speed, flight.climb_rate, method, steps_per_rev, backend, tol, max_iterations,
                             turn_rate=flight.turn_rate, bank=flight.bank)
     if not sol.converged:
