@@ -4,8 +4,9 @@ A stabilator is a horizontal tail whose incidence (rad, leading edge up positive
 edge down) a schedule sets: a table against airspeed (m/s) plus gains on the collective (rad per
 rad, about a reference collective), the longitudinal cyclic (rad per rad: an elevator linked to
 the cyclic stick, as the UH-1H's synchronized elevator) and the pitch rate (rad per rad/s), held
-within its stops by a smooth clamp (:func:`smooth_clamp`). Interference tables replace the rotor-wake model at a
-surface with published ratios against the fuselage angle of attack: the dynamic-pressure ratio
+within its stops by a smooth clamp (:func:`smooth_clamp`). Interference tables replace the
+rotor-wake model at a surface with published ratios against the fuselage angle of attack: the
+dynamic-pressure ratio
 ``η = q_tail / q`` (the air speed at the surface scales by ``sqrt η``) and the downwash angle
 ``ε`` (rad, the flow turned down at the horizontal tail; for the fin the sidewash angle ``σ``
 against the sideslip, the flow turned to starboard). Units SI, angles in rad.

@@ -68,9 +68,8 @@ def ducted_fan_thrust(v, v_normal, rho: float, radius: float, exit_ratio: float,
     ``w = U/σ_d``; the mass flow ``ρ A U`` gains ``w − V_normal``, ``T = ρ A |U| (w − V_normal)``,
     and the fan's pressure jump ``½ ρ (w|w| − V_normal|V_normal|)`` (Bernoulli before and after
     it) carries ``T_fan = ½ ρ A (w|w| − V_normal|V_normal|)``; the duct's lip suction carries the
-    rest. In
-    hover ``T_fan/T = 1/(2 σ_d)`` and the power ``T^1.5 / sqrt(4 σ_d ρ A)``; σ_d = ½ is the open
-    rotor's hover. The in-plane flow does not enter the duct's mass flow (the duct turns the flow
+    rest. In hover ``T_fan/T = 1/(2 σ_d)`` and the power ``T^1.5 / sqrt(4 σ_d ρ A)``; σ_d = ½ is
+    the open rotor's hover. The in-plane flow does not enter the duct's mass flow (the duct turns the flow
     through it axial): no translational lift. ``area_factor`` B² as in :func:`uniform_rate`.
     """
     area = area_factor * np.pi * radius**2

@@ -161,8 +161,7 @@ def _unused_with_tables(data: Data) -> list[str]:
     """The analytic-section entries that a rotor with airfoil tables keeps only for estimates."""
     return [f"{section}.airfoils: the blade elements use the tables; lift_slope, cd0, cd1, cd2, alpha_stall, "
             f"cd_stalled and zero_lift_angle serve the trim estimate, Lock number and performance figures only, and "
-            f"mach_dd and "
-            f"mach_limit nothing (the tables carry the Mach dependence)"
+            f"mach_dd and mach_limit nothing (the tables carry the Mach dependence)"
             for section in ("main_rotor", "tail_rotor") if data[section].get("airfoils")]
 
 
