@@ -259,8 +259,8 @@ def test_a_blade_mass_given_beside_its_flap_inertia_keeps_all_three_in_the_model
     """A blade of 34 kg and first moment 70 kg m beside the Bo105's I_flap 231.7 kg m^2: the
     model's blade body (the tree's) has that mass, first moment and flap inertia about the hinge,
     to 1e-12, where the uniform box would have had 273 kg m^2 (the flap inertia 18 % high, the Lock
-    number 15 % low). The
-    flap frequency is sqrt(1 + e S / I + K / (I Omega^2)); the shipped files keep their box."""
+    number 15 % low). The flap frequency is sqrt(1 + e S / I + K / (I Omega^2)); the shipped files
+    keep their box."""
     from mbs.aircraft import derived, mass
 
     path = _printed(tmp_path, "printed.toml", 34.0, first=70.0)
