@@ -33,6 +33,7 @@ from mbs.forces import ForceElement
 from mbs.joints import Hinge, Serial
 from mbs.loops import Assembly, LinkLoop, LoopJoint, Newton, add_loop_outputs
 from mbs.loops.outputs import joint_coordinates
+from mbs.models.helicopter.hinges import main_flap_hinge
 from mbs.tree import Model
 
 PITCH_INPUTS = ("collective", "lateral_cyclic", "longitudinal_cyclic")
@@ -161,8 +162,6 @@ def blade_joint(d, cfg, k: int, psi0: float, sense: int) -> LoopJoint | Serial:
 
 def link_joint(d, cfg, k: int, psi0: float, sense: int) -> LoopJoint:
     """Blade ``k`` (from 1)'s flap, lag and pitch hinges, its pitch solved by its pitch link."""
-    from mbs.models.helicopter.tree import main_flap_hinge  # tree builds its blades with this module
-
     mr, sp = d["main_rotor"], Swashplate.of(d)
     plate = plate_of(d, cfg)
 

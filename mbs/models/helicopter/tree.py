@@ -24,6 +24,7 @@ from mbs.joints import DrivenHinge, Fixed, FreeJoint, Hinge, Serial
 from mbs.models.elastic_blade import add_elastic_blade
 from mbs.models.modal_blade import add_modal_blade
 from mbs.models.helicopter import frames as fr
+from mbs.models.helicopter.hinges import main_flap_hinge
 from mbs.models.helicopter.lag_damper import add_lag_damper, has_damper
 from mbs.models.helicopter.swashplate import blade_joint
 from mbs.tree import Model
@@ -63,13 +64,6 @@ def _pitch_law(psi0: float):
         psi = p["omega"] * t + psi0
         return p["collective"] + p["lateral_cyclic"] * ca.cos(psi) + p["longitudinal_cyclic"] * ca.sin(psi)
     return angle
-
-
-def main_flap_hinge(mr: dict) -> Hinge:
-    """A main-rotor blade's flap hinge: its spring relaxed at the precone."""
-    if mr.get("precone"):
-        return Hinge((0, -1, 0), name="flap", stiffness=mr["flap_stiffness"], rest_angle=mr["precone"])
-    return Hinge((0, -1, 0), name="flap", stiffness=mr["flap_stiffness"])
 
 
 def _pitch_bearing(cfg, psi0: float, sense: int):
