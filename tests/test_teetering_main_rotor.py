@@ -22,7 +22,9 @@ def _teetering(tmp_path, name: str = "teeter.toml", drop=("lag_frequency", "lag_
     new = {"n_blades": '{ value = 2, unit = "-", source = "test" }',
            "chord": '{ value = 0.54, unit = "m", source = "test" }',
            "flap_stiffness": '{ value = 40000.0, unit = "N m/rad", source = "test" }', **lines}
+    present = {x.split(" = ")[0] for x in keep}
     keep = [f"{x.split(' = ')[0]} = {new[x.split(' = ')[0]]}" if x.split(" = ")[0] in new else x for x in keep]
+    keep += [f"{key} = {value}" for key, value in new.items() if key not in present]
     extra = ['hub_type = { value = "teetering", unit = "-", source = "test" }',
              'seesaw_mass = { value = 20.0, unit = "kg", source = "test" }',
              'seesaw_size = { value = [0.8, 0.2, 0.1], unit = "m", source = "test" }',
@@ -65,3 +67,30 @@ def test_a_teetering_rotor_trims_with_its_coning_the_precone_and_warns_of_its_de
     assert two_bladed_warning(aircraft.load("bo105").data) == []
     assert main(["derivatives", "forward-flight", "--aircraft", path, "--speed", "0", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["warnings"] == [TWO_BLADED]
+
+
+def test_an_undersling_puts_the_coned_blades_centre_of_mass_at_the_hinge(tmp_path):
+    """With the undersling x_cg sin(precone) (x_cg = S/m from the hinge), the blades' centre of
+    mass in the rotor's averaged mass properties lies at the teeter hinge's height, to 1e-12 m;
+    without it, x_cg sin(precone) above."""
+    import math
+
+    import numpy as np
+
+    from mbs.aircraft import mass
+
+    d = aircraft.load(_teetering(tmp_path)).data
+    mr = d["main_rotor"]
+    rise = mr["first_moment"] / mr["blade_mass"] * math.sin(math.radians(PRECONE_DEG))
+    under = aircraft.load(_teetering(tmp_path, "under.toml", undersling=f'{{ value = {rise!r}, unit = "m", '
+                                                                         'source = "test" }')).data
+
+    def blades_height(data):
+        hub, yoke = mass.main_hub(data), mass.main_seesaw(data)
+        rotor = mass.main_rotor(data)
+        return (rotor.mass * rotor.com[2] - hub.mass * hub.com[2] - yoke.mass * yoke.com[2]) / (
+            rotor.mass - hub.mass - yoke.mass)
+
+    assert blades_height(under) == pytest.approx(0.0, abs=1e-12)
+    assert blades_height(d) == pytest.approx(rise, rel=1e-12)
+    assert np.isclose(rise, 0.0857, atol=1e-4)

@@ -165,7 +165,7 @@ def _main_hub_type(v: dict) -> list[str]:
                    "\"flapping\" for more")
     if mr["flap_hinge_offset"] != 0.0:
         out.append(f"main_rotor.flap_hinge_offset: {mr['flap_hinge_offset']:g} m on a teetering hub, whose blades "
-                   "start at the teeter hinge on the axis: give 0 (an undersling is not modelled)")
+                   "start at the teeter hinge on the axis: give 0 (their height below it is undersling)")
     if "lag_stiffness" in mr:
         out.append("main_rotor.lag_stiffness: applies only when main_rotor.hub_type = 'flapping' (a teetering "
                    "rotor has no lag hinge); leave it out")

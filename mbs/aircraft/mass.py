@@ -133,10 +133,13 @@ def main_seesaw(d) -> Part:
 
 
 def main_rotor(d) -> Part:
-    """The main rotor (hub, a teetering hub's yoke, and blades) in its hub frame, averaged over a revolution."""
+    """The main rotor (hub, a teetering hub's yoke, and blades at their precone and undersling) in its
+    hub frame, averaged over a revolution."""
     mr = d["main_rotor"]
     sense, e = geo.main_sense(d), mr["flap_hinge_offset"]
-    blades = [main_blade(d).placed(e * geo.rz(sense * psi)[:, 0], geo.rz(sense * psi))
+    below = np.array([0.0, 0.0, -mr.get("undersling", 0.0)]) if mr.get("hub_type") == "teetering" else np.zeros(3)
+    cone = geo.precone_frame(mr.get("precone", 0.0))
+    blades = [main_blade(d).placed(e * geo.rz(sense * psi)[:, 0] + below, geo.rz(sense * psi) @ cone)
               for psi in geo.blade_azimuths(mr["n_blades"])]
     yoke = [main_seesaw(d)] if mr.get("hub_type") == "teetering" else []
     return _averaged(combine([main_hub(d), *yoke, *blades]))

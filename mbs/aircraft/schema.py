@@ -272,6 +272,9 @@ ENTRIES: dict[str, dict[str, Entry]] = {
                                 "mast head's)", only_if=("hub_type", "teetering")),
         "seesaw_size": Entry("m", "teetering hub: the yoke as a box along the blades (inertia, display)", "vector",
                              0.0, math.inf, open_low=True, length=3, only_if=("hub_type", "teetering")),
+        "undersling": num("m", "teetering hub: the blades' roots below the teeter hinge (an underslung hub puts "
+                          "the coned blades' centre of mass at the hinge's height)", 0.0, default=0.0,
+                          only_if=("hub_type", "teetering")),
         "rotation": choice("sense of rotation seen from above", "counter-clockwise", "clockwise"),
         "omega": positive("rad/s", "nominal main-rotor speed"),
         "omega_min": positive("rad/s", "least rotor speed the omega parameter accepts", default="0.5 omega"),

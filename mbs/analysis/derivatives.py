@@ -205,10 +205,11 @@ def derivatives(scene: str = "forward-flight", speed: float | None = None, metho
 
 TWO_BLADED = ("two-bladed main rotor: its quasi-static derivatives are not validated. A two-bladed rotor's loads "
               "vary at 2/rev even in hover, and its roll and pitch damping here depend on its lag and precone "
-              "(a UH-1H: L_p -1.78 and +0.67 1/s on flapping blades of lag frequency 0.7 and 1.5/rev, +0.03 and "
-              "+0.43 on a teetering hub without and with 2.75 deg precone, where the same rotor as three or four "
-              "blades of the same solidity gives -0.62 and -0.63, and a disc's thrust tilt about -0.5): check L_p, "
-              "M_q and the modes with heli floquet, which is exact for the model")
+              "(a UH-1H: L_p -1.78 and +0.67 1/s on flapping blades of lag frequency 0.7 and 1.5/rev; on a "
+              "teetering hub +0.43 with 2.75 deg precone, +0.06 with the undersling that puts the coned blades' "
+              "centre of mass at the hinge, +0.03 without precone; where the same rotor as three or four blades of "
+              "the same solidity gives -0.62 and -0.63, and a disc's thrust tilt about -0.5): check L_p, M_q and "
+              "the modes with heli floquet, which is exact for the model")
 """The measured reason a two-bladed main rotor's derivatives carry a warning."""
 
 

@@ -123,8 +123,9 @@ def add_main_rotor(m: Model, d, cfg, parent: str) -> None:
 
 def _add_teetering_blades(m: Model, d, cfg, sense: int) -> None:
     """A teetering main rotor: the yoke on the teeter hinge across the shaft (its spring the
-    file's flap_stiffness), both blades on it at their precone, each on its pitch bearing only
-    (stiff in plane: no lag hinge). The teeter angle lifts blade 1 and lowers blade 2."""
+    file's flap_stiffness), both blades on it at their precone and the undersling below the
+    hinge, each on its pitch bearing only (stiff in plane: no lag hinge). The teeter angle lifts
+    blade 1 and lowers blade 2."""
     mr = d["main_rotor"]
     if cfg.swashplate or cfg.blade_segments or cfg.blade_modes or cfg.blade_count(2) != 2:
         raise ValueError("main_rotor.hub_type: a teetering main rotor is built with its two rigid blades and their "
@@ -140,7 +141,7 @@ def _add_teetering_blades(m: Model, d, cfg, sense: int) -> None:
         frame = fr.rz(sense * psi0) @ fr.precone_frame(mr["precone"])
         pitch = _pitch_bearing(cfg, psi0, sense)
         m.add_body(f"blade{k + 1}", "main_seesaw", pitch or Fixed(), mass=blade.mass, com=blade.com,
-                   inertia=blade.inertia, frame=frame,
+                   inertia=blade.inertia, frame=frame, at=(0.0, 0.0, -mr["undersling"]),
                    shape={"kind": "box", "size": [big_r, c, t], "offset": [big_r / 2, 0, 0],
                           "color": BLADE_COLORS[k % 4]})
 
