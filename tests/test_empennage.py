@@ -111,6 +111,9 @@ def test_an_elevator_linked_to_the_cyclic_follows_it(tmp_path):
     assert abs(res.controls["longitudinal_cyclic"]) > 0.005
     assert res.output_means["stabilator.incidence"] == pytest.approx(
         float(smooth_clamp(raw, np.radians(-10), np.radians(35))), abs=1e-6)
+    actuators = scenes.get("forward-flight-actuators").with_aircraft(_file(tmp_path, 0.0, -2.0))
+    with pytest.raises(ValueError, match="stabilator.cyclic_gain: the schedule reads the longitudinal_cyclic"):
+        actuators.system("vm")
 
 
 def test_airframe_warnings_fire_where_they_should(tmp_path):

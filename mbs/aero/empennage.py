@@ -61,6 +61,17 @@ class Schedule:
         return smooth_clamp(raw, self.low, self.high), raw
 
 
+def _pilot_input(state, name: str, entry: str):
+    """The run-time control ``name`` that the schedule's ``entry`` gain reads, or a ValueError
+    naming the gain when the scene flies other controls (the swashplate actuators)."""
+    try:
+        return state.p[name]
+    except KeyError:
+        raise ValueError(f"stabilator.{entry}: the schedule reads the {name}, which this scene does not fly (its "
+                         f"controls are other inputs, such as the swashplate actuators): fly a scene with blade-angle "
+                         f"controls, or leave {entry} out") from None
+
+
 @dataclass(frozen=True)
 class Interference:
     """Published interference at a surface: ``angle`` breakpoints (rad) of the fuselage angle of
@@ -102,8 +113,8 @@ class TailSurface(LiftingSurface):
             return self.incidence
         own = ca.mtimes(m.rotation.T, m.velocity)
         airspeed = ca.sqrt(ca.dot(own, own) + EPS**2)
-        collective = state.p["collective"] if self.schedule.collective_gain else 0.0
-        cyclic = state.p["longitudinal_cyclic"] if self.schedule.cyclic_gain else 0.0
+        collective = _pilot_input(state, "collective", "collective_gain") if self.schedule.collective_gain else 0.0
+        cyclic = _pilot_input(state, "longitudinal_cyclic", "cyclic_gain") if self.schedule.cyclic_gain else 0.0
         incidence, raw = self.schedule(airspeed, collective, m.omega[1], cyclic)
         state.signals[f"{self.name}.incidence"], state.signals[f"{self.name}.incidence_raw"] = incidence, raw
         return incidence
