@@ -86,7 +86,7 @@ def test_an_undersling_puts_the_coned_blades_centre_of_mass_at_the_hinge(tmp_pat
                                                                          'source = "test" }')).data
 
     def blades_height(data):
-        hub, yoke = mass.main_hub(data), mass.main_seesaw(data)
+        hub, yoke = mass.main_hub(data), mass.seesaw(data, "main_rotor")
         rotor = mass.main_rotor(data)
         return (rotor.mass * rotor.com[2] - hub.mass * hub.com[2] - yoke.mass * yoke.com[2]) / (
             rotor.mass - hub.mass - yoke.mass)

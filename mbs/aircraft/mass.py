@@ -120,16 +120,10 @@ def tail_hub(d) -> Part:
     return Part(tr["hub_mass"], np.zeros(3), box_inertia(tr["hub_mass"], *[tr["hub_size"]] * 3))
 
 
-def seesaw(d) -> Part:
-    """A teetering tail rotor's seesaw, a box along the blades."""
-    tr = d["tail_rotor"]
-    return Part(tr["seesaw_mass"], np.zeros(3), box_inertia(tr["seesaw_mass"], *tr["seesaw_size"]))
-
-
-def main_seesaw(d) -> Part:
-    """A teetering main rotor's yoke, a box along the blades."""
-    mr = d["main_rotor"]
-    return Part(mr["seesaw_mass"], np.zeros(3), box_inertia(mr["seesaw_mass"], *mr["seesaw_size"]))
+def seesaw(d, rotor: str = "tail_rotor") -> Part:
+    """A teetering rotor's seesaw (the main rotor's yoke), a box along the blades."""
+    sec = d[rotor]
+    return Part(sec["seesaw_mass"], np.zeros(3), box_inertia(sec["seesaw_mass"], *sec["seesaw_size"]))
 
 
 def main_rotor(d) -> Part:
@@ -141,7 +135,7 @@ def main_rotor(d) -> Part:
     cone = geo.precone_frame(mr.get("precone", 0.0))
     blades = [main_blade(d).placed(e * geo.rz(sense * psi)[:, 0] + below, geo.rz(sense * psi) @ cone)
               for psi in geo.blade_azimuths(mr["n_blades"])]
-    yoke = [main_seesaw(d)] if mr.get("hub_type") == "teetering" else []
+    yoke = [seesaw(d, "main_rotor")] if mr.get("hub_type") == "teetering" else []
     return _averaged(combine([main_hub(d), *yoke, *blades]))
 
 

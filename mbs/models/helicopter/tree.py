@@ -131,7 +131,7 @@ def _add_teetering_blades(m: Model, d, cfg, sense: int) -> None:
         raise ValueError("main_rotor.hub_type: a teetering main rotor is built with its two rigid blades and their "
                          "pitch law; this scene needs per-blade hinges (swashplate, elastic or single blades): fly "
                          "another scene, or give hub_type = \"flapping\"")
-    yoke = mass_props.main_seesaw(d)
+    yoke = mass_props.seesaw(d, "main_rotor")
     m.add_body("main_seesaw", "main_hub", Hinge((0, -1, 0), name="teeter", stiffness=mr["flap_stiffness"]),
                mass=yoke.mass, inertia=yoke.inertia,
                shape={"kind": "box", "size": mr["seesaw_size"], "color": "#50565e"})
