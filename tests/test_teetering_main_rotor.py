@@ -6,7 +6,7 @@ import json
 import pytest
 
 from mbs import aircraft
-from mbs.analysis.derivatives import TWO_BLADED, two_bladed_warning
+from mbs.analysis.derivatives import TEETERING, teetering_warning
 from mbs.cli import main
 
 PRECONE_DEG = 2.0
@@ -55,7 +55,8 @@ def test_a_teetering_rotor_trims_with_its_coning_the_precone_and_warns_of_its_de
     """Hover and 30 m/s trims converge within 5 Newton iterations (measured 3 and 4); the blades'
     mean flapping is the precone to 1e-12 rad (rigid on the yoke); blade 1's flapping is blade 2's
     reversed about it, so the teeter is a first harmonic (|β1| > 0.005 rad); the derivatives of a
-    two-bladed rotor carry their measured warning."""
+    teetering rotor carry their measured warning, a two-bladed rotor's on flapping hinges not
+    (tests/test_two_bladed_derivatives.py)."""
     path = _teetering(tmp_path)
     for speed in (0.0, 30.0):
         assert main(["trim", "forward-flight", "--aircraft", path, "--speed", str(speed), "--json", "--quiet"]) == 0
@@ -63,10 +64,10 @@ def test_a_teetering_rotor_trims_with_its_coning_the_precone_and_warns_of_its_de
         assert res["converged"] and res["iterations"] <= 5
         assert res["flapping"]["beta0"] == pytest.approx(PRECONE_DEG * 3.141592653589793 / 180, abs=1e-12)
         assert abs(complex(res["flapping"]["beta1c"], res["flapping"]["beta1s"])) > 0.005
-    assert two_bladed_warning(aircraft.load(path).data) == [TWO_BLADED]
-    assert two_bladed_warning(aircraft.load("bo105").data) == []
+    assert teetering_warning(aircraft.load(path).data) == [TEETERING]
+    assert teetering_warning(aircraft.load("bo105").data) == []
     assert main(["derivatives", "forward-flight", "--aircraft", path, "--speed", "0", "--json"]) == 0
-    assert json.loads(capsys.readouterr().out)["warnings"] == [TWO_BLADED]
+    assert json.loads(capsys.readouterr().out)["warnings"] == [TEETERING]
 
 
 def test_an_undersling_puts_the_coned_blades_centre_of_mass_at_the_hinge(tmp_path):

@@ -8,23 +8,33 @@ fuselage accelerations set to zero, i.e. the rotor rows of ``Mt u' = ht``:
 
     Mt_rr u_r' = ht_r
 
-and the fuselage's acceleration is that of the aircraft, as one rigid body of the
-instantaneous configuration, under the loads that hold it (aerodynamics, gravity, hub loads
-including the rotor's inertial loads):
+and the fuselage's period-mean acceleration is the period-mean load that holds it (aerodynamics,
+gravity, hub loads including the rotor's inertial loads), divided by the aircraft's period-mean
+inertia as one rigid body of its instantaneous configuration:
 
-    a = Mt_bb⁻¹ (ht_b − Mt_br u_r')     (6,): u̇, v̇, ẇ (m/s²), ṗ, q̇, ṙ (rad/s²), body axes
+    f = ht_b − Mt_br u_r'     (6,): generalised load on the fuselage's body-axis velocities and rates
+    ā = M̄⁻¹ f̄,   M̄ = mean(Mt_bb) (6, 6)     (u̇, v̇, ẇ m/s², ṗ, q̇, ṙ rad/s², body axes)
+
+as Padfield's derivatives divide a mean force by the aircraft's mass and inertia. The mean of the
+instantaneous ratio ``Mt_bb⁻¹ f`` differs from it where the inertia varies round the azimuth
+in step with the loads: a two-bladed rotor's, both at 2/rev. On a UH-1H in hover that ratio
+gave its roll damping L_p as +0.67 1/s where the same rotor as three blades of the same solidity
+gives −0.35; divided as here the two-bladed rotor gives −0.32.
 
 The rates enter the air velocities and the inertial (gyroscopic, Coriolis) loads of the
 blades; the attitude stays frozen over the period, so it enters only through gravity.
-``∫ a dt`` is integrated as 6 quadrature states alongside, so the period mean ``ā`` and its
-derivatives come out of the same tangent propagation as the monodromy.
+``∫ f dt`` and ``∫ Mt_bb dt`` are integrated as quadrature states alongside (:data:`QUADRATURES`),
+so the period means and their derivatives come out of the same tangent propagation as the
+monodromy.
 
 The periodic rotor response ``x_r(0)`` solves ``G = S x_r(τ) − x_r(0) = 0`` (``τ`` the shooting
 interval, ``S`` the teeter reversal, :mod:`mbs.analysis.period`) by Newton with the AD
 Jacobian. For ``y = (b_v, φ, θ, controls)``, with ``Φ = dx(τ)/d(x_r(0), y)`` from one
 propagation, the implicit-function theorem gives
 
-    dx_r(0)/dy = −(S Φ_rr − I)⁻¹ S Φ_ry,       dā/dy = (Φ_ar dx_r(0)/dy + Φ_ay) / τ
+    dx_r(0)/dy = −(S Φ_rr − I)⁻¹ S Φ_ry,       dq̄/dy = (Φ_qr dx_r(0)/dy + Φ_qy) / τ
+
+for the quadratures ``q = (f, Mt_bb)``, and ``dā/dy = M̄⁻¹ (df̄/dy − dM̄/dy ā)``.
 
 No finite differences. Over the second half of the period the body accelerations repeat
 (``S`` acts on the teeter only), so the mean over ``τ`` is the mean over the period.
@@ -45,6 +55,8 @@ from mbs.analysis.shooting import TrimLayout, quaternion, residual_scales
 HELD = ("u", "v", "w", "p", "q", "r", "roll", "pitch")
 """The held fuselage variables ``b``: body-axis velocities (m/s), rates (rad/s), attitude (rad)."""
 ACCELERATIONS = ("du", "dv", "dw", "dp", "dq", "dr")
+QUADRATURES = 6 + 36
+"""Quadrature states after the model's: the holding load ``f`` (6,), then ``Mt_bb`` (6, 6) by columns."""
 
 
 def _selection(n: int, rows: list[int]) -> ca.DM:
@@ -56,26 +68,27 @@ def _selection(n: int, rows: list[int]) -> ca.DM:
 
 
 def held_rhs(parts: ca.Function, lay: TrimLayout, nq: int) -> ca.Function:
-    """``held(x, t, p) -> x'`` on the augmented state ``(x (nx,), ∫a dt (6,))``: fuselage
-    held, rotor rows of ``Mt u' = ht`` with ``u_b' = 0``, and ``a`` (6,) as the last rates."""
+    """``held(x, t, p) -> x'`` on the augmented state ``(x (nx,), ∫f dt (6,), ∫Mt_bb dt (36,))``:
+    fuselage held, rotor rows of ``Mt u' = ht`` with ``u_b' = 0``, and the holding load ``f`` and
+    the aircraft's inertia ``Mt_bb`` as the last rates."""
     nx, np_ = parts.size1_in(0), parts.size1_in(2)
-    x, t, p = ca.MX.sym("x", nx + 6), ca.MX.sym("t"), ca.MX.sym("p", np_)
+    x, t, p = ca.MX.sym("x", nx + QUADRATURES), ca.MX.sym("t"), ca.MX.sym("p", np_)
     sd, mt, ht, zd = parts(x[:nx], t, p)
     nv = mt.size1()
     b = [i - nq for i in lay.body]
     r = [i for i in range(nv) if i not in b]
     ur = ca.solve(mt[r, r], ht[r], "ldl")
-    a = ca.solve(mt[b, b], ht[b] - ca.mtimes(mt[b, r], ur), "ldl")
+    load = ca.vertcat(ht[b] - ca.mtimes(mt[b, r], ur), ca.reshape(mt[b, b], 36, 1))
     keep = np.ones(nq)
     keep[lay.position + lay.quaternion] = 0.0
-    xdot = ca.vertcat(sd * ca.DM(keep), ca.mtimes(_selection(nv, r), ur), zd, a)
+    xdot = ca.vertcat(sd * ca.DM(keep), ca.mtimes(_selection(nv, r), ur), zd, load)
     return ca.Function("held", [x, t, p], [xdot], ["x", "t", "p"], ["xdot"])
 
 
 def held_project(project: ca.Function) -> ca.Function:
     """The model's projection on the first ``nx`` states; the quadratures pass through."""
     nx = project.size1_in(0)
-    x = ca.MX.sym("x", nx + 6)
+    x = ca.MX.sym("x", nx + QUADRATURES)
     return ca.Function("held_project", [x], [ca.vertcat(project(x[:nx]), x[nx:])], ["x"], ["x_projected"])
 
 
@@ -108,7 +121,7 @@ def start_function(lay: TrimLayout, nx: int, n_params: int) -> ca.Function:
     rotor states, held fuselage variables (:data:`HELD`), controls (rad)."""
     xr, b = ca.SX.sym("x_r", len(lay.rotor)), ca.SX.sym("b", len(HELD))
     c, pb = ca.SX.sym("c", len(lay.controls)), ca.SX.sym("p_base", n_params)
-    x, p = [ca.SX(0)] * (nx + 6), [pb[i] for i in range(n_params)]
+    x, p = [ca.SX(0)] * (nx + QUADRATURES), [pb[i] for i in range(n_params)]
     q = quaternion(b[6], b[7])
     for idx, values in ((lay.quaternion, q), (lay.body, b[:6]), (lay.rotor, xr)):
         for i, k in enumerate(idx):
@@ -151,7 +164,7 @@ class HeldRotor:
         lay = self.lay = stepper.lay
         self.stepper, self.period, self.p_base = stepper, period, np.asarray(p_base, dtype=float)
         self.h, self.n = period.revolution / steps_per_rev, period.revs * steps_per_rev
-        nx = stepper.nx - 6
+        nx = stepper.nx - QUADRATURES
         self._start = start_function(lay, nx, len(self.p_base))
         self.sign, self.source = period.symmetry(nx)[lay.rotor], period.permutation(nx)[lay.rotor]
         self.scale = residual_scales([lay.state_names[k] for k in lay.rotor], period.omega, radius)
@@ -185,10 +198,11 @@ class HeldRotor:
         jacobian = lambda x_r: self._periodicity(evaluate(x_r)[1])[:, :self.nr]  # noqa: E731
         res = newton(residual, jacobian, np.asarray(x_r0, dtype=float), tol, max_iterations=10)
         x_end, dx = evaluate(res.z)
-        out = HeldSolution(b, c, res.z, x_end[-6:] / self.period.duration, float(np.abs(res.r).max()),
+        load, inertia = self._means(x_end[-QUADRATURES:])
+        out = HeldSolution(b, c, res.z, np.linalg.solve(inertia, load), float(np.abs(res.r).max()),
                            len(res.history), res.converged)
         if derivatives:
-            out.dx_r, out.dmean = self._implicit(dx)
+            out.dx_r, out.dmean = self._implicit(dx, inertia, out.mean)
         out.wall_s = time.perf_counter() - start
         return out
 
@@ -198,9 +212,17 @@ class HeldRotor:
         dg[:, :self.nr] -= np.eye(self.nr)
         return dg / self.scale[:, None]
 
-    def _implicit(self, dx: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """``dx_r(0)/dy`` (nr, ny) and ``dā/dy`` (6, ny) by the implicit-function theorem."""
+    def _means(self, integrals: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Period means of the holding load ``f̄`` (6,) and the inertia ``M̄`` (6, 6) from the
+        quadratures' integrals over the period, or their derivatives along the last axis."""
+        mean = integrals / self.period.duration
+        return mean[:6], mean[6:].reshape((6, 6) + mean.shape[1:], order="F")
+
+    def _implicit(self, dx: np.ndarray, inertia: np.ndarray, mean: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``dx_r(0)/dy`` (nr, ny) and ``dā/dy`` (6, ny) by the implicit-function theorem, with
+        ``ā = M̄⁻¹ f̄``: ``dā = M̄⁻¹ (df̄ − dM̄ ā)``."""
         dg = self._periodicity(dx)
         dxr = -np.linalg.solve(dg[:, :self.nr], dg[:, self.nr:])
-        da = dx[-6:]
-        return dxr, (da[:, :self.nr] @ dxr + da[:, self.nr:]) / self.period.duration
+        dq = dx[-QUADRATURES:]
+        dload, dinertia = self._means(dq[:, :self.nr] @ dxr + dq[:, self.nr:])
+        return dxr, np.linalg.solve(inertia, dload - np.einsum("ijy,j->iy", dinertia, mean))
