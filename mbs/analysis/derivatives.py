@@ -204,10 +204,12 @@ def derivatives(scene: str = "forward-flight", speed: float | None = None, metho
 
 
 TEETERING = ("teetering main rotor: its quasi-static control and damping derivatives are not validated. On a UH-1H "
-             "in hover (no precone, no hub spring) the teeter follows the cyclic as the same two blades flapping on "
-             "central hinges do (to 4 %) and the thrust tilts alike (X_θ1s to 1 %), yet M_θ1s is 2.92 against 4.39 "
-             "1/s^2, L_θ1c -13.9 against -15.9 1/s^2 and L_p -0.22 against -0.32 1/s, a cause not found: check the "
-             "modes with heli floquet, which is exact for the model")
+             "in hover (no precone, no hub spring) the teeter follows the cyclic as two blades flapping on central "
+             "hinges do (to 4 %) and the thrust tilts alike (X_θ1s to 1 %), yet M_θ1s is 2.92 against 4.39 1/s^2 "
+             "and L_p -0.22 against -0.32 1/s for blades soft in plane (lag 1.5/rev); blades stiff in plane (lag "
+             "6/rev) give 2.14 and +0.03, three of them 1.93 and +0.05, so the gap follows the in-plane stiffness, "
+             "not the hub, and has not been checked against a measurement: compare the modes with heli floquet, "
+             "which is exact for the model")
 """The measured reason a teetering main rotor's derivatives carry a warning."""
 
 
