@@ -95,3 +95,15 @@ def test_an_undersling_puts_the_coned_blades_centre_of_mass_at_the_hinge(tmp_pat
     assert blades_height(under) == pytest.approx(0.0, abs=1e-12)
     assert blades_height(d) == pytest.approx(rise, rel=1e-12)
     assert np.isclose(rise, 0.0857, atol=1e-4)
+
+
+def test_an_undersling_far_below_the_balancing_one_is_warned_of(tmp_path):
+    """1.5 m of undersling (the balancing one is 0.0857 m) is named with the blades' centre of mass
+    1.41 m below the hinge; the balancing one, and twice it, pass without a word."""
+    def notes(value):
+        path = _teetering(tmp_path, f"u{value}.toml", undersling=f'{{ value = {value}, unit = "m", source = "test" }}')
+        return [n for n in aircraft.check(path).warnings if n.startswith("main_rotor.undersling")]
+
+    assert notes(0.0857) == [] and notes(0.17) == []
+    (note,) = notes(1.5)
+    assert "1.5 m puts the blades' centre of mass 1.41 m below the teeter hinge, where 0.0857 m" in note

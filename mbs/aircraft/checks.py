@@ -212,12 +212,27 @@ def _tail_hub_type(tr: dict) -> list[str]:
 
 
 def main_rotor_notes(mr: dict) -> list[str]:
-    """Entries of the main rotor that are valid but act less than they may seem to."""
+    """Entries of the main rotor that are valid but act less than they may seem to, or more."""
     if mr["precone"] != 0.0 and mr["flap_stiffness"] == 0.0 and mr["hub_type"] == "flapping":
         return [f"main_rotor.precone: {math.degrees(mr['precone']):.4g} deg without a flap spring does nothing (it "
                 "is the spring's rest angle; an articulated blade cones freely): give flap_stiffness, or leave "
                 "precone out"]
-    return []
+    return _undersling_note(mr) if mr["hub_type"] == "teetering" else []
+
+
+UNDERSLING_SLACK = 0.05
+"""m: an undersling more than twice the balancing one and this much is warned of."""
+
+
+def _undersling_note(mr: dict) -> list[str]:
+    """An undersling far below the one that puts the coned blades' centre of mass at the teeter
+    hinge, ``x_cg sin(precone)`` (the UH-1H's 0.176 m is its 3.7 m and 2.75 deg)."""
+    balance = mr["first_moment"] / mr["blade_mass"] * math.sin(mr["precone"])
+    if mr["undersling"] <= 2 * balance + UNDERSLING_SLACK:
+        return []
+    return [f"main_rotor.undersling: {mr['undersling']:.4g} m puts the blades' centre of mass "
+            f"{mr['undersling'] - balance:.3g} m below the teeter hinge, where {balance:.3g} m (x_cg sin(precone)) "
+            "would put it at the hinge: check the value (the blades' roots below the hinge, in m)"]
 
 
 def tail_rotor_notes(tr: dict) -> list[str]:
