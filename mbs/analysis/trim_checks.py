@@ -16,6 +16,9 @@ STOP_MARGIN = 0.01
 PLAUSIBLE = {"pitch": np.radians(30.0), "roll": np.radians(60.0), "sideslip": np.radians(30.0)}
 """Attitudes beyond which no helicopter trims in level or climbing flight (without an envelope in
 the aircraft file)."""
+FLAPPING = np.radians(10.0)
+"""Tilt of the main rotor's disc from its shaft (first-harmonic flapping) beyond which no rotor flaps
+in trim: shipped aircraft trim within 3 deg at 0-150 kn, and flap stops sit near 10 deg."""
 CONTROLS = {"collective": ("main_rotor", "collective"), "lateral_cyclic": ("main_rotor", "lateral_cyclic"),
             "longitudinal_cyclic": ("main_rotor", "longitudinal_cyclic"), "tail_collective": ("tail_rotor", "collective")}
 
@@ -29,7 +32,8 @@ def warnings(res, d, pilot: dict | None = None, air: dict | None = None) -> list
     from mbs.aircraft.checks import inertia_warnings
     from mbs.models.helicopter.airframe_warnings import trim_warnings
 
-    return [*control_stops(res.controls, d), *pilot_stops(pilot or {}, d), *attitude(res, d), *trim_warnings(res, d),
+    return [*control_stops(res.controls, d), *pilot_stops(pilot or {}, d), *attitude(res, d), *flapping(res),
+            *trim_warnings(res, d),
             *power(res, d, air), *inertia_warnings(d)]
 
 
@@ -90,6 +94,20 @@ def pilot_stops(pilot: dict, d) -> list[str]:
         return []
     return [f"{line}: the trim needs the full travel; check the rigging or the flight condition"
             for line in rig.beyond_travel(pilot, STOP_MARGIN)]
+
+
+def flapping(res) -> list[str]:
+    """The main rotor's disc tilted from its shaft by more than :data:`FLAPPING`."""
+    f = res.flapping
+    if "beta1c" not in f:
+        return []
+    tilt = float(np.hypot(f["beta1c"], f["beta1s"]))
+    if tilt <= FLAPPING:
+        return []
+    return [f"main-rotor flapping {np.degrees(tilt):.1f} deg (beta1c {np.degrees(f['beta1c']):+.1f}, beta1s "
+            f"{np.degrees(f['beta1s']):+.1f} deg) tilts the disc from the shaft beyond what rotors flap in trim (a few "
+            f"degrees; flap stops near {np.degrees(FLAPPING):.0f}): the airframe's moments, the CG or the shaft tilt "
+            "ask the rotor for more than it gives; look at them before using the trim"]
 
 
 def attitude(res, d) -> list[str]:

@@ -1,0 +1,40 @@
+"""A converged trim that is still no trim of a helicopter is warned of: the disc tilted from its
+shaft beyond what rotors flap in trim, and attitudes beyond what helicopters trim at."""
+import json
+from types import SimpleNamespace
+
+import numpy as np
+
+from mbs.analysis import trim_checks
+from mbs.cli import main
+
+
+def _trim(beta1c_deg: float, beta1s_deg: float = 0.0, pitch_deg: float = 0.0):
+    return SimpleNamespace(converged=True, flapping={"beta0": 0.05, "beta1c": np.radians(beta1c_deg),
+                                                     "beta1s": np.radians(beta1s_deg)},
+                           pitch=np.radians(pitch_deg), roll=0.0, sideslip=0.0)
+
+
+def test_a_disc_tilted_beyond_ten_degrees_from_the_shaft_is_named():
+    """A new user's OH-6A with the template's Bo105 fuselage left unscaled trimmed at 80 kt with
+    15.5 deg of flapping and -19.9 deg of pitch, and only a tail-stall warning."""
+    (line,) = trim_checks.flapping(_trim(-15.5, 1.0))
+    assert line.startswith("main-rotor flapping 15.5 deg (beta1c -15.5, beta1s +1.0 deg) tilts the disc")
+    assert trim_checks.flapping(_trim(-7.0, 7.0)) == []  # 9.9 deg
+    assert trim_checks.flapping(SimpleNamespace(flapping={})) == []  # a scene without main-rotor flapping
+
+
+def test_attitudes_beyond_what_helicopters_trim_at_are_named():
+    d = {"envelope": {}}
+    assert trim_checks.attitude(_trim(0.0, pitch_deg=-19.9), d) == []
+    (line,) = trim_checks.attitude(_trim(0.0, pitch_deg=-31.0), d)
+    assert line.startswith("pitch -31.00 deg is outside what a helicopter trims at (-30.0 to +30.0 deg)")
+
+
+def test_the_shipped_bo105_trims_without_a_flapping_warning(capsys):
+    """Its disc tilts 1-3 deg from the shaft at 0-150 kn; at 70 m/s no flapping line."""
+    assert main(["trim", "forward-flight", "--speed", "70", "--json", "--quiet"]) == 0
+    res = json.loads(capsys.readouterr().out)
+    tilt = np.degrees(np.hypot(res["flapping"]["beta1c"], res["flapping"]["beta1s"]))
+    assert res["converged"] and 0.5 < tilt < 5.0
+    assert not [w for w in res["warnings"] if "flapping" in w], res["warnings"]
