@@ -97,6 +97,15 @@ def test_rows_convert_units_and_judge_tolerances(tmp_path):
     assert compare.counts(col + power) == {"rows": 3, "checked": 3, "within": 2, "no_model_value": 1}
 
 
+def test_a_published_value_within_its_tolerance_of_zero_has_no_ratio(tmp_path):
+    """A pitch of 0.20 deg with a 1 deg tolerance showed ours/pub 4.75 (a new user's OH-6A): no
+    ratio there, in the table or the JSON; the difference stays."""
+    v = load(toml(TRIM.replace("[14.0, 12.0]", "[0.2, 1.5]") + '[trim.tolerance]\nabsolute = 1.0\n', tmp_path))
+    near, far = compare.rows(v.series[0], fake_model(v.speeds("trim")))
+    assert math.isnan(near.ratio) and near.summary()["ratio"] is None and near.difference == pytest.approx(12.8)
+    assert far.ratio == pytest.approx(13.0 / 1.5)
+
+
 def test_sources_of_one_quantity_share_a_chart_panel(tmp_path):
     """Two sources of the collective and one of the power make two panels: the collective's with
     both sources' points and one model line through all their speeds."""

@@ -12,7 +12,8 @@ from mbs.validate.quantities import converter, derivative_value, trim_value
 @dataclass
 class Row:
     """One published point and the model's value (both in ``unit``); ``within`` None when the
-    series has no tolerance, False when the model has no value there (``problem`` says why)."""
+    series has no tolerance, False when the model has no value there (``problem`` says why);
+    ``ratio`` NaN where the published value is within the series' absolute tolerance of zero."""
 
     kind: str
     quantity: str
@@ -66,7 +67,8 @@ def _value(series, point) -> tuple[float, str]:
 
 def _row(series, speed: float, ours: float, pub: float, unc: float, problem: str) -> Row:
     diff = ours - pub
-    ratio = ours / pub if pub != 0 else math.nan
+    floor = series.tolerance.absolute if series.tolerance and series.tolerance.absolute else 0.0
+    ratio = ours / pub if abs(pub) > floor else math.nan  # within its tolerance of zero a ratio means nothing
     within = None if series.tolerance is None else (not problem and series.tolerance.within(ours, pub))
     return Row(series.kind, series.quantity, series.unit, speed, ours, pub, unc, diff, ratio, within, series.source,
                problem)
