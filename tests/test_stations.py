@@ -118,6 +118,16 @@ BAD = [
 ]
 
 
+def test_a_cg_station_written_wrongly_is_one_problem_not_two():
+    """Two numbers for the CG's three stations: that problem alone, not also 'give the CG's
+    stations' for every position given as a station (a new user's OH-6A)."""
+    text = _with_cg(_entry(_bo105(), "main_rotor", "hub_x", _station(205.0)))
+    bad = text.replace(f"value = [{CG[0]}, {CG[1]}, {CG[2]}]", f"value = [{CG[0]}, {CG[1]}]")
+    assert bad != text
+    _, problems = evaluate(bad)
+    assert len(problems) == 1 and problems[0].startswith("aircraft.cg_station: must be a list of 3 numbers"), problems
+
+
 @pytest.mark.parametrize("text,expected", [(b[1], b[2]) for b in BAD], ids=[b[0] for b in BAD])
 def test_a_station_written_wrongly_is_a_problem_naming_the_entry(text, expected):
     _, problems = evaluate(text(_bo105()))

@@ -345,6 +345,8 @@ def _place_stations(out: Reading) -> None:
     if not out.stations:
         return
     if not cg:
+        if any(p.startswith(("aircraft.cg_station:", "fuselage_aero.cg_station:")) for p in out.problems):
+            return  # given, and its own problem already says what is wrong
         first = out.stations[0]
         out.problems.append(f"{first.section}.{first.key}: given as a station; give the CG's stations too: [aircraft] "
                             "cg_station = { value = [FS, BL, WL], unit = \"in\", source = \"...\" }")
