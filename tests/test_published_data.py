@@ -382,6 +382,20 @@ def test_a_length_as_a_fraction_of_the_radius(tmp_path):
                "and [tail_rotor] only" in report.problems
 
 
+def test_a_length_as_a_percentage_of_the_radius(tmp_path):
+    """``unit = "%R"`` (or ``"% R"``): a hinge offset printed as "3 % of R" (a new user's OH-6A
+    was told "unknown symbol 'R'"), listed with the unit as written."""
+    raw = entries("bo105")
+    raw["main_rotor"]["flap_hinge_offset"] = {"value": 3.0, "unit": "% R", "source": "report"}
+    raw["tail_rotor"]["hub_size"] = {"value": 20.0, "unit": "%R", "source": "report"}
+    craft = aircraft.load(write(raw, tmp_path / "percent.toml"))
+    d = craft.data
+    assert d["main_rotor"]["flap_hinge_offset"] == pytest.approx(0.03 * d["main_rotor"]["radius"], rel=1e-15)
+    assert d["tail_rotor"]["hub_size"] == pytest.approx(0.2 * d["tail_rotor"]["radius"], rel=1e-15)
+    listed = {r[0]: r[3] for r in aircraft.check(craft.path).converted}
+    assert listed["main_rotor.flap_hinge_offset"] == "times main_rotor.radius 4.91 m: from 3.0 % R"
+
+
 # -- units as reports print them -------------------------------------------------------------------
 
 LBF, FT = 4.4482216152605, 0.3048

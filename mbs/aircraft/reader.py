@@ -139,15 +139,21 @@ def _radius_unit(section: str, key: str, spec: Entry, unit) -> tuple:
         return unit, True
     if (section, key) in ROTOR_REFERENCES:
         return _rotor_reference(key, unit)
-    if str(unit).strip() != "R":
+    fraction = OF_RADIUS.get(str(unit).replace(" ", ""))
+    if fraction is None:
         return unit, False
     if not (section in ROTORS and key != "radius" and spec.unit == "m" and spec.kind == "number"):
-        raise ValueError("unit 'R' (a fraction of the rotor's radius) applies to the lengths of [main_rotor] and "
-                         "[tail_rotor] only")
+        raise ValueError(f"unit {unit!r} (a fraction of the rotor's radius) applies to the lengths of [main_rotor] "
+                         "and [tail_rotor] only")
     if spec.axis:  # a hub position in R would be ambiguous: of which rotor's radius?
-        raise ValueError("unit 'R' applies to a rotor's own lengths, not to a position from the CG; give it in a "
-                         "length unit or as a station")
-    return "m", True
+        raise ValueError(f"unit {unit!r} applies to a rotor's own lengths, not to a position from the CG; give it in "
+                         "a length unit or as a station")
+    return fraction, True
+
+
+OF_RADIUS = {"R": "m", "%R": "cm", "percentR": "cm"}
+"""Units of a rotor's length as a fraction of its radius, and the length unit that reads the number
+as that fraction in metres of a unit radius (``%R``: 1/100, as ``cm`` to ``m``), times the radius later."""
 
 
 def _with_gain(value, entry: dict, meta: dict):
@@ -230,8 +236,8 @@ def _radial_stations(out: Reading) -> None:
         try:
             out.values[section][key] = _bounded(value * radius, ENTRIES[section][key])
         except ValueError as exc:
-            out.problems.append(f"{section}.{key}: {meta['value']} R is {exc}")
-        meta["how"] = f"times {section}.radius {radius:.6g} m: from {meta['value']} R"
+            out.problems.append(f"{section}.{key}: {meta['value']} {meta['unit']} is {exc}")
+        meta["how"] = f"times {section}.radius {radius:.6g} m: from {meta['value']} {meta['unit']}"
 
 
 def _times_main_rotor(out: Reading, section: str, key: str) -> None:
