@@ -539,12 +539,23 @@ def _derivative_lines(res) -> list[str]:
     if res.B_pilot is not None:
         lines += matrix_lines("B per pilot position (SI: m, rad or fraction of travel)", res.B_pilot, res.states,
                               ["lever", "lon stick", "lat stick", "pedals"])
-    lines.append(f"  {'mode':22s} {'Re λ 1/s':>10s} {'Im λ rad/s':>11s} {'ζ':>7s} {'period s':>9s}")
-    for m in res.modes:
+    return lines + mode_lines(res.modes) + [f"  warning: {w}" for w in res.warnings]
+
+
+def mode_lines(modes) -> list[str]:
+    """The table of flight modes (:class:`mbs.analysis.flight_modes.FlightMode`), with a note when
+    a complex pair is named as a subsidence."""
+    from mbs.analysis.flight_modes import OVERDAMPED
+
+    lines = [f"  {'mode':22s} {'Re λ 1/s':>10s} {'Im λ rad/s':>11s} {'ζ':>7s} {'period s':>9s}"]
+    for m in modes:
         period = f"{m.period_s:9.2f}" if m.period_s else " " * 9
         lines.append(f"  {m.name:22s} {m.eigenvalue.real:+10.4f} {m.eigenvalue.imag:11.4f} "
                      f"{m.damping_ratio:+7.3f} {period}")
-    return lines + [f"  warning: {w}" for w in res.warnings]
+    if any(m.eigenvalue.imag and m.name.endswith(("subsidence", "divergence")) for m in modes):
+        lines.append(f"  (a complex pair damped at {100 * OVERDAMPED:g} % of critical or more is named as a subsidence: "
+                     "it dies out within one swing)")
+    return lines
 
 
 SYMBOLS = {"theta": "θ", "phi": "φ"}

@@ -143,3 +143,17 @@ def test_matrix_files_keep_the_given_name_in_any_case(name, tmp_path):
     assert [p.name for p in tmp_path.iterdir()] == [name]
     data = loadmat(path) if name.lower().endswith(".mat") else np.load(path)
     assert np.array_equal(data["A"], np.eye(8)) and np.array_equal(data["B"], np.ones((8, 4)))
+
+
+def test_a_complex_pair_named_as_a_subsidence_is_explained_in_the_table():
+    """A new user read 'roll-pitch subsidence' beside a period of 8.9 s as a contradiction: the
+    table says why a pair damped at 90 % of critical or more is named so; without one, no note."""
+    from mbs.analysis.flight_modes import FlightMode
+    from mbs.commands import mode_lines
+
+    pair = FlightMode(complex(-3.7282, 0.7048), {}, "roll-pitch subsidence")
+    lines = mode_lines([pair])
+    assert "8.91" in lines[1] and "+0.983" in lines[1]
+    assert lines[2] == "  (a complex pair damped at 90 % of critical or more is named as a subsidence: it dies out " \
+                       "within one swing)"
+    assert len(mode_lines([FlightMode(complex(-3.0, 0.0), {}, "roll subsidence")])) == 2
