@@ -106,6 +106,32 @@ def test_a_published_value_within_its_tolerance_of_zero_has_no_ratio(tmp_path):
     assert far.ratio == pytest.approx(13.0 / 1.5)
 
 
+def test_the_report_lists_each_warning_of_the_model_with_its_speeds(tmp_path):
+    """The trims' warnings (a control at its stop, a disc tilted beyond what rotors flap) and the
+    derivatives' were not in the validation's report: each kind once, at the speeds (in the data's
+    unit) that gave it; where only its figures differ, those of the slowest point."""
+    from mbs.validate import report
+    from mbs.validate.runner import Result
+
+    v = load(toml(TRIM.replace("speed = [0, 40]", "speed = [0, 40, 60, 80, 100, 120]")
+                  .replace("[14.0, 12.0]", "[14.0, 12.0, 11.0, 12.0, 13.0, 14.0]"), tmp_path))
+    model = fake_model(v.speeds("trim"))
+    points = [model.points[k] for k in sorted(model.points)]
+    for k, p in enumerate(points):
+        p.trim.warnings = ["the same everywhere", f"horizontal tail: angle of attack -{40 + k}.5 deg at its stall"]
+    points[0].trim.warnings.append("collective = 1.000 deg is at its stop")
+    points[1].derivatives.warnings = ["teetering main rotor: ..."]
+    res = Result(v, model, [(s, compare.rows(s, model)) for s in v.series])
+    lines = [x for x in report.lines(res) if x.startswith("  warning")]
+    assert lines == ["  warning at 6 points, 0 to 120 kt: the same everywhere",
+                     "  warning at 6 points, 0 to 120 kt (the figures at 0 kt): horizontal tail: angle of attack "
+                     "-40.5 deg at its stall",
+                     "  warning at 0 kt: collective = 1.000 deg is at its stop",
+                     "  warning at 40 kt: teetering main rotor: ..."], lines
+    listed = report.summary(res)["warnings"]
+    assert {"texts": ["collective = 1.000 deg is at its stop"], "speeds_m_s": [0.0]} in listed and len(listed) == 4
+
+
 def test_sources_of_one_quantity_share_a_chart_panel(tmp_path):
     """Two sources of the collective and one of the power make two panels: the collective's with
     both sources' points and one model line through all their speeds."""

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from mbs.analysis.derivatives import Derivatives, in_pilot_controls, linearise
+from mbs.analysis.derivatives import Derivatives, in_pilot_controls, linearise, teetering_warning
 
 
 @dataclass
@@ -151,4 +151,5 @@ def _point(speed: float, sol, system, held, with_derivatives: bool, aircraft=Non
         return Point(speed, sol, problem=f"no derivatives: {exc}")
     if aircraft is not None:
         in_pilot_controls(res, aircraft.data)
+        res.warnings += teetering_warning(aircraft.data)
     return Point(speed, sol, res)

@@ -3,10 +3,11 @@ as plain data (JSON)."""
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 
-from mbs.validate.data import EigenTolerance
+from mbs.validate.data import EigenTolerance, speed_factor
 
 MARK = {True: "ok", False: "OUT", None: ""}
 
@@ -21,6 +22,7 @@ def lines(res) -> list[str]:
            *[f"  source {k}: {t}" for k, t in v.sources.items()]]
     problems = [p for p in res.model.points.values() if not p.ok]
     out += [f"  at {p.speed:g} m/s{', ' + p.condition if p.condition else ''}: {p.problem}" for p in problems]
+    out += warning_lines(res)
     for s, rows in res.blocks:
         out += series_lines(s, rows, v)
     if res.pairs:
@@ -86,6 +88,38 @@ def verdict_lines(res) -> list[str]:
     return out
 
 
+NUMBER = re.compile(r"[-+]?\d+(?:\.\d+)?(?:e[-+]?\d+)?")
+LISTED_SPEEDS = 4
+"""A warning given at more points than this is listed with their count and speed range."""
+
+
+def warnings(res) -> dict[str, tuple[list[str], list[float]]]:
+    """Each kind of warning of the model's trims and derivatives (:func:`mbs.analysis.trim_checks.warnings`,
+    the derivatives' own), its figures aside: its texts and the speeds (m/s) of the points that gave it."""
+    out: dict[str, tuple[list[str], list[float]]] = {}
+    for p in sorted(res.model.points.values(), key=lambda p: p.speed):
+        found = [*getattr(p.trim, "warnings", []), *getattr(p.derivatives, "warnings", [])]
+        for text in dict.fromkeys(found):
+            texts, speeds = out.setdefault(NUMBER.sub("#", text), ([], []))
+            texts.append(text)
+            speeds.append(p.speed)
+    return out
+
+
+def warning_lines(res) -> list[str]:
+    """One line per kind of warning, at the speeds (in the data's unit) of the points that gave it;
+    where its figures differ from point to point, those of the slowest."""
+    v, out = res.validation, []
+    factor = speed_factor(v.speed_unit, "[validation] speed_unit")
+    for texts, speeds in warnings(res).values():
+        shown = [x / factor for x in speeds]
+        at = (", ".join(f"{x:.4g}" for x in shown) if len(shown) <= LISTED_SPEEDS
+              else f"{len(shown)} points, {min(shown):.4g} to {max(shown):.4g}")
+        figures = "" if len(set(texts)) == 1 else f" (the figures at {shown[0]:.4g} {v.speed_unit})"
+        out.append(f"  warning at {at} {v.speed_unit}{figures}: {texts[0]}")
+    return out
+
+
 def worst(rows, relative: bool) -> dict[str, float]:
     """For each quantity the largest |difference| (or |ratio - 1|) of its rows with a model value."""
     out: dict[str, float] = {}
@@ -110,6 +144,7 @@ def summary(res) -> dict:
             "model": {"speeds_m_s": sorted(res.model.points), "wall_s": res.model.wall_s,
                       "controls": res.model.controls,
                       "problems": {str(p.speed): p.problem for p in res.model.points.values() if not p.ok}},
+            "warnings": [{"texts": texts, "speeds_m_s": speeds} for texts, speeds in warnings(res).values()],
             "counts": res.counts(), "all_within": res.all_within,
             "worst": {"trim_abs": worst([r for r in res.rows if r.kind == "trim"], False),
                       "derivative_rel": worst([r for r in res.rows if r.kind == "derivative"], True),
