@@ -125,6 +125,7 @@ def test_a_point_that_cannot_trim_is_a_failed_row_and_the_others_complete(client
     assert rows[100.0]["collective"] is None
     assert [rows[v]["status"] for v in (0.0, 5.0)] == ["ok", "ok"]
     assert rows[5.0]["collective"] == plain_loop[5.0]["collective"]
+    assert "; warning: horizontal tail: angle of attack" in rows[5.0]["message"]  # the trim's warnings, kept
 
 
 def test_resume_computes_exactly_the_deleted_points(client, tmp_path):

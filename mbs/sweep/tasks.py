@@ -53,7 +53,8 @@ def _parameters(inputs: dict, skip: tuple[str, ...]) -> dict[str, float]:
 
 
 def trim_point(built, scene: str, inputs: dict, options: dict) -> tuple[dict, str, str]:
-    """Trim at ``inputs["speed"]`` (m/s), ``climb_rate`` (m/s) and any run-time parameters."""
+    """Trim at ``inputs["speed"]`` (m/s), ``climb_rate`` (m/s) and any run-time parameters; its
+    message carries the trim's warnings (:func:`mbs.analysis.trim_checks.warnings`)."""
     from mbs.analysis.fanplot import WithParameters
     from mbs.analysis.trim import trim
 
@@ -67,8 +68,9 @@ def trim_point(built, scene: str, inputs: dict, options: dict) -> tuple[dict, st
     work = {"iterations": res.iterations, "max_abs_residual": float(np.abs(res.residual).max())}
     if not res.converged:  # the last iterate is no trim: only the work is reported
         return work, "failed", res.reason
+    said = "; ".join([res.reason, *(f"warning: {w}" for w in getattr(res, "warnings", []))])
     return {**res.controls, "roll": res.roll, "pitch": res.pitch, "thrust": res.thrust, **res.output_means,
-            **work}, "ok", res.reason
+            **work}, "ok", said
 
 
 def simulate_point(built, scene: str, inputs: dict, options: dict) -> tuple[dict, str, str]:
