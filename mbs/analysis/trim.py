@@ -440,8 +440,8 @@ def _warm_start(sc, prob: ShootingProblem, flight: FlightPath, method: str, step
     logging.getLogger(__name__).log(
         logging.DEBUG if said in _WARM_STARTS_SAID else logging.INFO,
         "warm start: first a trim with the tail rotor at gear ratio %.8g (repeating within 2 revolutions), its "
-        "own model (compiled once too: a second compiling line of the same name), then at %.8g", near.aircraft.data["tail_rotor"]["gear_ratio"],
-        sc.aircraft.data["tail_rotor"]["gear_ratio"])
+        "own model (compiled once too: a second compiling line of the same name), then at %.8g",
+        near.aircraft.data["tail_rotor"]["gear_ratio"], sc.aircraft.data["tail_rotor"]["gear_ratio"])
     _WARM_STARTS_SAID.add(said)
     sol = periodic_solution(near, prob.speed, flight.climb_rate, method, steps_per_rev, backend, tol, max_iterations,
                             turn_rate=flight.turn_rate, bank=flight.bank)

@@ -18,7 +18,7 @@ PLAUSIBLE = {"pitch": np.radians(30.0), "roll": np.radians(60.0), "sideslip": np
 the aircraft file)."""
 FLAPPING = np.radians(10.0)
 """Tilt of the main rotor's disc from its shaft (first-harmonic flapping) beyond which no rotor flaps
-in trim: shipped aircraft trim within 3 deg at 0-150 kn, and flap stops sit near 10 deg."""
+in trim: the shipped aircraft trim within 3 deg (measured at 0-155 kn), and flap stops sit near 10 deg."""
 CONTROLS = {"collective": ("main_rotor", "collective"), "lateral_cyclic": ("main_rotor", "lateral_cyclic"),
             "longitudinal_cyclic": ("main_rotor", "longitudinal_cyclic"), "tail_collective": ("tail_rotor", "collective")}
 
@@ -106,7 +106,7 @@ def flapping(res) -> list[str]:
         return []
     return [f"main-rotor flapping {np.degrees(tilt):.1f} deg (beta1c {np.degrees(f['beta1c']):+.1f}, beta1s "
             f"{np.degrees(f['beta1s']):+.1f} deg) tilts the disc from the shaft beyond what rotors flap in trim (a few "
-            f"degrees; flap stops near {np.degrees(FLAPPING):.0f}): the airframe's moments, the CG or the shaft tilt "
+            f"degrees; flap stops near {np.degrees(FLAPPING):.0f} deg): the airframe's moments, the CG or the shaft tilt "
             "ask the rotor for more than it gives; look at them before using the trim"]
 
 
