@@ -82,13 +82,22 @@ def _stops(values: dict, d) -> list[str]:
     return []
 
 
+STILL_AIR = 1.0
+"""m/s: below this airspeed the fuselage's angles of attack and sideslip are not judged against its
+tables' breakpoints (a hover's are round-off, -179 deg at 1e-7 m/s; the tables' dynamic pressure
+there is under 0.6 Pa)."""
+
+
 def _table_range(values: dict, d) -> list[str]:
     """Fuselage tables used beyond their breakpoints (continued linearly there)."""
     fa = d["fuselage_aero"]
     if fa["model"] != "tables" or "fuselage.u" not in values or "fuselage.w" not in values:
         return []
     u, v, w = values["fuselage.u"], values.get("fuselage.v", 0.0), values["fuselage.w"]
-    angles = {"alpha": np.arctan2(w, u), "beta": np.arcsin(v / max(np.sqrt(u * u + v * v + w * w), 1e-9))}
+    speed = np.sqrt(u * u + v * v + w * w)
+    if speed < STILL_AIR:  # the angles of round-off, and loads of nothing
+        return []
+    angles = {"alpha": np.arctan2(w, u), "beta": np.arcsin(v / speed)}
     out = []
     for name, angle in angles.items():
         grid = fa[name]
