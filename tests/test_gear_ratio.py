@@ -165,6 +165,19 @@ def _puma_scene_48(sc):
     return periodic_scene(sc, max_revs=1)
 
 
+@pytest.mark.parametrize("ratio, listed", [
+    (5.25, {"rotor period (both rotors back in place)": 4, "period of the periodic analyses": 4}),
+    (4.615, {"rotor period (both rotors back in place)": 200, "period of the periodic analyses": 13}),
+    (4.615418, {"period of the periodic analyses": 13})])
+def test_aircraft_check_lists_the_rotor_period_only_where_there_is_one(tmp_path, ratio, listed):
+    """4.615418 repeats only after 500,000 revolutions: the check listed '995 rev' (the nearest
+    fraction's) beside its own warning of more than 1000 (a new user's Prouty helicopter)."""
+    raw = entries("bo105")
+    raw["tail_rotor"]["gear_ratio"]["value"] = ratio
+    figures = {n: v for n, v, _ in aircraft.check(write(raw, tmp_path / "gear.toml")).figures if "period" in n}
+    assert figures == listed
+
+
 # -- the UH-60A's 4.6155 -------------------------------------------------------------------------------
 
 @pytest.fixture(scope="module")

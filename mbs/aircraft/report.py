@@ -171,7 +171,8 @@ def figures(data: Data) -> list[tuple]:
     mr, tr, env = data["main_rotor"], data["tail_rotor"], data["environment"]
     hov = performance.hover(data)
     main_mass, tail_mass = mass.rotor_masses(data)
-    revs = checks.rotor_period(tr["gear_ratio"], checks.tail_blade_symmetry(tr))[0]
+    revs, exact = checks.rotor_period(tr["gear_ratio"], checks.tail_blade_symmetry(tr))
+    periods = [("rotor period (both rotors back in place)", revs, "rev")] if exact else []  # beyond 1000: a warning
     return [*airfoil_rows(data),
         ("main-rotor solidity", hov.main.solidity, "-"), ("tail-rotor solidity", hov.tail.solidity, "-"),
         ("Lock number", performance.lock_number(mr, env["rho"]), "-"),
@@ -192,7 +193,7 @@ def figures(data: Data) -> list[tuple]:
         ("main-rotor mass (hub and blades)", main_mass, "kg"), ("tail-rotor mass", tail_mass, "kg"),
         ("airframe mass", data["aircraft"]["mass"] - main_mass - tail_mass, "kg"),
         *_inertia_figures(data), *_damper_figures(data),
-        ("rotor period (both rotors back in place)", revs, "rev"),
+        *periods,
         ("period of the periodic analyses", checks.periodic_gear(tr["gear_ratio"], checks.tail_blade_symmetry(tr)).revs,
          "rev"),
         *([("tail-rotor flap frequency", derived.tail_flap_frequency(tr, mr["omega"]), "1/rev")]
