@@ -235,6 +235,25 @@ def _undersling_note(mr: dict) -> list[str]:
             "would put it at the hinge: check the value (the blades' roots below the hinge, in m)"]
 
 
+SECTION_SLOPE = 5.0
+"""1/rad: a tail surface's lift-curve slope from which it reads as a section's (2-D) slope: a surface
+of aspect ratio 6 has 4.5 by Helmbold's formula with a section's 2 pi."""
+
+
+def surface_slope_notes(v: dict) -> list[str]:
+    """Tail surfaces whose ``lift_slope`` (the whole surface's) reads as a section's."""
+    out = []
+    for section in ("horizontal_tail", "vertical_fin"):
+        sec = v.get(section, {})
+        slope = sec.get("lift_slope")
+        if slope is None or sec.get("aspect_ratio") or sec.get("coefficient_table") or slope < SECTION_SLOPE:
+            continue
+        out.append(f"{section}.lift_slope: {slope:.4g} 1/rad is a section's (2-D) slope; the surface's is less by its "
+                   "aspect ratio (2 pi becomes 4.5 at aspect ratio 6, 2.4 at 1.8): give the surface's, or give "
+                   "aspect_ratio to have this one converted")
+    return out
+
+
 def tail_rotor_notes(tr: dict) -> list[str]:
     """Entries of the tail rotor that are valid but act less than they may seem to."""
     if tr["hub_type"] == "flapping" and tr["precone"] != 0.0 and tr["flap_stiffness"] == 0.0:

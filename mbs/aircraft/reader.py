@@ -78,6 +78,7 @@ def read(text: str, base: Path | None = None) -> Reading:
     _place_stations(out)
     _radial_stations(out)
     _surface_coefficients(out)
+    _surface_slopes(out)
     _laws(out)
     _missing(out, raw)
     return out
@@ -297,6 +298,31 @@ def _surface_coefficients(out: Reading) -> None:
                        f"{section}.area {area:.6g} m^2)"}
         said = [f"{name} {how[b]}" for name, b in zip(("c_L", "c_D"), bases) if b]
         meta["how"] = f"coefficients on {section}.area: {'; '.join(said)}; from {meta['unit']}"
+
+
+def surface_slope(section_slope: float, aspect_ratio: float) -> float:
+    """A surface's lift-curve slope (1/rad) from its section's and its aspect ratio: Helmbold's
+    ``a / (sqrt(1 + k²) + k)``, ``k = a / (π A)`` (lifting-line theory's ``a / (1 + k)`` at large
+    ``A``, and the slender wing's ``π A / 2`` at small)."""
+    k = section_slope / (math.pi * aspect_ratio)
+    return section_slope / (math.sqrt(1.0 + k * k) + k)
+
+
+def _surface_slopes(out: Reading) -> None:
+    """A tail surface's ``lift_slope`` given as its section's with ``aspect_ratio``: the surface's."""
+    for section in ("horizontal_tail", "vertical_fin"):
+        v = out.values.get(section, {})
+        if not v.get("aspect_ratio"):
+            continue
+        if "coefficient_table" in v or "lift_slope" not in v:
+            why = "a coefficient_table is the surface's already" if "coefficient_table" in v else "no lift_slope is given"
+            out.problems.append(f"{section}.aspect_ratio: turns a section's lift_slope into the surface's, and {why}: "
+                                "leave aspect_ratio out")
+            continue
+        section_slope, meta = v["lift_slope"], out.meta[section]["lift_slope"]
+        v["lift_slope"] = surface_slope(section_slope, v["aspect_ratio"])
+        meta["how"] = (f"the surface's from the section's {section_slope:.6g} 1/rad and {section}.aspect_ratio "
+                       f"{v['aspect_ratio']:g} (Helmbold: a / (sqrt(1 + k^2) + k), k = a / (pi A))")
 
 
 def _over_radius(rows: list, radius: float) -> list:

@@ -143,6 +143,11 @@ def _surface(what: str, arg: str = "alpha", flow: str = "downwash") -> dict[str,
             "x": num("m", f"{what} aerodynamic centre, x (forward) from the CG", axis="x"),
             "z": num("m", f"{what} aerodynamic centre, z (down) from the CG", axis="z"),
             "chord": positive("m", f"{what} chord (display only)"), **_airfoil(what, cd2_default=0.0),
+            "lift_slope": positive("1/rad", f"{what} lift-curve slope of the whole surface (3-D, with its aspect "
+                                   "ratio); with aspect_ratio, the section's (2-D) slope, converted"),
+            "aspect_ratio": num("-", f"{what} aspect ratio span^2/area: lift_slope is then the section's (2-D) "
+                                "slope and the surface's is a / (sqrt(1 + k^2) + k), k = a / (pi A) (Helmbold)",
+                                0.0, 30.0, open_low=True, default=0.0),
             "coefficient_table": Entry("rad, -, -", f"{what} lift and drag coefficients as published: rows angle of "
                                        "attack (within +-90 deg: flow from the trailing edge is folded onto it, as "
                                        "for the analytic section), c_L, c_D; natural cubic splines through the rows, "
