@@ -362,6 +362,34 @@ def test_a_lock_number_as_published_gives_the_flap_inertia(tmp_path):
         in both.problems
 
 
+@pytest.mark.parametrize("hub", ["teetering", "flapping"])
+def test_a_tail_rotor_lock_number_as_published_gives_the_blade_mass(tmp_path, hub):
+    """``tail_rotor.lock_number`` (a report that prints gamma = 4 and no blade mass: a new user's
+    Prouty helicopter had to work out 6.6 kg by hand) replaces ``blade_mass``: the uniform blade
+    from the flap hinge (the axis but on a flapping hub) has that Lock number, to 1e-12."""
+    raw = entries("bo105")
+    del raw["tail_rotor"]["blade_mass"]
+    raw["tail_rotor"]["lock_number"] = {"value": 4.0, "unit": "-", "source": "report"}
+    if hub == "flapping":
+        raw["tail_rotor"]["hub_type"]["value"] = "flapping"
+        for key in ("seesaw_mass", "seesaw_size", "teeter_stiffness"):
+            raw["tail_rotor"].pop(key, None)
+        raw["tail_rotor"]["flap_hinge_offset"] = {"value": 0.05, "unit": "m", "source": "report"}
+        raw["tail_rotor"]["flap_stiffness"] = {"value": 0.0, "unit": "N m/rad", "source": "report"}
+    path = write(raw, tmp_path / "tail_lock.toml")
+    report = aircraft.check(path)
+    assert report.ok, report.problems
+    tr, rho = aircraft.load(path).data["tail_rotor"], aircraft.load(path).data["environment"]["rho"]
+    span = tr["radius"] - (0.05 if hub == "flapping" else 0.0)
+    assert rho * tr["lift_slope"] * tr["chord"] * tr["radius"] ** 4 / (tr["blade_mass"] * span**2 / 3) == \
+        pytest.approx(4.0, rel=1e-12)
+    assert any(e == "tail_rotor.blade_mass" for e, *_ in report.derived)
+    raw["tail_rotor"]["blade_mass"] = {"value": 1.0, "unit": "kg", "source": "report"}
+    both = aircraft.check(write(raw, tmp_path / "both.toml"))
+    assert any(p.startswith("tail_rotor.lock_number: replaces tail_rotor.blade_mass") for p in both.problems), \
+        both.problems
+
+
 def test_a_length_as_a_fraction_of_the_radius(tmp_path):
     """``unit = "R"`` on a rotor's length (a hinge offset printed as e/R) is that fraction of its
     rotor's radius; on the radius itself or outside the rotors it is a problem."""

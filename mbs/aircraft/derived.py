@@ -130,6 +130,11 @@ def _distributions(values: dict) -> None:
             _set(sec, "chord", lambda: equivalent_chord(sec["chord_table"], sec["root_cutout"]))
         if sec.get("twist_table"):
             _set(sec, "twist", lambda: equivalent_twist(sec["twist_table"], sec["root_cutout"]))
+    tr = values["tail_rotor"]
+    if tr.get("lock_number"):
+        rho, hinge = values["environment"]["rho"], tr.get("flap_hinge_offset", 0.0) if tr["hub_type"] == "flapping" else 0.0
+        _set(tr, "blade_mass", lambda: 3 * rho * tr["lift_slope"] * tr["chord"] * tr["radius"] ** 4
+             / (tr["lock_number"] * (tr["radius"] - hinge) ** 2))
     mr = values["main_rotor"]
     if mr.get("lock_number") and not mr.get("mass_table"):
         rho = values["environment"]["rho"]

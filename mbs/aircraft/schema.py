@@ -331,6 +331,10 @@ ENTRIES: dict[str, dict[str, Entry]] = {
         "hub_y": num("m", "tail-rotor hub y (starboard) from the CG", axis="y"),
         "hub_z": num("m", "tail-rotor hub z (down) from the CG", axis="z"),
         "blade_mass": positive("kg", "tail-rotor blade mass"),
+        "lock_number": num("-", "tail-rotor Lock number as published, gamma = rho a c R^4 / I_flap at the file's "
+                           "density, lift_slope, chord and radius; replaces blade_mass, which is computed from it "
+                           "(a uniform blade from the flap hinge: I_flap = blade_mass (R - e)^2 / 3) (0: not given)",
+                           0.0, 100.0, open_low=True, default=0.0, replaces="blade_mass"),
         "hub_size": positive("m", "tail-rotor hub, a cube (inertia only)"),
         "seesaw_mass": positive("kg", "seesaw mass", only_if=("hub_type", "teetering")),
         "seesaw_size": Entry("m", "seesaw box along the blades (inertia, display)", "vector", 0.0, math.inf,
@@ -541,7 +545,9 @@ FROM_TABLES: dict[str, dict[str, Derived]] = {
               **({"I_flap": Derived("kg m^2", "integral of mass per length times (r - e)^2 plus the sections' flap "
                                     "inertia, outboard of the flap hinge, from mass_table; or rho a c R^4 / gamma "
                                     "from lock_number")}
-                 if section == "main_rotor" else {})}
+                 if section == "main_rotor" else
+                 {"blade_mass": Derived("kg", "uniform blade from the flap hinge (the axis unless the hub is "
+                                        "flapping) of the Lock number: 3 rho a c R^4 / (gamma (R - e)^2)")})}
     for section in ("main_rotor", "tail_rotor")
 }
 """Plain entries that a distribution replaces, computed from it (:data:`Entry.replaces`)."""
