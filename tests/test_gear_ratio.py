@@ -178,6 +178,23 @@ def test_aircraft_check_lists_the_rotor_period_only_where_there_is_one(tmp_path,
     assert figures == listed
 
 
+def test_a_tail_rotor_speed_as_published_gives_the_gear_ratio(tmp_path):
+    """``tail_rotor.omega`` in rpm (a report printing 954.93 rpm beside the main rotor's 206.9: a new
+    user divided by hand) replaces ``gear_ratio``, its ratio to main_rotor.omega, listed as derived."""
+    raw = entries("bo105")
+    main_rpm = aircraft.load("bo105").data["main_rotor"]["omega"] * 60 / (2 * math.pi)
+    del raw["tail_rotor"]["gear_ratio"]
+    raw["tail_rotor"]["omega"] = {"value": 5.25 * main_rpm, "unit": "rpm", "source": "report"}
+    path = write(raw, tmp_path / "tail_rpm.toml")
+    report = aircraft.check(path)
+    assert report.ok, report.problems
+    assert aircraft.load(path).data["tail_rotor"]["gear_ratio"] == pytest.approx(5.25, rel=1e-12)
+    assert any(e == "tail_rotor.gear_ratio" for e, *_ in report.derived)
+    raw["tail_rotor"]["gear_ratio"] = {"value": 5.25, "unit": "-", "source": "report"}
+    both = aircraft.check(write(raw, tmp_path / "both.toml"))
+    assert any(p.startswith("tail_rotor.omega: replaces tail_rotor.gear_ratio") for p in both.problems), both.problems
+
+
 # -- the UH-60A's 4.6155 -------------------------------------------------------------------------------
 
 @pytest.fixture(scope="module")

@@ -131,6 +131,8 @@ def _distributions(values: dict) -> None:
         if sec.get("twist_table"):
             _set(sec, "twist", lambda: equivalent_twist(sec["twist_table"], sec["root_cutout"]))
     tr = values["tail_rotor"]
+    if tr.get("omega"):
+        _set(tr, "gear_ratio", lambda: tr["omega"] / values["main_rotor"]["omega"])
     if tr.get("lock_number"):
         rho, hinge = values["environment"]["rho"], tr.get("flap_hinge_offset", 0.0) if tr["hub_type"] == "flapping" else 0.0
         _set(tr, "blade_mass", lambda: 3 * rho * tr["lift_slope"] * tr["chord"] * tr["radius"] ** 4

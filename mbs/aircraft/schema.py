@@ -327,6 +327,9 @@ ENTRIES: dict[str, dict[str, Entry]] = {
                            "or rigid (blades on pitch bearings only)", "teetering", "rigid", "flapping"),
         "upper_blade": choice("which way the upper tail-rotor blade moves", "aft", "forward"),
         "gear_ratio": positive("-", "tail-rotor speed per main-rotor speed"),
+        "omega": num("rad/s", "nominal tail-rotor speed as published (rpm ...); replaces gear_ratio, which is "
+                     "computed from it and main_rotor.omega (0: not given)", 0.0, math.inf, open_low=True,
+                     default=0.0, replaces="gear_ratio"),
         "hub_x": num("m", "tail-rotor hub x (forward) from the CG", axis="x"),
         "hub_y": num("m", "tail-rotor hub y (starboard) from the CG", axis="y"),
         "hub_z": num("m", "tail-rotor hub z (down) from the CG", axis="z"),
@@ -547,7 +550,8 @@ FROM_TABLES: dict[str, dict[str, Derived]] = {
                                     "from lock_number")}
                  if section == "main_rotor" else
                  {"blade_mass": Derived("kg", "uniform blade from the flap hinge (the axis unless the hub is "
-                                        "flapping) of the Lock number: 3 rho a c R^4 / (gamma (R - e)^2)")})}
+                                        "flapping) of the Lock number: 3 rho a c R^4 / (gamma (R - e)^2)"),
+                  "gear_ratio": Derived("-", "tail-rotor omega over main_rotor.omega")})}
     for section in ("main_rotor", "tail_rotor")
 }
 """Plain entries that a distribution replaces, computed from it (:data:`Entry.replaces`)."""
