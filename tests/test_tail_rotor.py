@@ -236,3 +236,16 @@ def test_aircraft_check_reports_the_tail_rotor_s_flap_frequency_gear_and_an_idle
             "revolutions; the periodic analyses turn the tail rotor at 4.6153846 instead (period 13 revolutions, "
             "tail-rotor speed -0.0025 %); simulations keep 4.6155") in out
     assert "tail_rotor.precone: 2 deg on a flapping hub without a flap spring does nothing" in out
+
+
+def test_a_teetering_tail_rotor_of_three_blades_is_said_with_the_entries_it_lacks(tmp_path):
+    """Three blades on a teetering hub without its seesaw entries: the blade count and the missing
+    entries in one check (a new user was asked for the seesaw first, then told it takes 2 blades)."""
+    raw = entries("bo105")
+    raw["tail_rotor"]["n_blades"]["value"] = 3
+    for key in ("seesaw_mass", "seesaw_size"):
+        del raw["tail_rotor"][key]
+    problems = aircraft.check(write(raw, tmp_path / "three.toml")).problems
+    assert 'tail_rotor.n_blades: a teetering tail rotor has 2 blades, not 3; use hub_type = "flapping" or "rigid" ' \
+           "for more" in problems
+    assert any(p.startswith("tail_rotor.seesaw_mass: missing") for p in problems), problems

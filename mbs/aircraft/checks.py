@@ -160,9 +160,6 @@ def _main_hub_type(v: dict) -> list[str]:
     if mr["hub_type"] != "teetering":
         return []
     out = []
-    if mr["n_blades"] != 2:
-        out.append(f"main_rotor.n_blades: a teetering main rotor has 2 blades, not {mr['n_blades']}; use hub_type = "
-                   "\"flapping\" for more")
     if mr["flap_hinge_offset"] != 0.0:
         out.append(f"main_rotor.flap_hinge_offset: {mr['flap_hinge_offset']:g} m on a teetering hub, whose blades "
                    "start at the teeter hinge on the axis: give 0 (their height below it is undersling)")
@@ -198,9 +195,6 @@ def _blade_body(mr: dict) -> list[str]:
 def _tail_hub_type(tr: dict) -> list[str]:
     """The tail rotor's hub: two blades on a seesaw, a hinge inside the blade, δ3 only where it flaps."""
     out = []
-    if tr["hub_type"] == "teetering" and tr["n_blades"] != 2:
-        out.append(f"tail_rotor.n_blades: a teetering tail rotor has 2 blades, not {tr['n_blades']}; "
-                   "use hub_type = \"flapping\" or \"rigid\" for more")
     if tr["hub_type"] == "flapping" and tr["flap_hinge_offset"] >= tr["root_cutout"] * tr["radius"] + 1e-12:
         out.append(f"tail_rotor.flap_hinge_offset: {tr['flap_hinge_offset']:g} m lies outboard of the aerodynamic "
                    f"root ({tr['root_cutout']:g} R = {tr['root_cutout'] * tr['radius']:g} m): the blade elements "

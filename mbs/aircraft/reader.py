@@ -81,7 +81,17 @@ def read(text: str, base: Path | None = None) -> Reading:
     _surface_slopes(out)
     _laws(out)
     _missing(out, raw)
+    _teetering_blades(out)
     return out
+
+
+def _teetering_blades(out: Reading) -> None:
+    """A teetering hub of other than two blades: said with the entries it lacks, not after them."""
+    for section, more in (("main_rotor", '"flapping"'), ("tail_rotor", '"flapping" or "rigid"')):
+        v = out.values.get(section, {})
+        if v.get("hub_type") == "teetering" and v.get("n_blades", 2) != 2:
+            out.problems.append(f"{section}.n_blades: a teetering {section.replace('_', ' ')} has 2 blades, not "
+                                f"{v['n_blades']}; use hub_type = {more} for more")
 
 
 def _suggest(name: str, known) -> str:
