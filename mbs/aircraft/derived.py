@@ -134,9 +134,11 @@ def _distributions(values: dict) -> None:
     if tr.get("omega"):
         _set(tr, "gear_ratio", lambda: tr["omega"] / values["main_rotor"]["omega"])
     if tr.get("lock_number"):
-        rho, hinge = values["environment"]["rho"], tr.get("flap_hinge_offset", 0.0) if tr["hub_type"] == "flapping" else 0.0
+        from mbs.aircraft.mass import tail_hinge
+
+        rho, span = values["environment"]["rho"], tr["radius"] - tail_hinge(tr)
         _set(tr, "blade_mass", lambda: 3 * rho * tr["lift_slope"] * tr["chord"] * tr["radius"] ** 4
-             / (tr["lock_number"] * (tr["radius"] - hinge) ** 2))
+             / (tr["lock_number"] * span**2))
     mr = values["main_rotor"]
     if mr.get("lock_number") and not mr.get("mass_table"):
         rho = values["environment"]["rho"]

@@ -104,12 +104,12 @@ def tail_blade(d) -> Part:
     """A tail-rotor blade in its frame (x along the span from the axis, or from the flap hinge
     of a flapping hub): a uniform box."""
     tr = d["tail_rotor"]
-    span = tr["radius"] - _tail_hinge(tr)
+    span = tr["radius"] - tail_hinge(tr)
     return Part(tr["blade_mass"], np.array([span / 2, 0.0, 0.0]),
                 box_inertia(tr["blade_mass"], span, tr["chord"], tr["blade_thickness"]))
 
 
-def _tail_hinge(tr) -> float:
+def tail_hinge(tr) -> float:
     """The tail blade's flap hinge offset (m; zero unless the hub is flapping)."""
     return tr.get("flap_hinge_offset", 0.0) if tr["hub_type"] == "flapping" else 0.0
 
@@ -146,7 +146,7 @@ def tail_rotor(d) -> Part:
     parts = [tail_hub(d)] + ([seesaw(d)] if tr["hub_type"] == "teetering" else [])
     cone = geo.precone_frame(tr.get("precone", 0.0))
     frames = [geo.rz(sense * psi) for psi in geo.blade_azimuths(tr["n_blades"])]
-    parts += [tail_blade(d).placed(_tail_hinge(tr) * f[:, 0], f @ cone) for f in frames]
+    parts += [tail_blade(d).placed(tail_hinge(tr) * f[:, 0], f @ cone) for f in frames]
     return _averaged(combine(parts))
 
 

@@ -325,7 +325,8 @@ def _surface_slopes(out: Reading) -> None:
         if not v.get("aspect_ratio"):
             continue
         if "coefficient_table" in v or "lift_slope" not in v:
-            why = "a coefficient_table is the surface's already" if "coefficient_table" in v else "no lift_slope is given"
+            why = ("a coefficient_table is the surface's already" if "coefficient_table" in v
+                   else "no lift_slope is given")
             out.problems.append(f"{section}.aspect_ratio: turns a section's lift_slope into the surface's, and {why}: "
                                 "leave aspect_ratio out")
             continue
