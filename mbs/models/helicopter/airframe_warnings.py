@@ -40,8 +40,9 @@ def _wake(values: dict) -> list[str]:
 
 
 STILL_AIR = 1.0
-"""m/s: a surface in slower air than this (a tail out of the wake in hover) carries no load worth a
-warning, and its angle of attack means nothing."""
+"""m/s: a surface (a tail out of the wake in hover) or a fuselage in slower air than this carries no
+load worth a warning (dynamic pressure under 0.6 Pa), and its angles mean nothing (a hover's
+fuselage: -179 deg of round-off at 1e-7 m/s)."""
 
 
 def _stall(values: dict, d) -> list[str]:
@@ -80,12 +81,6 @@ def _stops(values: dict, d) -> list[str]:
             return [f"stabilator: at its stop {np.degrees(stop):+.1f} deg (stabilator.{name}); the schedule asks for "
                     f"{np.degrees(raw):+.1f} deg"]
     return []
-
-
-STILL_AIR = 1.0
-"""m/s: below this airspeed the fuselage's angles of attack and sideslip are not judged against its
-tables' breakpoints (a hover's are round-off, -179 deg at 1e-7 m/s; the tables' dynamic pressure
-there is under 0.6 Pa)."""
 
 
 def _table_range(values: dict, d) -> list[str]:
