@@ -102,6 +102,20 @@ def test_a_row_typed_whole_on_one_line_is_read():
     assert np.array_equal(c81.CL.values, parse_c81(PRINTED).CL.values)
 
 
+def test_a_deck_as_some_print_it_reads_as_fortran_reads_it():
+    """A 0 in the 7 columns that Fortran's 7X skips before the Mach numbers, and a whole row on one
+    line whose numbers run together (``-1.0550-1.0255``): a new user's NACA 0012 deck had both, and
+    was refused ("starts with 7 blank columns"; "expected 10 numbers; found 13")."""
+    lines = PRINTED.splitlines()
+    assert lines[1].startswith("         .0") and "-1.0550-1.0255" in lines[5]
+    lines[1] = "  0.   " + lines[1][7:]
+    joined = lines[:5] + [lines[5] + " " + lines[6].strip()] + lines[7:]  # the -15 deg row of CL on one line
+    c81, plain = parse_c81("\n".join(joined)), parse_c81(PRINTED)
+    for c in COEFFICIENTS:
+        assert np.array_equal(c81.table(c).values, plain.table(c).values)
+        assert np.array_equal(c81.table(c).mach, plain.table(c).mach)
+
+
 def test_a_written_c81_file_reads_back_to_its_printed_precision():
     c81 = analytic_c81(Airfoil(6.1, 0.008, 0.2), mach=MACH, compressibility=Compressibility(340.3, 0.75))
     back = parse_c81(format_c81("BACK", {c: c81.table(c) for c in COEFFICIENTS}))
@@ -113,7 +127,7 @@ def test_a_written_c81_file_reads_back_to_its_printed_precision():
 BAD_C81 = {  # what is wrong -> (the text, the words of the message)
     "short header": ("NACA 0012\n", "line 1: the header must hold"),
     "a row too short": (PRINTED.replace("  15.   1.19   1.09   1.0725 1.055  1.023  1.023  1.003   .98    .98",
-                                        "  15.   1.19   1.09"), "line 10: expected 10 numbers; found 3"),
+                                        "  15.   1.19   1.09"), "line 10: expected 10 numbers; found 3 separated by blanks"),
     "angles not increasing": (PRINTED.replace("  15.   1.19", "  -5.   1.19"), "must increase; 0 is followed by -5"),
     "a word for a number": (PRINTED.replace(" -15.  -1.19", " -15.  -x.19"), "line 6: expected 10 numbers"),
     "file ends early": ("\n".join(PRINTED.splitlines()[:30]), "ends before row"),

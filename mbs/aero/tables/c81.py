@@ -10,12 +10,15 @@ Layout (Fortran fixed columns)::
     ... the same for CD (NMD, NAD) and CM (NMM, NAM)
 
 A file typed by hand whose numbers are separated by blanks but not in their columns is read as
-well: a line is split at its blanks when that gives the numbers the table expects, and cut into
-7-column fields otherwise (numbers that run together, ``-1.0255-.99``). Every problem is one line
-naming the file, its line number and what was expected.
+well: a line is split at its blanks when that gives the numbers the table expects, or cut where
+numbers run together (``-1.0255-.99``), and cut into 7-column fields otherwise. The first 7 columns
+of a Mach-number line are skipped whatever they hold, as Fortran's ``7X`` skips them (some decks
+print a 0 there); a continuation line's must be blank. Every problem is one line naming the file,
+its line number and what was expected.
 """
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -111,28 +114,44 @@ def _header(lines: _Lines) -> tuple[str, list[int]]:
     return name, counts
 
 
-def _numbers(lines: _Lines, line: str, expected: int, first_field: bool) -> list[float]:
+def _numbers(lines: _Lines, line: str, expected: int, first_field: bool, mach_line: bool = False) -> list[float]:
     """The numbers on ``line``: split at blanks when that gives ``expected`` numbers, else cut
-    into 7-column fields (a blank field between numbers reads as 0, as Fortran reads it)."""
-    words = line.split()
-    if len(words) == expected:
-        try:
+    into 7-column fields (a blank field between numbers reads as 0, as Fortran reads it). The
+    first 7 columns of a continuation line must be blank; those of a Mach-number line are
+    skipped, as Fortran's ``7X`` skips them, whatever they hold (some decks print a 0 there)."""
+    for words in _readings(line, mach_line):
+        if len(words) == expected:
             return [float(w) for w in words]
-        except ValueError:
-            pass
     body = line if first_field else line[FIELD:]
-    if not first_field and line[:FIELD].strip():
+    if not first_field and not mach_line and line[:FIELD].strip():
         raise lines.error(f"a line of Mach numbers or a continuation line starts with {FIELD} blank columns; "
                           f"found {line!r}")
     fields = [body[k:k + FIELD] for k in range(0, len(body.rstrip()), FIELD)]
     try:
         values = [float(f) if f.strip() else 0.0 for f in fields]
     except ValueError:
-        raise lines.error(f"expected {expected} numbers in {FIELD}-column fields (or separated by blanks); "
-                          f"found {line!r}") from None
-    if len(values) != expected:
-        raise lines.error(f"expected {expected} numbers; found {len(values)} in {line!r}")
+        values = None
+    if values is None or len(values) != expected:
+        raise lines.error(f"expected {expected} numbers; found {len(line.split())} separated by blanks and "
+                          f"{len(fields)} {FIELD}-column fields{'' if values is not None else ', not all numbers'} "
+                          f"in {line!r}")
     return values
+
+
+NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
+
+
+def _readings(line: str, skip_first: bool) -> list[list[str]]:
+    """The ways ``line`` reads as numbers apart from its columns: split at blanks, and cut where
+    two numbers run together (``-1.161-1.161``, when nothing else is on the line); after its
+    first 7 columns too when ``skip_first`` (Fortran's ``7X`` skips whatever they hold)."""
+    out = []
+    for text in [line, line[FIELD:]] if skip_first else [line]:
+        out.append(text.split())
+        found = NUMBER.findall(text)
+        if "".join(found) == "".join(text.split()):
+            out.append(found)
+    return [words for words in out if words and _all_numbers(words)]
 
 
 def _all_numbers(words: list[str]) -> bool:
@@ -147,10 +166,10 @@ def _row(lines: _Lines, n: int, what: str, leading: bool) -> list[float]:
     """``n`` values of one row (after an angle when ``leading``), 9 a line after the first field."""
     first = min(n, PER_LINE)
     line = lines.next(what)
-    words = line.split()
-    if n > PER_LINE and len(words) == n + leading and _all_numbers(words):  # a whole row typed on one line
-        return [float(w) for w in words]
-    values = _numbers(lines, line, first + leading, leading)
+    for words in _readings(line, not leading):  # a whole row typed on one line
+        if n > PER_LINE and len(words) == n + leading:
+            return [float(w) for w in words]
+    values = _numbers(lines, line, first + leading, leading, mach_line=not leading)
     while len(values) < n + leading:
         left = n + leading - len(values)
         values += _numbers(lines, lines.next(what), min(left, PER_LINE), False)
