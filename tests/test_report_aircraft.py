@@ -177,3 +177,20 @@ def test_the_hover_trim_beside_g2_table_4(trims):
     assert ours["collective_lever"] == pytest.approx(G2_HOVER["collective_lever"], abs=0.5)
     for k in ("longitudinal_stick", "lateral_stick", "pedals"):
         assert ours[k] == pytest.approx(G2_HOVER[k], abs=1.0), k
+
+
+def test_a_fuselage_drag_no_helicopter_has_is_warned_of(tmp_path):
+    """A new user's fuselage tables printed in ft^2 and labelled m^2 gave 23.6 m^2 of drag area (0.11
+    of the disc) with "no problems", and a trim at -17.7 deg of pitch. The Bo105's polynomials give
+    1.02 m^2 (0.0135 of its disc), listed; ten times that, or a thrust, is warned of."""
+    from aircraft_files import entries, write
+
+    figures = {n: v for n, v, _ in aircraft.check("bo105").figures}
+    assert figures["fuselage drag area at zero angles"] == pytest.approx(580.6 / (0.5 * 1.225 * 30.48**2), rel=1e-3)
+    assert figures["fuselage drag area per disc area"] == pytest.approx(0.0135, abs=1e-4)
+    for factor, words in ((10.0, "is 0.135 of the main rotor's disc area"), (-1.0, "is not a drag")):
+        raw = entries("bo105")
+        raw["fuselage_aero"]["X"]["value"][0] *= factor
+        warnings = aircraft.check(write(raw, tmp_path / "drag.toml")).warnings
+        assert any(w.startswith("fuselage_aero: the drag area at zero angle of attack and sideslip") and words in w
+                   for w in warnings), warnings

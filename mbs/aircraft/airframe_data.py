@@ -297,7 +297,11 @@ def fuselage_table(d):
 
 
 def drag_area(d) -> float:
-    """Fuselage drag per dynamic pressure (m²) at zero angle of attack and sideslip."""
+    """Fuselage drag per dynamic pressure (m²) at zero angle of attack and sideslip: of its tables,
+    or of its polynomials' constant ``X`` at their reference speed."""
+    fa = d["fuselage_aero"]
+    if fa["model"] != "tables":
+        return -fa["X"][0] / (0.5 * d["environment"]["rho"] * fa["v_ref"] ** 2)
     force, _ = fuselage_table(d).body_per_q(0.0, 0.0)
     return -float(force.full()[0, 0])
 

@@ -150,11 +150,30 @@ def _warnings(data: Data, rows: list[tuple]) -> list[str]:
     out += _unused_with_tables(data)
     tr = data["tail_rotor"]
     out += checks.main_rotor_notes(data["main_rotor"]) + checks.tail_rotor_notes(tr)
-    out += checks.tail_clearance_note(data) + checks.surface_slope_notes(data)
+    out += checks.tail_clearance_note(data) + checks.surface_slope_notes(data) + _drag_area_note(data)
     gear = checks.periodic_gear(tr["gear_ratio"], checks.tail_blade_symmetry(tr))
     if not gear.exact:
         out.append(f"tail_rotor.gear_ratio: {gear.text()}; simulations keep {gear.ratio:.8g}")
     return out
+
+
+DRAG_AREA_SHARE = 0.04
+"""Fuselage drag area per main-rotor disc area beyond which the check warns: helicopters have
+about 0.008-0.02 (the shipped Bo105 0.0135, Puma 0.0082, Lynx 0.0135)."""
+
+
+def _drag_area_note(data: Data) -> list[str]:
+    """A fuselage whose drag at zero angles is no helicopter's: more than :data:`DRAG_AREA_SHARE`
+    of the disc area (a table in ft² read as m²: ten times), or not a drag."""
+    f = airframe_data.drag_area(data)
+    share = f / (math.pi * data["main_rotor"]["radius"] ** 2)
+    if 0.0 < share <= DRAG_AREA_SHARE:
+        return []
+    what = "is not a drag (it pushes forward)" if f <= 0 else (
+        f"is {share:.3g} of the main rotor's disc area, where helicopters have about 0.008-0.02 (above "
+        f"{DRAG_AREA_SHARE:g} this check warns)")
+    return [f"fuselage_aero: the drag area at zero angle of attack and sideslip, {f:.4g} m^2, {what}: check the "
+            "tables' or polynomials' unit (ft^2 or m^2, N at v_ref) and their sign"]
 
 
 def _unused_with_tables(data: Data) -> list[str]:
@@ -188,6 +207,8 @@ def figures(data: Data) -> list[tuple]:
         ("hover power estimate, main rotor", hov.main.power, "W"),
         ("hover power estimate, tail rotor", hov.tail.power, "W"),
         ("hover power estimate, total", hov.power, "W"),
+        ("fuselage drag area at zero angles", airframe_data.drag_area(data), "m^2"),
+        ("fuselage drag area per disc area", airframe_data.drag_area(data) / (math.pi * mr["radius"] ** 2), "-"),
         ("hover tail-rotor thrust", hov.tail.thrust, "N"),
         *([("hover tail-rotor duct thrust", hov.tail.duct_thrust, "N")] if hov.tail.duct_thrust else []),
         ("main-rotor mass (hub and blades)", main_mass, "kg"), ("tail-rotor mass", tail_mass, "kg"),

@@ -38,11 +38,9 @@ class TrimEstimate:
 
 def _fuselage_drag(d, speed: float) -> float:
     """Fuselage drag (N) at zero angle of attack and sideslip."""
-    fa = d["fuselage_aero"]
-    if fa["model"] == "tables":
-        from mbs.aircraft.airframe_data import drag_area
-        return drag_area(d) * 0.5 * d["environment"]["rho"] * speed**2
-    return -fa["X"][0] * (speed / fa["v_ref"]) ** 2
+    from mbs.aircraft.airframe_data import drag_area
+
+    return drag_area(d) * 0.5 * d["environment"]["rho"] * speed**2
 
 
 def estimate_trim(d, speed: float) -> TrimEstimate:
