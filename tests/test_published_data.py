@@ -362,6 +362,26 @@ def test_a_lock_number_as_published_gives_the_flap_inertia(tmp_path):
         in both.problems
 
 
+def test_a_blade_weight_alone_gives_the_uniform_blade_s_flap_inertia(tmp_path):
+    """A report that prints the blade's weight and no flap inertia or Lock number (a new user's
+    UH-60: 116.5 kg, refused for want of I_flap even with override): I_flap = m (R - e)^2 / 3, listed
+    as derived; beside I_flap the weight stays the override it was (a non-uniform blade)."""
+    raw = entries("bo105")
+    del raw["main_rotor"]["I_flap"]
+    raw["main_rotor"]["blade_mass"] = {"value": 30.0, "unit": "kg", "source": "report", "override": True}
+    path = write(raw, tmp_path / "weight.toml")
+    report = aircraft.check(path)
+    assert report.ok, report.problems
+    mr = aircraft.load(path).data["main_rotor"]
+    assert mr["I_flap"] == pytest.approx(30.0 * (mr["radius"] - mr["flap_hinge_offset"]) ** 2 / 3, rel=1e-12)
+    assert mr["first_moment"] == pytest.approx(30.0 * (mr["radius"] - mr["flap_hinge_offset"]) / 2, rel=1e-12)
+    assert any(e == "main_rotor.I_flap" and "from blade_mass alone" in how for e, _, _, how in report.derived)
+    raw["main_rotor"]["I_flap"] = {"value": 231.7, "unit": "kg m^2", "source": "report"}
+    raw["main_rotor"]["blade_mass"]["value"] = 28.0
+    both = aircraft.load(write(raw, tmp_path / "both.toml")).data["main_rotor"]
+    assert both["I_flap"] == 231.7 and both["blade_mass"] == 28.0
+
+
 @pytest.mark.parametrize("hub", ["teetering", "flapping"])
 def test_a_tail_rotor_lock_number_as_published_gives_the_blade_mass(tmp_path, hub):
     """``tail_rotor.lock_number`` (a report that prints gamma = 4 and no blade mass: a new user's

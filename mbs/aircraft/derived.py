@@ -143,6 +143,8 @@ def _distributions(values: dict) -> None:
     if mr.get("lock_number") and not mr.get("mass_table"):
         rho = values["environment"]["rho"]
         _set(mr, "I_flap", lambda: rho * mr["lift_slope"] * mr["chord"] * mr["radius"] ** 4 / mr["lock_number"])
+    if "I_flap" not in mr and "blade_mass" in mr and not mr.get("mass_table"):  # a report's blade weight alone
+        _set(mr, "I_flap", lambda: mr["blade_mass"] * (mr["radius"] - mr["flap_hinge_offset"]) ** 2 / 3)
     if mr.get("mass_table"):
         blade = Distribution(mr)
         _set(mr, "I_flap", lambda: blade.flap_inertia)

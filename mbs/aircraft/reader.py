@@ -619,6 +619,8 @@ def _missing(out: Reading, raw: dict) -> None:
         given = raw.get(section, {}) if isinstance(raw.get(section), dict) else {}
         replaced = {name: key for key, spec in entries.items() if spec.replaces and key in given
                     for name in spec.replaces.split()}
+        if section == "main_rotor" and "blade_mass" in given and "I_flap" not in given:
+            replaced.setdefault("I_flap", "blade_mass")  # a report's blade weight alone: a uniform blade
         idle: dict[tuple, list[str]] = {}  # (entry, value) -> the given entries that need it
         for key, spec in entries.items():
             applies = _applies(spec, out.values.get(section, {}), entries)

@@ -505,7 +505,8 @@ class Derived:
 DERIVED: dict[str, dict[str, Derived]] = {
     "main_rotor": {
         "blade_mass": Derived("kg", "uniform blade from the flap hinge: 3 I_flap / (R - e)^2; with mass_table its "
-                              "integral outboard of the flap hinge"),
+                              "integral outboard of the flap hinge; given alone (override), the flap inertia of the "
+                              "uniform blade of this mass"),
         "first_moment": Derived("kg m", "blade's first moment about the flap hinge: blade_mass (R - e) / 2 for the "
                                 "uniform blade; with mass_table the integral of mass per length times (r - e)"),
         "lag_stiffness": Derived("N m/rad", "lag spring giving lag_frequency: (nu^2 - e S / I) I Omega^2, "
@@ -547,7 +548,8 @@ FROM_TABLES: dict[str, dict[str, Derived]] = {
                                "aerodynamic blade (estimates, wake geometry)"),
               **({"I_flap": Derived("kg m^2", "integral of mass per length times (r - e)^2 plus the sections' flap "
                                     "inertia, outboard of the flap hinge, from mass_table; or rho a c R^4 / gamma "
-                                    "from lock_number")}
+                                    "from lock_number; or blade_mass (R - e)^2 / 3, a uniform blade, from "
+                                    "blade_mass alone")}
                  if section == "main_rotor" else
                  {"blade_mass": Derived("kg", "uniform blade from the flap hinge (the axis unless the hub is "
                                         "flapping) of the Lock number: 3 rho a c R^4 / (gamma (R - e)^2)"),
