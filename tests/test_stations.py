@@ -234,3 +234,22 @@ def test_an_entry_that_would_replace_nothing_or_mean_two_things_is_a_problem(sec
     rest = re.sub(rf"^{key} = .*$", new, rest, count=1, flags=re.M)
     _, problems = evaluate(head + sep + rest)
     assert any(p.startswith(expected) for p in problems), problems
+
+
+def test_stations_that_count_forward_and_down_are_taken_as_printed(tmp_path):
+    """Simulation data give points as a datum's x forward and z down (a new user's UH-60 flipped
+    every sign by hand): ``fuselage_station_positive = "forward"`` and ``water_line_positive =
+    "down"`` take them as printed, and the check's formula says so."""
+    text = _with_cg(_entry(_entry(_bo105(), "tail_rotor", "hub_x", _station(440.0)), "tail_rotor", "hub_z",
+                           _station(160.0)))
+    assert "[conventions]" not in text
+    text += ('\n[conventions]\nfuselage_station_positive = { value = "forward", unit = "-", source = "R1" }\n'
+             'water_line_positive = { value = "down", unit = "-", source = "R1" }\n')
+    path = tmp_path / "forward.toml"
+    path.write_text(text)
+    report = aircraft.check(path)
+    assert report.ok, report.problems
+    tr = aircraft.load(path).data["tail_rotor"]
+    assert tr["hub_x"] == pytest.approx((440.0 - CG[0]) * INCH) and tr["hub_z"] == pytest.approx((160.0 - CG[2]) * INCH)
+    hows = {r[0]: r[3] for r in report.converted}
+    assert hows["tail_rotor.hub_x"].endswith("x = (FS - FS_cg)") and hows["tail_rotor.hub_z"].endswith("z = (WL - WL_cg)")

@@ -261,15 +261,11 @@ def tail_problems(values: dict) -> list[str]:
 def reference_point(d) -> np.ndarray:
     """The moments' reference point (3,) (m, body axes from the CG) of the aircraft data ``d``:
     as given, or from the stations ``reference_station`` and ``cg_station``
-    (:func:`mbs.aircraft.stations.position`, butt lines as ``conventions.butt_line_positive``)."""
+    (:func:`mbs.aircraft.stations.position`, counted as the file's ``[conventions]`` say)."""
     fa = d["fuselage_aero"]
     if len(fa["reference_point"]):
         return np.asarray(fa["reference_point"], dtype=float)
-    return np.asarray(stations.position("xyz", fa["reference_station"], fa["cg_station"], _butt_line(d)))
-
-
-def _butt_line(d) -> str:
-    return d.get("conventions", {}).get("butt_line_positive", "starboard")
+    return np.asarray(stations.position("xyz", fa["reference_station"], fa["cg_station"], d.get("conventions", {})))
 
 
 def scale(fa: dict, key: str, rho: float) -> float:
@@ -313,10 +309,10 @@ def converted(data) -> list[tuple]:
         return []
     meta, rho, rows = data.meta["fuselage_aero"], data["environment"]["rho"], []
     if not len(fa["reference_point"]):
-        side = "-" if _butt_line(data) == "port" else ""
+        sign = stations.signs(data.get("conventions", {}))
+        formula = ", ".join(f"{'-' if sign[a] < 0 else ''}({n} - {n}_cg)" for a, n in zip("xyz", ("FS", "BL", "WL")))
         rows.append(("fuselage_aero.reference_station", reference_point(data).round(6).tolist(), "m",
-                     f"x, y, z from the CG: -(FS - FS_cg), {side}(BL - BL_cg), -(WL - WL_cg)",
-                     meta["reference_station"]["source"]))
+                     f"x, y, z from the CG: {formula}", meta["reference_station"]["source"]))
     for key, table in given(fa).items():
         factor = scale(fa, key, rho)
         law = (f"the polynomial {meta[key]['value']} {table['unit']} in {key.partition('_')[2]} (rad) at its "

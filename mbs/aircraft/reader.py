@@ -394,7 +394,7 @@ def _place_stations(out: Reading) -> None:
         out.problems.append(f"{first.section}.{first.key}: given as a station; give the CG's stations too: [aircraft] "
                             "cg_station = { value = [FS, BL, WL], unit = \"in\", source = \"...\" }")
         return
-    side = out.values.get("conventions", {}).get("butt_line_positive", "starboard")
+    side = out.values.get("conventions", {})
     cg_meta = out.meta["aircraft"]["cg_station"]
     for given in out.stations:
         spec = ENTRIES[given.section][given.key]

@@ -389,6 +389,11 @@ ENTRIES: dict[str, dict[str, Entry]] = {
                                default="theta_1c, theta_1s"),
         "butt_line_positive": choice("the side to which butt lines count positive in this file's stations",
                                      "starboard", "port", default="starboard"),
+        "fuselage_station_positive": choice("the way fuselage stations count positive in this file's stations "
+                                            "(forward: a datum's x forward, as some simulation data give points)",
+                                            "aft", "forward", default="aft"),
+        "water_line_positive": choice("the way water lines count positive in this file's stations (down: a "
+                                      "datum's z down)", "up", "down", default="up"),
     },
     "lag_damper": {
         "hub_point": Entry("m", "the lag damper's end on the hub, in its blade's rotating frame at zero azimuth: "

@@ -1,13 +1,16 @@
-"""Positions written as stations, as reports print them: fuselage station (FS, aft), butt line
-(BL, to the side of ``conventions.butt_line_positive``) and water line (WL, up), each a length
-from the report's datum. With the CG's stations (``aircraft.cg_station``) a position entry
-(one whose :attr:`mbs.aircraft.schema.Entry.axis` is set) may be written
+"""Positions written as stations, as reports print them: fuselage station (FS, aft unless
+``conventions.fuselage_station_positive`` = "forward"), butt line (BL, to the side of
+``conventions.butt_line_positive``) and water line (WL, up unless
+``conventions.water_line_positive`` = "down"), each a length from the report's datum. With the
+CG's stations (``aircraft.cg_station``) a position entry (one whose
+:attr:`mbs.aircraft.schema.Entry.axis` is set) may be written
 ``{ station = ..., unit = "in", source = "..." }``; the program turns it into body axes from the
 CG (x forward, y starboard, z down):
 
     x = -(FS - FS_cg),   y = ±(BL - BL_cg),   z = -(WL - WL_cg)
 
-and ``heli aircraft check`` lists each with its stations.
+(each sign turned where the file's stations count the other way) and ``heli aircraft check``
+lists each with its stations.
 """
 from __future__ import annotations
 
@@ -29,21 +32,32 @@ class Given:
     meta: dict
 
 
-def position(axis: str, station, cg: list, butt_line: str) -> float | list:
+POSITIVE = {"x": ("fuselage_station_positive", "aft"), "y": ("butt_line_positive", "starboard"),
+            "z": ("water_line_positive", "up")}
+"""Body axis -> the convention that sets which way its stations count, and its usual value."""
+
+
+def signs(conventions: dict) -> dict[str, float]:
+    """Sign of ``station - station_cg`` in each body axis for the file's ``[conventions]``."""
+    return {a: AXES[a][2] * (1.0 if conventions.get(key, usual) == usual else -1.0)
+            for a, (key, usual) in POSITIVE.items()}
+
+
+def position(axis: str, station, cg: list, conventions: dict) -> float | list:
     """Body-axis position (m) from the CG of ``station`` (m) along ``axis`` ("x", "y", "z" or
-    "xyz": then three stations FS, BL, WL); ``cg`` the CG's (FS, BL, WL) in m."""
+    "xyz": then three stations FS, BL, WL); ``cg`` the CG's (FS, BL, WL) in m; ``conventions``
+    the file's (which way its stations count)."""
     if axis == "xyz":
-        return [position(a, s, cg, butt_line) for a, s in zip("xyz", station)]
-    index, _, sign = AXES[axis]
-    side = -1.0 if axis == "y" and butt_line == "port" else 1.0
-    return sign * side * (station - cg[index]) + 0.0
+        return [position(a, s, cg, conventions) for a, s in zip("xyz", station)]
+    return signs(conventions)[axis] * (station - cg[AXES[axis][0]]) + 0.0
 
 
-def how(axis: str, written, unit: str, cg_written, cg_unit: str, butt_line: str) -> str:
+def how(axis: str, written, unit: str, cg_written, cg_unit: str, conventions: dict) -> str:
     """What ``heli aircraft check`` says of a converted station."""
     axes = "xyz" if axis == "xyz" else axis
     stations = ", ".join(f"{AXES[a][1]} {w:g}" for a, w in zip(axes, written if axis == "xyz" else [written]))
     cgs = ", ".join(f"{AXES[a][1]} {cg_written[AXES[a][0]]:g}" for a in axes)
-    formula = {"x": "-(FS - FS_cg)", "y": f"{'-' if butt_line == 'port' else ''}(BL - BL_cg)", "z": "-(WL - WL_cg)"}
+    sign = signs(conventions)
+    formula = {a: f"{'-' if sign[a] < 0 else ''}({AXES[a][1]} - {AXES[a][1]}_cg)" for a in "xyz"}
     return (f"from station {stations} {unit} with the CG at {cgs} {cg_unit}: "
             + ", ".join(f"{a} = {formula[a]}" for a in axes))
