@@ -105,9 +105,13 @@ def test_a_trim_beyond_the_table_warns(tmp_path):
 
 
 @pytest.mark.parametrize("rows, keep, expected", [
-    ([[-0.1, 0.0, 0.01]], False, "horizontal_tail.coefficient_table: the angles of attack (-5.73 deg) must be at least two"),
-    ([[0.1, 0.0, 0.01], [-0.1, 0.0, 0.01]], False, "horizontal_tail.coefficient_table: the angles of attack"),
-    ([[-2.0, 0.0, 1.0], [0.0, 0.0, 0.01]], False, "horizontal_tail.coefficient_table: the angles of attack (-114.6, 0"),
+    ([[-0.1, 0.0, 0.01]], False, "horizontal_tail.coefficient_table: one row; give at least two"),
+    ([[0.1, 0.0, 0.01], [-0.1, 0.0, 0.01]], False, "horizontal_tail.coefficient_table: the angles of attack must "
+                                                   "increase; row 2 (-5.73 deg) follows row 1 (5.73 deg)"),
+    ([[-0.1, 0.0, 0.01], [0.0, 0.0, 0.01], [0.0, 0.0, 0.01]], False,
+     "horizontal_tail.coefficient_table: the angles of attack must increase; row 3 (0 deg) follows row 2 (0 deg)"),
+    ([[-2.0, 0.0, 1.0], [0.0, 0.0, 0.01]], False, "horizontal_tail.coefficient_table: angles of attack -114.6 to 0 "
+                                                  "deg; give them within -90..90 deg"),
     (None, True, "horizontal_tail.coefficient_table: replaces horizontal_tail.lift_slope; leave lift_slope out"),
 ])
 def test_an_ill_formed_table_or_one_beside_the_analytic_section_is_a_problem(tmp_path, rows, keep, expected):

@@ -355,11 +355,17 @@ def _surface_tables(v: dict) -> list[str]:
         rows = np.asarray(v[section].get("coefficient_table") or np.zeros((0, 3)), float)
         if not len(rows):
             continue
-        alpha = rows[:, 0]
-        if len(alpha) < 2 or np.any(np.diff(alpha) <= 0) or np.abs(alpha).max() > np.pi / 2 + 1e-12:
-            shown = ", ".join(f"{x:.4g}" for x in np.degrees(alpha))
-            out.append(f"{section}.coefficient_table: the angles of attack ({shown} deg) must be at least two, "
-                       "increasing, within -90..90 deg (flow from the trailing edge is folded onto that range)")
+        alpha, where = rows[:, 0], f"{section}.coefficient_table"
+        degrees = np.degrees(alpha)
+        if len(alpha) < 2:
+            out.append(f"{where}: one row; give at least two angles of attack")
+        elif np.any(np.diff(alpha) <= 0):
+            k = int(np.argmax(np.diff(alpha) <= 0))
+            out.append(f"{where}: the angles of attack must increase; row {k + 2} ({degrees[k + 1]:.4g} deg) follows "
+                       f"row {k + 1} ({degrees[k]:.4g} deg)")
+        elif np.abs(alpha).max() > np.pi / 2 + 1e-12:
+            out.append(f"{where}: angles of attack {degrees[0]:.4g} to {degrees[-1]:.4g} deg; give them within "
+                       "-90..90 deg (flow from the trailing edge is folded onto that range)")
     return out
 
 
