@@ -431,7 +431,9 @@ ENTRIES: dict[str, dict[str, Entry]] = {
     "horizontal_tail": _surface("horizontal tail"),
     "vertical_fin": _surface("fin", "beta", "sidewash"),
     "stabilator": _stabilator(),
-    "wake": {"width": positive("m", "edge smoothing of the main rotor's wake tube (tail wake, download)")},
+    "wake": {"width": positive("m", "edge smoothing of the main rotor's wake tube (tail wake, download), an "
+                               "estimate that scales with the rotor (the Bo105's 0.25 m is 0.05 R): a tail at the "
+                               "wake's edge has derivatives that follow it")},
     "download": {"panels": Entry("m, m, m, m^2, -", "fuselage panels in the wake: rows x, y, z (from the CG), plan "
                                  "area, drag coefficient in vertical flow", "table", columns=("m", "m", "m", "m^2", "-"))},
     "hub_drag": {"flat_plate_area": num("m^2", "drag area of the main-rotor hub and mast", 0.0)},
