@@ -410,38 +410,29 @@ def test_a_tail_rotor_lock_number_as_published_gives_the_blade_mass(tmp_path, hu
         both.problems
 
 
-def test_a_length_as_a_fraction_of_the_radius(tmp_path):
+@pytest.mark.parametrize("hinge, hub, unit, fraction, listed", [
+    (0.14, 0.2, "R", 1.0, "0.14 R"),
+    (3.0, 20.0, "% R", 0.01, "3.0 % R"),  # "3 % of R": a new user's OH-6A was told "unknown symbol 'R'"
+    (3.0, 20.0, "%R", 0.01, "3.0 %R")])
+def test_a_length_as_a_fraction_of_the_radius(tmp_path, hinge, hub, unit, fraction, listed):
     """``unit = "R"`` on a rotor's length (a hinge offset printed as e/R) is that fraction of its
-    rotor's radius; on the radius itself or outside the rotors it is a problem."""
+    rotor's radius, ``"%R"`` that percentage, listed with the unit as written; on the radius itself
+    or outside the rotors it is a problem."""
     raw = entries("bo105")
-    raw["main_rotor"]["flap_hinge_offset"] = {"value": 0.14, "unit": "R", "source": "report", "note": "e/R"}
-    raw["tail_rotor"]["hub_size"] = {"value": 0.2, "unit": "R", "source": "report"}
+    raw["main_rotor"]["flap_hinge_offset"] = {"value": hinge, "unit": unit, "source": "report", "note": "e/R"}
+    raw["tail_rotor"]["hub_size"] = {"value": hub, "unit": unit, "source": "report"}
     craft = aircraft.load(write(raw, tmp_path / "fractions.toml"))
     d = craft.data
-    assert d["main_rotor"]["flap_hinge_offset"] == pytest.approx(0.14 * d["main_rotor"]["radius"], rel=1e-15)
-    assert d["tail_rotor"]["hub_size"] == pytest.approx(0.2 * d["tail_rotor"]["radius"], rel=1e-15)
-    listed = {r[0]: r[3] for r in aircraft.check(craft.path).converted}
-    assert listed["main_rotor.flap_hinge_offset"] == "times main_rotor.radius 4.91 m: from 0.14 R"
+    assert d["main_rotor"]["flap_hinge_offset"] == pytest.approx(fraction * hinge * d["main_rotor"]["radius"], rel=1e-15)
+    assert d["tail_rotor"]["hub_size"] == pytest.approx(fraction * hub * d["tail_rotor"]["radius"], rel=1e-15)
+    converted = {r[0]: r[3] for r in aircraft.check(craft.path).converted}
+    assert converted["main_rotor.flap_hinge_offset"] == f"times main_rotor.radius 4.91 m: from {listed}"
     for section, key in (("main_rotor", "radius"), ("horizontal_tail", "x")):
         bad = entries("bo105")
-        bad[section][key] = {"value": 0.5, "unit": "R", "source": "report"}
+        bad[section][key] = {"value": 0.5, "unit": unit, "source": "report"}
         report = aircraft.check(write(bad, tmp_path / "bad.toml"))
-        assert f"{section}.{key}: unit 'R' (a fraction of the rotor's radius) applies to the lengths of [main_rotor] " \
-               "and [tail_rotor] only" in report.problems
-
-
-def test_a_length_as_a_percentage_of_the_radius(tmp_path):
-    """``unit = "%R"`` (or ``"% R"``): a hinge offset printed as "3 % of R" (a new user's OH-6A
-    was told "unknown symbol 'R'"), listed with the unit as written."""
-    raw = entries("bo105")
-    raw["main_rotor"]["flap_hinge_offset"] = {"value": 3.0, "unit": "% R", "source": "report"}
-    raw["tail_rotor"]["hub_size"] = {"value": 20.0, "unit": "%R", "source": "report"}
-    craft = aircraft.load(write(raw, tmp_path / "percent.toml"))
-    d = craft.data
-    assert d["main_rotor"]["flap_hinge_offset"] == pytest.approx(0.03 * d["main_rotor"]["radius"], rel=1e-15)
-    assert d["tail_rotor"]["hub_size"] == pytest.approx(0.2 * d["tail_rotor"]["radius"], rel=1e-15)
-    listed = {r[0]: r[3] for r in aircraft.check(craft.path).converted}
-    assert listed["main_rotor.flap_hinge_offset"] == "times main_rotor.radius 4.91 m: from 3.0 % R"
+        assert f"{section}.{key}: unit {unit!r} (a fraction of the rotor's radius) applies to the lengths of " \
+               "[main_rotor] and [tail_rotor] only" in report.problems
 
 
 # -- units as reports print them -------------------------------------------------------------------
