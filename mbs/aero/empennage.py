@@ -21,7 +21,7 @@ import numpy as np
 from mbs.aero.airframe import LiftingSurface, air_velocity
 from mbs.aero.airframe_tables import flow_angles
 from mbs.aero.interpolation import Spline
-from mbs.aero.sections import EPS, flow_angle, section_force
+from mbs.aero.sections import EPS, section_angle, section_force
 
 CLAMP_SMOOTHING = 0.005  # rad: the stops are rounded over about this much (0.3 deg)
 
@@ -101,7 +101,7 @@ class TailSurface(LiftingSurface):
         w_c, w_n = ca.dot(air, ca.DM(self.c)), ca.dot(air, ca.DM(self.n))
         cos_i, sin_i = ca.cos(incidence), ca.sin(incidence)
         w_c, w_n = cos_i * w_c + sin_i * w_n, -sin_i * w_c + cos_i * w_n
-        state.signals[f"{self.name}.alpha"] = flow_angle(w_c, w_n)[0]
+        state.signals[f"{self.name}.alpha"] = section_angle(self.airfoil, w_c, w_n)[0]
         f_c, f_n = section_force(w_c, w_n, self.airfoil, self.rho, self.area)
         f_c, f_n = cos_i * f_c - sin_i * f_n, sin_i * f_c + cos_i * f_n
         loads.add_force(self.body, f_c * ca.DM(self.c) + f_n * ca.DM(self.n), point=self.point, frame="body",

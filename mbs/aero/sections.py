@@ -83,9 +83,11 @@ class ZeroLiftShift:
 @dataclass
 class TableSection:
     """Section coefficients as published: ``c_L`` and ``c_D`` against the angle of attack
-    ``alpha`` (rad, increasing, within ±π/2), natural cubic splines through the rows
-    (:class:`mbs.aero.interpolation.Spline`: C², continued linearly beyond the ends). Used as
-    :class:`Airfoil` is, at the folded angle of :func:`flow_angle`."""
+    ``alpha`` (rad, increasing), natural cubic splines through the rows
+    (:class:`mbs.aero.interpolation.Spline`: C², continued linearly beyond the ends). A table
+    within ±π/2 is used as :class:`Airfoil` is, at the folded angle of :func:`flow_angle`; one
+    over the full circle, -π to π (``full_circle``), at the air's own angle (:func:`section_angle`),
+    its reverse flow as printed."""
 
     alpha: tuple
     lift: tuple
@@ -93,6 +95,7 @@ class TableSection:
 
     def __post_init__(self):
         self.spline = Spline(self.alpha, np.column_stack([self.lift, self.drag]))
+        self.full_circle = self.alpha[0] <= -np.pi + 1e-9 and self.alpha[-1] >= np.pi - 1e-9
 
     def coefficients(self, alpha):
         """``(c_L, c_D)`` at angle of attack ``alpha`` (rad)."""
@@ -115,6 +118,15 @@ def flow_angle(w_c, w_n):
     return 0.5 * ca.atan2(y, x), 0.5 * (1 - x / ca.sqrt(x**2 + y**2))
 
 
+def section_angle(airfoil, w_c, w_n):
+    """Angle of attack (rad) and ``sin²`` of it at which ``airfoil`` is read: the full-circle
+    angle ``atan2(w_n, -w_c)`` for a table over the full circle, else :func:`flow_angle`'s folded one."""
+    if getattr(airfoil, "full_circle", False):
+        alpha = ca.atan2(w_n, EPS - w_c)
+        return alpha, ca.sin(alpha) ** 2
+    return flow_angle(w_c, w_n)
+
+
 def section_force(w_c, w_n, airfoil: Airfoil, rho: float, area: float, lift_factor: float = 1.0,
                   coefficients=None):
     """Force (N) on a section from the air velocity relative to it, in section axes.
@@ -124,7 +136,7 @@ def section_force(w_c, w_n, airfoil: Airfoil, rho: float, area: float, lift_fact
     scales the lift only (tip loss); ``coefficients(alpha, sin²alpha, speed) -> (c_L, c_D)``
     replaces the aerofoil's (compressibility). Returns ``(f_c, f_n)``.
     """
-    alpha, sin2 = flow_angle(w_c, w_n)
+    alpha, sin2 = section_angle(airfoil, w_c, w_n)
     speed = ca.sqrt(w_c**2 + w_n**2 + EPS**2)
     cl, cd = airfoil.coefficients_of(alpha, sin2) if coefficients is None else coefficients(alpha, sin2, speed)
     if lift_factor != 1.0:  # exactly 1.0 leaves the expression as it was without tip loss

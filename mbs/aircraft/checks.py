@@ -363,10 +363,17 @@ def _surface_tables(v: dict) -> list[str]:
             k = int(np.argmax(np.diff(alpha) <= 0))
             out.append(f"{where}: the angles of attack must increase; row {k + 2} ({degrees[k + 1]:.4g} deg) follows "
                        f"row {k + 1} ({degrees[k]:.4g} deg)")
-        elif np.abs(alpha).max() > np.pi / 2 + 1e-12:
+        elif np.abs(alpha).max() > np.pi / 2 + 1e-12 and not _full_circle(rows):
             out.append(f"{where}: angles of attack {degrees[0]:.4g} to {degrees[-1]:.4g} deg; give them within "
-                       "-90..90 deg (flow from the trailing edge is folded onto that range)")
+                       "-90..90 deg (flow from the trailing edge is folded onto that range), or over the full "
+                       "circle from -180 to 180 deg with the same c_L and c_D at both ends")
     return out
+
+
+def _full_circle(rows: np.ndarray) -> bool:
+    """A coefficient table from -180 to 180 deg that closes (its first and last rows' c_L, c_D equal)."""
+    return (abs(rows[0, 0] + np.pi) < 1e-9 and abs(rows[-1, 0] - np.pi) < 1e-9
+            and np.allclose(rows[0, 1:], rows[-1, 1:], rtol=0.0, atol=1e-12))
 
 
 def _distributions(v: dict) -> list[str]:

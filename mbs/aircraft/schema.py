@@ -150,7 +150,8 @@ def _surface(what: str, arg: str = "alpha", flow: str = "downwash") -> dict[str,
                                 0.0, 30.0, open_low=True, default=0.0),
             "coefficient_table": Entry("rad, -, -", f"{what} lift and drag coefficients as published: rows angle of "
                                        "attack (within +-90 deg: flow from the trailing edge is folded onto it, as "
-                                       "for the analytic section), c_L, c_D; natural cubic splines through the rows, "
+                                       "for the analytic section; or -180 to 180 deg, equal at both ends: reverse "
+                                       "flow as printed), c_L, c_D; natural cubic splines through the rows, "
                                        "continued linearly beyond the first and last (a trim there warns); replaces "
                                        "lift_slope, cd0, cd1, cd2, alpha_stall, cd_stalled and zero_lift_angle",
                                        "table", columns=("rad", "-", "-"), default=(),
