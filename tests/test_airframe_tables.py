@@ -410,3 +410,40 @@ def test_a_law_printed_with_functions_of_the_angle_is_the_law_at_the_breakpoints
                              'law = "expression" applies to a fuselage_aero table in alpha or in beta only')):
         report = aircraft.check(_with_section(tmp_path, law.replace(old, new), "bad.toml"))
         assert any(words in p for p in report.problems), (words, report.problems)
+
+
+def test_tables_printed_with_the_other_sideslip_sign_are_read_at_minus_beta(tmp_path):
+    """A report whose sideslip is positive with the wind from port (a new user's UH-60 tables, whose
+    side force then aided the sideslip without a word): its tables written as printed with
+    ``sideslip_positive = "wind from port"`` give the loads of the same tables mirrored in β, to
+    1e-12, in body and in wind axes, and the check lists the reading."""
+    import re
+
+    from mbs import aircraft
+    from mbs.aircraft.airframe_data import fuselage_table
+    from mbs.aircraft.template import with_polynomial_tables
+
+    path = with_polynomial_tables("bo105", tmp_path)
+    text = path.read_text()
+    assert "[-90.0, -85.0" in text and "Y_beta" in text  # a grid symmetric in β: mirrored, the values reversed
+
+    def reversed_list(match):
+        values = match.group(2).split(", ")
+        return f"{match.group(1)}[{', '.join(reversed(values))}]"
+
+    mirrored = re.sub(r"^((?:Y|N)_beta = \{ value = )\[([^\]]*)\]", reversed_list, text, flags=re.M)
+    mirrored = mirrored.replace('axes = { value = "body"', 'sideslip_positive = { value = "wind from port", unit = '
+                                '"-", source = "report" }\naxes = { value = "body"')
+    other = tmp_path / "port.toml"
+    other.write_text(mirrored)
+    assert mirrored != text
+    for axes in ("body", "wind"):
+        tables = [fuselage_table(aircraft.load(p).data) for p in (path, other)]
+        for table in tables:
+            table.axes = axes
+        for alpha, beta in ((0.1, 0.2), (-0.3, -0.25), (0.05, 0.6)):
+            (f0, m0), (f1, m1) = (table.body_per_q(alpha, beta) for table in tables)
+            assert np.allclose(np.r_[f1.full().ravel(), m1.full().ravel()], np.r_[f0.full().ravel(), m0.full().ravel()],
+                               rtol=0.0, atol=1e-12), (axes, alpha, beta)
+    rows = {r[0]: r[3] for r in aircraft.check(other).converted}
+    assert rows["fuselage_aero.sideslip_positive"].startswith("the tables read at -beta")

@@ -39,13 +39,15 @@ class AirframeTable:
     :data:`BODY_COMPONENTS`), ``argument`` one of :data:`ARGUMENTS`, ``values`` on ``alpha``
     and/or ``beta`` (rad) — (n_alpha,), (n_beta,) or (n_alpha, n_beta). A part
     ``(argument, values, breakpoints)`` is on its own ``breakpoints`` (rad) instead: (n,) for one
-    angle, ``(alpha, beta)`` for both (``None``: the shared ones)."""
+    angle, ``(alpha, beta)`` for both (``None``: the shared ones). ``beta_sign``: -1 for tables
+    printed with the other sideslip sign (read at -β; the wind axes stay the air's own)."""
 
     axes: str
     reference: tuple
     alpha: np.ndarray | None
     beta: np.ndarray | None
     parts: dict = field(default_factory=dict)
+    beta_sign: float = 1.0
 
     def __post_init__(self):
         if self.axes not in AXES:
@@ -70,7 +72,7 @@ class AirframeTable:
 
     def body_per_q(self, alpha, beta):
         """Force (3,) (m²) and moment about the CG (3,) (m³) per dynamic pressure, body axes."""
-        c = self.per_q(alpha, beta)
+        c = self.per_q(alpha, beta if self.beta_sign > 0 else -beta)
         if self.axes == "body":
             force, moment = ca.vertcat(*c[:3]), ca.vertcat(*c[3:])
         else:

@@ -289,7 +289,13 @@ def fuselage_table(d):
         parts.setdefault(names.index(name), []).append((arg, scale(fa, key, rho) * np.asarray(table["values"]),
                                                         table.get("breakpoints")))
     grid = {a: np.asarray(fa[a]) if len(fa[a]) else None for a in ("alpha", "beta")}
-    return AirframeTable(fa["axes"], tuple(reference_point(d)), grid["alpha"], grid["beta"], parts)
+    return AirframeTable(fa["axes"], tuple(reference_point(d)), grid["alpha"], grid["beta"], parts,
+                         beta_sign(fa))
+
+
+def beta_sign(fa: dict) -> float:
+    """-1 for fuselage tables printed with the wind from port at positive sideslip, else 1."""
+    return -1.0 if fa.get("sideslip_positive") == "wind from port" else 1.0
 
 
 def drag_area(d) -> float:
@@ -313,6 +319,9 @@ def converted(data) -> list[tuple]:
         formula = ", ".join(f"{'-' if sign[a] < 0 else ''}({n} - {n}_cg)" for a, n in zip("xyz", ("FS", "BL", "WL")))
         rows.append(("fuselage_aero.reference_station", reference_point(data).round(6).tolist(), "m",
                      f"x, y, z from the CG: {formula}", meta["reference_station"]["source"]))
+    if beta_sign(fa) < 0:
+        rows.append(("fuselage_aero.sideslip_positive", "wind from port", "-", "the tables read at -beta (beta = "
+                     "asin(v / V), positive with the wind from starboard)", meta["sideslip_positive"]["source"]))
     for key, table in given(fa).items():
         factor = scale(fa, key, rho)
         law = (f"the polynomial {meta[key]['value']} {table['unit']} in {key.partition('_')[2]} (rad) at its "

@@ -191,6 +191,10 @@ def _fuselage_tables() -> dict[str, Entry]:
         "axes": choice("axes of the tables: body (X, Y, Z, L, M, N), stability or wind (drag, side, lift, roll, "
                        "pitch, yaw; wind axes turned by alpha and beta from the body axes, stability by alpha only)",
                        *AIRFRAME_AXES, only_if=tables),
+        "sideslip_positive": choice("the side the wind comes from at the tables' positive sideslip: starboard "
+                                    "(beta = asin(v / V), the aircraft moving to starboard) or port (tables printed "
+                                    "with the other sign: read at -beta)", "wind from starboard", "wind from port",
+                                    default="wind from starboard", only_if=tables),
         "reference_point": Entry("m", "point the moments are about: x (forward), y (starboard), z (down) from the CG",
                                  "vector", length=3, default=(), only_if=tables, axis="xyz"),
         "reference_station": Entry("m", "point the moments are about as fuselage station (aft), butt line "

@@ -92,7 +92,9 @@ def _table_range(values: dict, d) -> list[str]:
     speed = np.sqrt(u * u + v * v + w * w)
     if speed < STILL_AIR:  # the angles of round-off, and loads of nothing
         return []
-    angles = {"alpha": np.arctan2(w, u), "beta": np.arcsin(v / speed)}
+    from mbs.aircraft.airframe_data import beta_sign
+
+    angles = {"alpha": np.arctan2(w, u), "beta": beta_sign(fa) * np.arcsin(v / speed)}  # the tables' own
     out = []
     for name, angle in angles.items():
         grid = fa[name]
