@@ -289,3 +289,19 @@ def test_a_blade_with_negative_inertia_about_its_own_centre_of_mass_is_refused(t
                for p in report.problems), report.problems
     report = check(_printed(tmp_path, "off.toml", 30.0, first=200.0))
     assert any("main_rotor.first_moment: 200 kg m puts the blade's centre of mass" in p for p in report.problems)
+
+
+@pytest.mark.parametrize("unit, scale", [("-, R", 1.0), ("%R, %R", 100.0)])
+def test_a_chord_table_as_fractions_of_the_radius_is_the_same_table_in_metres(tmp_path, unit, scale):
+    """A chord printed as c/R (a new user's blade was refused: "unknown symbol 'R'"), or both columns
+    in percent of R: the table in metres, to 1e-15, listed with the column times the radius."""
+    radius = BO105["radius"]
+    rows = [[0.2, 0.27], [0.7, 0.27], [1.0, 0.2]]
+    given = [[scale * r, scale * c / radius] for r, c in rows]
+    plain = aircraft.load(_file(tmp_path, drop=("chord",), chord_table=(rows, "-, m"))).data["main_rotor"]
+    path = _file(tmp_path, drop=("chord",), chord_table=(given, unit))
+    read = aircraft.load(path).data["main_rotor"]
+    assert np.allclose(read["chord_table"], plain["chord_table"], rtol=1e-15, atol=1e-15)
+    assert read["chord"] == pytest.approx(plain["chord"], rel=1e-14)
+    how = {r[0]: r[3] for r in check(path).converted}["main_rotor.chord_table"]
+    assert f"column 2 times main_rotor.radius {radius:.6g} m" in how

@@ -51,6 +51,7 @@ class Reading:
     problems: list[str] = field(default_factory=list)
     stations: list[stations.Given] = field(default_factory=list)
     radial: list[tuple[str, str]] = field(default_factory=list)  # span tables given in radial stations (m)
+    radius_columns: list[tuple[str, str, int]] = field(default_factory=list)  # span-table lengths given in R
     surface: list[tuple[str, str, list]] = field(default_factory=list)  # tail tables in L/q or on πR^2
 
     def put(self, section: str, key: str, value, meta: dict) -> None:
@@ -77,6 +78,7 @@ def read(text: str, base: Path | None = None) -> Reading:
                 _entry(out, section, key, entry, base)
     _place_stations(out)
     _radial_stations(out)
+    _radius_columns(out)
     _surface_coefficients(out)
     _surface_slopes(out)
     _laws(out)
@@ -118,7 +120,7 @@ def _entry(out: Reading, section: str, key: str, entry, base: Path | None = None
         return
     spec = spec or Entry(derived.unit, derived.text)
     try:
-        unit, radial = _radius_unit(section, key, spec, entry.get("unit"))
+        unit, radial = _radius_unit(section, key, spec, _in_radius_columns(out, section, key, spec, entry.get("unit")))
         bases = [None]
         if key == "coefficient_table" and unit is not None:
             unit, spec, bases = _surface_columns(unit, spec)
@@ -187,6 +189,31 @@ def _gain(entry: dict, spec: Entry | None) -> str | None:
     except ValueError as exc:
         return f"gain: {exc}"
     return None
+
+
+def _in_radius_columns(out: Reading, section: str, key: str, spec: Entry, unit):
+    """A rotor's span table whose length columns after the first are given in ``R`` or ``%R`` (a
+    chord as c/R): those columns read in metres of a unit radius, noted for :func:`_radius_columns`."""
+    if not (section in ROTORS and spec.kind == "table" and spec.radial and isinstance(unit, str) and "," in unit):
+        return unit
+    columns = [c.strip() for c in unit.split(",")]
+    for k, column in enumerate(columns[1:], start=1):
+        if column.replace(" ", "") in OF_RADIUS and k < len(spec.columns) and spec.columns[k] == "m":
+            columns[k] = OF_RADIUS[column.replace(" ", "")]
+            out.radius_columns.append((section, key, k))
+    return ", ".join(columns)
+
+
+def _radius_columns(out: Reading) -> None:
+    """Span-table columns given as fractions of the rotor's radius, times it (m)."""
+    for section, key, k in out.radius_columns:
+        radius, rows = out.values.get(section, {}).get("radius"), out.values.get(section, {}).get(key)
+        if not radius or rows is None:
+            continue  # the missing radius (or the table's own problem) is said on its own
+        out.values[section][key] = [[*row[:k], row[k] * radius, *row[k + 1:]] for row in rows]
+        meta = out.meta[section][key]
+        meta["how"] = (f"{meta.get('how', '') + '; ' if meta.get('how') else ''}column {k + 1} times "
+                       f"{section}.radius {radius:.6g} m; from {meta['value']} {meta['unit']}")
 
 
 def _radial_length(spec: Entry, unit) -> float | None:
