@@ -421,17 +421,18 @@ def _place_stations(out: Reading) -> None:
         out.problems.append(f"{first.section}.{first.key}: given as a station; give the CG's stations too: [aircraft] "
                             "cg_station = { value = [FS, BL, WL], unit = \"in\", source = \"...\" }")
         return
-    side = out.values.get("conventions", {})
+    conventions = out.values.get("conventions", {})
     cg_meta = out.meta["aircraft"]["cg_station"]
     for given in out.stations:
         spec = ENTRIES[given.section][given.key]
-        value = stations.position(given.axis, given.station, cg, side)
+        value = stations.position(given.axis, given.station, cg, conventions)
         try:
             value = [_bounded(v, spec) for v in value] if isinstance(value, list) else _bounded(value, spec)
         except ValueError as exc:
             out.problems.append(f"{given.section}.{given.key}: the station gives {exc}")
             continue
-        text = stations.how(given.axis, given.meta["value"], given.meta["unit"], cg_meta["value"], cg_meta["unit"], side)
+        text = stations.how(given.axis, given.meta["value"], given.meta["unit"], cg_meta["value"], cg_meta["unit"],
+                            conventions)
         out.put(given.section, given.key, value, {**given.meta, "how": text})
 
 
