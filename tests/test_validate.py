@@ -306,3 +306,21 @@ def test_published_values_in_a_reports_units_compare_in_si(si, printed, one):
     from mbs.validate.quantities import converter
 
     assert converter(si, printed, "trim")(one) == pytest.approx(1.0, rel=1e-14)
+
+
+def test_the_json_lists_points_at_the_file_s_and_at_their_own_conditions_together(tmp_path):
+    """One series at the test weight beside one at the file's mass made a model whose points are
+    keyed by a speed and by a (speed, mass, altitude, CG): the JSON's sort failed with a traceback
+    after every trim (a new user's file, as the docs' example is written). Both are listed."""
+    from mbs.validate import report
+    from mbs.validate.runner import Result
+
+    v = load(toml(TRIM, tmp_path))
+    model = fake_model(v.speeds("trim"))
+    first = min(model.points)
+    model.points[(first, 2200.0, None, None)] = fake_point(first)
+    res = Result(v, model, [(s, compare.rows(s, model)) for s in v.series])
+    listed = report.summary(res)["model"]
+    assert listed["points"][:2] == [{"speed_m_s": first, "mass_kg": None, "altitude_m": None, "cg_x_m": None},
+                                    {"speed_m_s": first, "mass_kg": 2200.0, "altitude_m": None, "cg_x_m": None}]
+    assert listed["speeds_m_s"] == sorted({first, *(k for k in model.points if not isinstance(k, tuple))})

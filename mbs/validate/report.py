@@ -141,7 +141,9 @@ def summary(res) -> dict:
                         "ours_factor": s.ours_factor,
                         "tolerance": None if s.tolerance is None else vars(s.tolerance)} for s in v.series],
             "rows": [r.summary() for r in res.rows], "eigenvalues": [p.summary() for p in res.pairs],
-            "model": {"speeds_m_s": sorted(res.model.points), "wall_s": res.model.wall_s,
+            "model": {"speeds_m_s": sorted({p.speed for p in res.model.points.values()}),
+                      "points": [_point_summary(k) for k in sorted(res.model.points, key=_point_order)],
+                      "wall_s": res.model.wall_s,
                       "controls": res.model.controls,
                       "problems": {str(p.speed): p.problem for p in res.model.points.values() if not p.ok}},
             "warnings": [{"texts": texts, "speeds_m_s": speeds} for texts, speeds in warnings(res).values()],
@@ -149,6 +151,18 @@ def summary(res) -> dict:
             "worst": {"trim_abs": worst([r for r in res.rows if r.kind == "trim"], False),
                       "derivative_rel": worst([r for r in res.rows if r.kind == "derivative"], True),
                       "eigen_size_rel": _eigen_worst(res.pairs)}}
+
+
+def _point_order(key) -> tuple:
+    """A model point's key (a speed alone, or with its mass, altitude and CG) in an order that
+    mixes both (the file's conditions, given as None, first)."""
+    speed, *rest = key if isinstance(key, tuple) else (key, None, None, None)
+    return (speed, *((x is not None, x or 0.0) for x in rest))
+
+
+def _point_summary(key) -> dict:
+    speed, mass, altitude, cg_x = key if isinstance(key, tuple) else (key, None, None, None)
+    return {"speed_m_s": speed, "mass_kg": mass, "altitude_m": altitude, "cg_x_m": cg_x}
 
 
 def _eigen_worst(pairs) -> float | None:
