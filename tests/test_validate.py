@@ -324,3 +324,53 @@ def test_the_json_lists_points_at_the_file_s_and_at_their_own_conditions_togethe
     assert listed["points"][:2] == [{"speed_m_s": first, "mass_kg": None, "altitude_m": None, "cg_x_m": None},
                                     {"speed_m_s": first, "mass_kg": 2200.0, "altitude_m": None, "cg_x_m": None}]
     assert listed["speeds_m_s"] == sorted({first, *(k for k in model.points if not isinstance(k, tuple))})
+
+
+CSV_HEAD = "# title: t\n# aircraft: bo105\n# speed_unit: kt\n# source P1: Padfield\n"
+CSV_ROWS = ("kind,quantity,unit,speed,value,tolerance,source,mass\n"
+            "trim,collective,deg,0,14.0,TOL,P1,\ntrim,collective,deg,40,12.0,TOL,P1,\n")
+
+
+@pytest.mark.parametrize("tolerance, expected", [("absolute 1.0", {"absolute": 1.0}), ("±1.0", {"absolute": 1.0}),
+                                                 ("+-1", {"absolute": 1.0}), ("1.0", {"absolute": 1.0}),
+                                                 ("relative 0.1", {"relative": 0.1}), ("10%", {"relative": 0.1}),
+                                                 ("10 %", {"relative": 0.1})])
+def test_a_csv_tolerance_as_people_write_it(tmp_path, tolerance, expected):
+    """'±1', '1.0' and '10%' were told "tolerance '' is not a number" (a new user's files)."""
+    csv = tmp_path / "d.csv"
+    csv.write_text(CSV_HEAD + CSV_ROWS.replace("TOL", tolerance))
+    s, = load(csv).series
+    assert {k: v for k, v in vars(s.tolerance).items() if v is not None} == pytest.approx(expected)
+
+
+@pytest.mark.parametrize("change, words", [
+    (lambda t: t.replace("# speed_unit: kt\n", ""), "no '# speed_unit:' line; add one above the header"),
+    (lambda t: t.replace("# speed_unit: kt", "# speed_units: kt"), "'# speed_units:' is no key of the file (did you "
+                                                                     "mean 'speed_unit'?)"),
+    (lambda t: t.replace("# source P1", "# sources P1"), "(did you mean 'source'?)"),
+    (lambda t: t.replace(",P1,\n", ",P1,4850\n"),
+     "collective: mass 4850 has no unit; add a '# mass_unit:' line above the header, e.g. '# mass_unit: lb'"),
+    (lambda t: t + "trim,collective,deg,40,12.0,TOL,P1,\n", "line 8: repeats line 7 (trim collective 12 at speed 40)"),
+    (lambda t: t + "trim,collective,deg,40,12.5,TOL,P1,\n", None),  # a repeated measurement: taken
+    (lambda t: t.replace("40,12.0,TOL,P1,", "40,12.0,TOL,R2,"), "source(s) 'R2' of the rows are not among the "
+                                                                  "'# source' lines (P1)"),
+    (lambda t: t.replace("TOL", "about one"), "tolerance 'about one': write 'absolute 1.0' or '±1.0'"),
+])
+def test_a_csv_file_says_what_it_cannot_take(tmp_path, change, words):
+    """Without '# speed_unit:' the speeds were m/s, a misspelt '#' line a comment, a mass without
+    its unit kg, a copied row counted twice, a source nobody named accepted: each silently (a new
+    user's files); each is refused, named."""
+    csv = tmp_path / "d.csv"
+    csv.write_text(change(CSV_HEAD + CSV_ROWS).replace("TOL", "absolute 1.0"))
+    if words is None:
+        assert len(load(csv).series[0].value) == 3
+        return
+    with pytest.raises(ValidationError) as err:
+        load(csv)
+    assert words in str(err.value), str(err.value)
+
+
+def test_a_csv_speed_unit_written_with_a_blank_is_taken(tmp_path):
+    csv = tmp_path / "d.csv"
+    csv.write_text(CSV_HEAD.replace("# speed_unit: kt", "# speed unit: kt") + CSV_ROWS.replace("TOL", "absolute 1.0"))
+    assert load(csv).speed_unit == "kt"

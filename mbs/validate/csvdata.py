@@ -18,7 +18,12 @@ Columns ``kind`` (trim, derivative, eigenvalue), ``quantity``, ``unit``, ``speed
 and ``source`` are required; ``imaginary``, ``uncertainty``, ``tolerance`` (``absolute x`` or
 ``relative x``), ``ours_factor``, ``note``, ``mass``, ``altitude``, ``cg_station`` and ``cg_x``
 optional (a point's flight condition, in the units of the ``# mass_unit:``, ``# altitude_unit:``,
-``# cg_station_unit:`` and ``# cg_x_unit:`` lines, default kg and m).
+``# cg_station_unit:`` and ``# cg_x_unit:`` lines, which a column with values needs). The ``#
+speed_unit:`` line is required (a CSV has no other place to say it). A ``#`` line whose key is
+near a known one (``# speed unit:``, ``# mass_units:``) is taken or named, not read as a comment.
+A tolerance is ``absolute x`` or ``±x`` (in the row's unit) or ``relative x`` or ``x%``. A row
+that repeats another of its series exactly (a copied point, not a repeated measurement) and a
+source that the ``# source`` lines do not name are refused.
 Consecutive rows of the same kind, quantity, unit, source, tolerance, factor and note form one
 series (one speed each); eigenvalue rows of one speed form one set. The meaning of every field is that of the TOML form
 (:mod:`mbs.validate.data`).
@@ -27,6 +32,8 @@ from __future__ import annotations
 
 import csv
 from pathlib import Path
+
+import difflib
 
 from mbs.validate.data import ValidationError, from_dict
 
@@ -62,12 +69,29 @@ def load_csv(path: Path) -> "Validation":  # noqa: F821
                               + f"; the columns are {', '.join(REQUIRED + OPTIONAL)}")
     for (n, _), cells in zip(body[1:], reader):
         _row(raw, dict(zip(header, (c.strip() for c in cells))), path, n, len(header), len(cells))
-    condition_units = {k: raw["validation"].pop(f"{k}_unit", si) for k, si in CONDITIONS.items()}
+    if "speed_unit" not in raw["validation"]:
+        raise ValidationError(f"{path}: no '# speed_unit:' line; add one above the header, e.g. '# speed_unit: kt' "
+                              "(kt, m/s, km/h, ft/s)")
+    _sources_named(raw, path)
+    condition_units = {k: raw["validation"].pop(f"{k}_unit", None) for k in CONDITIONS}
     for kind in ("trim", "derivative"):
         for entry in raw.get(kind, []):
-            del entry["_key"]
+            del entry["_key"], entry["_lines"]
             _conditions(entry, condition_units, path)
     return from_dict(raw, path)
+
+
+def _sources_named(raw: dict, path: Path) -> None:
+    """With ``# source`` lines, every row's source is one of them."""
+    named = raw["sources"]
+    if not named:
+        return
+    used = {e["source"] for kind in ("trim", "derivative", "eigenvalues") for e in raw.get(kind, [])}
+    unknown = sorted(used - set(named))
+    if unknown:
+        raise ValidationError(f"{path}: source(s) {', '.join(map(repr, unknown))} of the rows are not among the "
+                              f"'# source' lines ({', '.join(named)}): add a '# source {unknown[0]}: ...' line, or "
+                              "correct the rows")
 
 
 def _conditions(entry: dict, condition_units: dict, path: Path) -> None:
@@ -79,8 +103,16 @@ def _conditions(entry: dict, condition_units: dict, path: Path) -> None:
         if given and len(given) != len(cells):
             raise ValidationError(f"{path}: {entry['quantity']}: {key} is given for {len(given)} of its {len(cells)} "
                                   "points; give it for every point of the series, or for none")
+        if given and unit is None:
+            raise ValidationError(f"{path}: {entry['quantity']}: {key} {given[0]:g} has no unit; add a '# {key}_unit:' "
+                                  f"line above the header, e.g. '# {key}_unit: {EXAMPLE_UNITS[key]}'")
         if given:
             entry[key] = {"value": given, "unit": unit}
+
+
+EXAMPLE_UNITS = {"mass": "lb", "altitude": "ft", "cg_station": "in", "cg_x": "in"}
+GROUPS = ("convention", "source", "eigenvalue_tolerance")
+"""The ``#`` keys followed by a name: ``# source P1: ...``."""
 
 
 def _fact(raw: dict, text: str, path: Path, n: int) -> None:
@@ -89,6 +121,14 @@ def _fact(raw: dict, text: str, path: Path, n: int) -> None:
         return  # a plain comment
     key, value = key.strip(), value.strip()
     word, _, name = key.partition(" ")
+    if key.replace(" ", "_") in HEAD_KEYS:  # '# speed unit: kt' as '# speed_unit: kt'
+        raw["validation"][key.replace(" ", "_")] = value
+        return
+    near = difflib.get_close_matches(key.replace(" ", "_"), HEAD_KEYS, n=1, cutoff=0.85) or \
+        difflib.get_close_matches(word, [g for g in GROUPS if g != word], n=1, cutoff=0.85)
+    if near:
+        raise ValidationError(f"{path}: line {n}: '# {key}:' is no key of the file (did you mean '{near[0]}'?); the "
+                              f"keys are {', '.join(HEAD_KEYS)} and {', '.join(g + ' NAME' for g in GROUPS)}")
     if key in HEAD_KEYS:
         raw["validation"][key] = value
     elif word == "convention" and name:
@@ -121,6 +161,12 @@ def _row(raw: dict, row: dict, path: Path, n: int, width: int, cells: int) -> No
     entries = raw.setdefault(kind, [])
     if not entries or entries[-1]["_key"] != key:
         entries.append(_series(key, path, n))
+    point = (speed, value, *(row.get(k) or "" for k in CONDITIONS))  # repeated measurements differ in value
+    if point in entries[-1]["_lines"]:
+        raise ValidationError(f"{path}: line {n}: repeats line {entries[-1]['_lines'][point]} ({kind} "
+                              f"{key['quantity']} {value:g} at speed {speed:g}): a point copied twice counts twice; "
+                              "give it once")
+    entries[-1]["_lines"][point] = n
     entries[-1]["speed"].append(speed)
     entries[-1]["value"].append(value)
     entries[-1]["uncertainty"].append(_number(row.get("uncertainty") or "0", path, n, "uncertainty"))
@@ -129,16 +175,35 @@ def _row(raw: dict, row: dict, path: Path, n: int, width: int, cells: int) -> No
 
 
 def _series(key: dict, path: Path, n: int) -> dict:
-    out = {"_key": key, "quantity": key["quantity"], "unit": key["unit"], "source": key["source"], "speed": [],
-           "value": [], "uncertainty": [], **{f"_{k}": [] for k in CONDITIONS}}
+    out = {"_key": key, "_lines": {}, "quantity": key["quantity"], "unit": key["unit"], "source": key["source"],
+           "speed": [], "value": [], "uncertainty": [], **{f"_{k}": [] for k in CONDITIONS}}
     if key["tolerance"]:
-        word, _, number = key["tolerance"].partition(" ")
-        out["tolerance"] = {word: _number(number, path, n, "tolerance")}
+        out["tolerance"] = _tolerance(key["tolerance"], path, n)
     if key["ours_factor"]:
         out["ours_factor"] = _number(key["ours_factor"], path, n, "ours_factor")
     if key["note"]:
         out["note"] = key["note"]
     return out
+
+
+def _tolerance(text: str, path: Path, n: int) -> dict:
+    """``absolute x`` or ``±x`` (``+-x``), ``relative x`` or ``x%``, as the TOML form's table."""
+    compact = text.replace(" ", "")
+    for prefix, kind, scale in (("absolute", "absolute", 1.0), ("relative", "relative", 1.0), ("±", "absolute", 1.0),
+                                ("+-", "absolute", 1.0)):
+        if compact.startswith(prefix):
+            return {kind: scale * _tolerance_number(compact[len(prefix):], text, path, n)}
+    if compact.endswith("%"):
+        return {"relative": 0.01 * _tolerance_number(compact[:-1], text, path, n)}
+    return {"absolute": _tolerance_number(compact, text, path, n)}
+
+
+def _tolerance_number(number: str, text: str, path: Path, n: int) -> float:
+    try:
+        return float(number)
+    except ValueError:
+        raise ValidationError(f"{path}: line {n}: tolerance {text!r}: write 'absolute 1.0' or '±1.0' (in the row's "
+                              "unit), or 'relative 0.25' or '25%'") from None
 
 
 def _number(text: str, path: Path, n: int, column: str) -> float:
