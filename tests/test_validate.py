@@ -293,10 +293,20 @@ def test_bad_invocation_is_one_line_and_exit_2(line, words, capsys, tmp_path):
     assert err.startswith("heli validate: error:")
 
 
-def test_a_quantity_the_model_lacks_is_refused_before_any_trim(tmp_path, capsys):
-    path = toml(TRIM.replace("collective", "rotor_colour"), tmp_path)
+@pytest.mark.parametrize("name, words", [
+    ("rotor_colour", "trim 'rotor_colour' is not one of the model's trim quantities: "),
+    ("theta0", "trim 'theta0' is not one of the model's trim quantities (did you mean 'collective'?)"),
+    ("pedal", "(did you mean 'tail_collective'?) (pilot controls need the aircraft file's [controls] rigging)"),
+    ("Mq", "derivative 'Mq' is not one of the model's derivative quantities (did you mean 'M_q'?)"),
+])
+def test_a_quantity_the_model_lacks_is_refused_before_any_trim(tmp_path, capsys, name, words):
+    """A name as reports write it gets the model's own (a new user had a list of 65 names)."""
+    text = TRIM.replace("collective", name)
+    if name == "Mq":
+        text = text.replace("[[trim]]", "[[derivative]]").replace('unit = "deg"', 'unit = "1/s"')
+    path = toml(text, tmp_path)
     code, err = run_main(["validate", str(path), "--no-charts", "--quiet"], capsys)
-    assert_one_line_error(code, err, ["trim 'rotor_colour' is not one of the model's trim quantities", "collective"])
+    assert_one_line_error(code, err, [words, "collective" if name != "Mq" else "M_u"])
 
 
 @pytest.mark.parametrize("si, printed, one", [("N", "lb", 4.4482216152605), ("N m", "ft-lb", 1.3558179483314004),

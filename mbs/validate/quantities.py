@@ -155,6 +155,29 @@ def _known_unit(known: dict, kind: str, quantity: str) -> str | None:
     return known[kind].get(canonical(quantity) if kind == "derivative" else quantity)
 
 
+PILOT_WORDS = ("lever", "stick", "pedal")
+SYNONYMS = {"theta0": "collective", "theta1s": "longitudinal_cyclic", "theta1c": "lateral_cyclic",
+            "theta0t": "tail_collective", "pedal": "tail_collective", "b1": "longitudinal_cyclic",
+            "a1": "lateral_cyclic", "theta": "pitch", "phi": "roll"}
+"""Trim quantities as reports name them (lower case, no underscores) -> the model's."""
+
+
+def _nearest(quantity: str, known, kind: str) -> str:
+    """`` (did you mean ...?)`` for a misspelt or differently written quantity (``Mq`` for
+    ``M_q``); for a pilot control on an aircraft without a rigging, that it has none."""
+    import difflib
+
+    plain = {k.replace("_", "").replace("θ", "theta").lower(): k for k in known}
+    key = quantity.replace("_", "").replace("θ", "theta").lower()
+    synonym = SYNONYMS.get(key) if kind == "trim" else None
+    near = ([plain[key]] if key in plain else [synonym] if synonym in known
+            else [plain[m] for m in difflib.get_close_matches(key, list(plain), n=2, cutoff=0.75)])
+    said = f" (did you mean {' or '.join(map(repr, near))}?)" if near else ""
+    if kind == "trim" and any(w in quantity.lower() for w in PILOT_WORDS):
+        said += " (pilot controls need the aircraft file's [controls] rigging)"
+    return said
+
+
 def check(validation, info, aircraft=None) -> None:
     """Every series of ``validation`` names a quantity of the model in a unit of its dimension
     (:class:`ValidationError` naming the first that does not), before any trim is run."""
@@ -162,7 +185,7 @@ def check(validation, info, aircraft=None) -> None:
     for s in validation.series:
         unit = _known_unit(known, s.kind, s.quantity)
         if unit is None:
-            extra = " and A[row,column]" if s.kind == "derivative" else ""
-            raise ValidationError(f"{validation.path}: {s.kind} {s.quantity!r} is not one of the model's "
-                                  f"{s.kind} quantities: {', '.join(known[s.kind])}{extra}")
+            raise ValidationError(f"{validation.path}: {s.kind} {s.quantity!r} is not one of the model's {s.kind} "
+                                  f"quantities{_nearest(s.quantity, known[s.kind], s.kind)}: "
+                                  f"{', '.join(known[s.kind])}{' and A[row,column]' if s.kind == 'derivative' else ''}")
         converter(unit, s.unit, f"{validation.path}: {s.kind} {s.quantity}")
