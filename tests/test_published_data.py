@@ -452,7 +452,7 @@ LBF, FT = 4.4482216152605, 0.3048
     ("ft/sec²/in", "ft/s^2 in"), ("(ft/sec^2)/in", "ft/s^2 in"), ("ft/(sec^2 in)", "ft/s^2 in"), ("deg/(s/ft)", "deg ft/s"),
     # abbreviation stops, 'per', a leading slash
     ("in.-lb", "ft lbf"), ("FT.-LB.", "ft lbf"), ("in.²", "ft^2"), ("deg./sec.", "deg/s"), ("/deg", "s^-1"),
-    ("per deg", "s^-1"), ("ft per sec", "kt"), ("psi", "lbf/ft^2"), ("fpm", "kt"), ("KTAS", "kt"),
+    ("per deg", "s^-1"), ("ft per sec", "kt"), ("psi", "lbf/ft^2"), ("fpm", "kt"), ("KTAS", "kt"), ("mph", "kt"),
     ("slugs/ft3", "slug/ft^3"), ("N-D", "-"), ("n.d.", "-"), ("Dimensionless", "-"),
 ])
 def test_a_unit_as_a_report_prints_it_reads_as_its_plain_form(printed, plain):
@@ -462,14 +462,15 @@ def test_a_unit_as_a_report_prints_it_reads_as_its_plain_form(printed, plain):
     from mbs.aircraft import units
 
     si = {"/deg": "1/rad", "per deg": "1/rad", "in.-lb": "N m", "in.²": "m^2", "ft per sec": "m/s", "psi": "Pa",
-          "fpm": "m/s", "slugs/ft3": "kg/m^3"}.get(printed) or {
+          "fpm": "m/s", "mph": "m/s", "slugs/ft3": "kg/m^3"}.get(printed) or {
         "-": "-", "slug/ft^3": "kg/m^3", "ft lbf": "N m", "ft lbf/rad": "N m/rad", "slug ft^2": "kg m^2", "in": "m",
         "kt": "m/s", "deg/s": "rad/s",
           "deg": "rad", "lbf": "N", "lbf/ft^2": "Pa", "s^-1": "1/s", "ft": "m", "kg m^2": "kg m^2", "N m": "N m",
           "ft^2": "m^2", "ft^3": "m^3", "kg/m^3": "kg/m^3", "hp": "W", "kg m/s^2": "N", "ft/s^2 in": "1/s^2",
           "deg ft/s": "rad m/s"}[plain]
     want = {"kgf": 9.80665, "in.-lb": LBF * 0.0254, "in.²": 0.0254**2, "/deg": 180 / np.pi, "per deg": 180 / np.pi,
-            "ft per sec": FT, "psi": LBF / 0.0254**2, "fpm": FT / 60}.get(printed) or units.factor_to(plain, si)
+            "ft per sec": FT, "psi": LBF / 0.0254**2, "fpm": FT / 60, "mph": 0.44704}.get(printed) \
+        or units.factor_to(plain, si)
     assert units.factor_to(printed, si) == pytest.approx(want, rel=1e-15)
     assert units.pound_force(printed, si) == (printed in ("ft-lb", "FT-LB/RAD", "lb", "lbs", "lb/ft^2", "lb·ft",
                                                            "in.-lb", "FT.-LB."))
@@ -516,6 +517,7 @@ def test_pounds_are_a_mass_where_a_mass_is_wanted():
     ("lbm", "N", "unit 'lbm' is a mass, not a force"),  # the pound-mass said so: never a force
     ("ft--lb", "N m", "cannot read 'ft--lb'"),
     ("cubits", "m", "unknown symbol 'cubits'"),
+    ("KIAS", "m/s", "unit 'KIAS': an indicated airspeed, which the air's density turns into the true airspeed"),
     ("°F", "rad", "unknown symbol 'F'"),
     ("ft³", "m^2", "unit 'ft³' is a volume, not an area"),
     ("ft3/rad", "m^3", "unit 'ft3/rad' is a quantity in m\\^3/rad, not a volume"),

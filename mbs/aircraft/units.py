@@ -16,7 +16,8 @@ one symbol it spells in any case (``KN``, kilonewton or knot, is refused as ambi
 from a typeset report reads as well: superscript powers (``ft²``, ``s⁻¹``), ``°`` for degrees, a
 middle or full stop between symbols (``slug·ft²``, ``N.m``, ``kg.m2``), ``sq ft`` and ``cu ft``,
 ``**`` for a power, ``shp`` (shaft horsepower) and ``kgf``; a period after any symbol
-(``in.-lb``, ``in.²``), ``/rad`` and ``per rad`` for ``1/rad``, ``psi``, ``fpm`` and ``KTAS``.
+(``in.-lb``, ``in.²``), ``/rad`` and ``per rad`` for ``1/rad``, ``psi``, ``fpm``, ``mph`` and ``KTAS``
+(``KIAS``, ``KCAS`` and ``KEAS`` are refused: they need the air to become true airspeeds).
 ``lb`` is a mass, and a pound-force where a force, moment or pressure is wanted (``lb``,
 ``ft lb``, ``lb/ft^2``); ``A/B/C`` whose left-to-right reading is of the wrong kind is read
 ``A/(B/C)`` where that is of the kind wanted (a damping in ``ft-lb/rad/sec``, per radian per
@@ -55,6 +56,9 @@ SYMBOLS["kgf"] = (_G0, (1, 1, -2, 0))  # kilogram-force (kilopond)
 SYMBOLS["psi"] = (_LB * _G0 / 0.0254**2, (-1, 1, -2, 0))  # pounds-force per square inch
 SYMBOLS["fpm"] = (_FT / 60, (1, 0, -1, 0))  # feet per minute (rate of climb)
 ALIASES["KTAS"] = "kt"  # knots true airspeed
+SYMBOLS["mph"] = (1609.344 / 3600, (1, 0, -1, 0))  # statute miles per hour
+NOT_TRUE_AIRSPEED = {"KIAS": "indicated", "KCAS": "calibrated", "KEAS": "equivalent"}
+"""Airspeeds a unit cannot convert: they need the air's density (and the pitot's errors)."""
 DIMENSIONLESS = ("-", "1", "")
 NON_DIMENSIONAL = ("N-D", "N.D.", "ND", "n.d.", "nd", "non-dimensional", "nondimensional", "dimensionless", "none")
 """Spellings of a pure number in reports (``N-D`` in NASA tables), read whole and in any case."""
@@ -109,6 +113,10 @@ def parse(text: str, pound_force: bool = False) -> Unit:
     """The :class:`Unit` of ``text``; :class:`UnitError` naming the symbol it cannot read.
     ``pound_force``: ``lb`` is the pound-force (``lbf``), not the pound."""
     text, typed = text.strip(), _untypeset(text.strip())
+    if text.upper() in NOT_TRUE_AIRSPEED:
+        raise UnitError(f"unit {text!r}: an {NOT_TRUE_AIRSPEED[text.upper()]} airspeed, which the air's density "
+                        "turns into the true airspeed the model flies: give KTAS (kt), converted at the point's "
+                        "altitude")
     if typed in DIMENSIONLESS or text.lower() in {n.lower() for n in NON_DIMENSIONAL}:
         return Unit(1.0, (0, 0, 0, 0))
     if typed.replace(" ", "") == PER_REV:
