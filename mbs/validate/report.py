@@ -48,8 +48,8 @@ def series_lines(s, rows, v) -> list[str]:
 def _row_line(r) -> str:
     at = f"  ({r.condition})" if r.condition else ""
     unc = f"{r.uncertainty:8.2g}" if r.uncertainty else f"{'—':>8s}"  # not stated, not exact
-    if r.problem:
-        return f"  {r.speed:10.4g} {'—':>11s} {r.published:+11.4g} {unc}  {r.problem}{at}"
+    if r.problem:  # its reason is said once above the tables
+        return f"  {r.speed:10.4g} {'—':>11s} {r.published:+11.4g} {unc}  {r.problem.split(':')[0]} (said above){at}"
     ratio = f"{r.ratio:9.3f}" if math.isfinite(r.ratio) else " " * 9
     return (f"  {r.speed:10.4g} {r.ours:+11.4g} {r.published:+11.4g} {unc} {r.difference:+11.4g} "
             f"{ratio} {MARK[r.within]:3s}{at}").rstrip()
@@ -78,8 +78,8 @@ def verdict_lines(res) -> list[str]:
     for kind in ("trim", "derivative"):
         k = c[kind]
         if k["rows"]:
-            out.append(f"{kind}s: {k['within']} of {k['checked']} checked points within tolerance "
-                       f"({k['rows']} points, {k['no_model_value']} without a model value)")
+            out.append(f"{kind}s: {k['within']} of {_count(k['checked'], 'checked point')} within tolerance "
+                       f"({_count(k['rows'], 'point')}, {k['no_model_value']} without a model value)")
     if res.pairs:
         e = c["eigenvalues"]
         out.append(f"eigenvalues: {e['within']} of {e['pairs']} within tolerance, {e['same_stability']} of the same "
@@ -118,6 +118,10 @@ def warning_lines(res) -> list[str]:
         figures = "" if len(set(texts)) == 1 else f" (the figures at {shown[0]:.4g} {v.speed_unit})"
         out.append(f"  warning at {at} {v.speed_unit}{figures}: {texts[0]}")
     return out
+
+
+def _count(n: int, noun: str) -> str:
+    return f"{n} {noun}{'' if n == 1 else 's'}"
 
 
 def worst(rows, relative: bool) -> dict[str, float]:
