@@ -129,9 +129,7 @@ def _fact(raw: dict, text: str, path: Path, n: int) -> None:
     if near:
         raise ValidationError(f"{path}: line {n}: '# {key}:' is no key of the file (did you mean '{near[0]}'?); the "
                               f"keys are {', '.join(HEAD_KEYS)} and {', '.join(g + ' NAME' for g in GROUPS)}")
-    if key in HEAD_KEYS:
-        raw["validation"][key] = value
-    elif word == "convention" and name:
+    if word == "convention" and name:
         raw["conventions"][name] = value
     elif word == "source" and name:
         raw["sources"][name] = value
