@@ -365,11 +365,13 @@ def test_a_csv_tolerance_as_people_write_it(tmp_path, tolerance, expected):
     (lambda t: t.replace("40,12.0,TOL,P1,", "40,12.0,TOL,R2,"), "source(s) 'R2' of the rows are not among the "
                                                                   "'# source' lines (P1)"),
     (lambda t: t.replace("TOL", "about one"), "tolerance 'about one': write 'absolute 1.0' or '±1.0'"),
+    (lambda t: t.replace(",deg,", ",furlong,"), "the trim rows of 'collective' (lines 6-7): unit 'furlong'"),
 ])
 def test_a_csv_file_says_what_it_cannot_take(tmp_path, change, words):
     """Without '# speed_unit:' the speeds were m/s, a misspelt '#' line a comment, a mass without
     its unit kg, a copied row counted twice, a source nobody named accepted: each silently (a new
-    user's files); each is refused, named."""
+    user's files); each is refused, named. A series' problem names its rows' lines, not the TOML
+    form's '[[trim]] 1'."""
     csv = tmp_path / "d.csv"
     csv.write_text(change(CSV_HEAD + CSV_ROWS).replace("TOL", "absolute 1.0"))
     if words is None:

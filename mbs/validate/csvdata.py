@@ -23,7 +23,7 @@ speed_unit:`` line is required (a CSV has no other place to say it). A ``#`` lin
 near a known one (``# speed unit:``, ``# mass_units:``) is taken or named, not read as a comment.
 A tolerance is ``absolute x`` or ``±x`` (in the row's unit) or ``relative x`` or ``x%``. A row
 that repeats another of its series exactly (a copied point, not a repeated measurement) and a
-source that the ``# source`` lines do not name are refused.
+source that the ``# source`` lines do not name are refused. A series' problem names its rows' lines.
 Consecutive rows of the same kind, quantity, unit, source, tolerance, factor and note form one
 series (one speed each); eigenvalue rows of one speed form one set. The meaning of every field is that of the TOML form
 (:mod:`mbs.validate.data`).
@@ -76,7 +76,10 @@ def load_csv(path: Path) -> "Validation":  # noqa: F821
     condition_units = {k: raw["validation"].pop(f"{k}_unit", None) for k in CONDITIONS}
     for kind in ("trim", "derivative"):
         for entry in raw.get(kind, []):
-            del entry["_key"], entry["_lines"]
+            lines = sorted(entry.pop("_lines").values())
+            del entry["_key"]
+            entry["_where"] = (f"the {kind} rows of {entry['quantity']!r} (line{'s' if len(lines) > 1 else ''} "
+                               f"{lines[0]}{f'-{lines[-1]}' if len(lines) > 1 else ''})")
             _conditions(entry, condition_units, path)
     return from_dict(raw, path)
 

@@ -204,7 +204,8 @@ def from_dict(raw: dict, path: Path) -> Validation:
     defaults = {k: head[k] for k in CONDITIONS if k in head}
     for kind in KINDS:
         for k, entry in enumerate(raw.get(kind, [])):
-            out.series.append(series(entry, kind, f"{path}: [[{kind}]] {k + 1}", default_speed, factor, defaults))
+            where = entry.pop("_where", None) or f"[[{kind}]] {k + 1}"  # a CSV file's rows say their lines
+            out.series.append(series(entry, kind, f"{path}: {where}", default_speed, factor, defaults))
     altitude = _condition(defaults.get("altitude"), "altitude", 1, f"{path}: [validation]")
     for k, entry in enumerate(raw.get("eigenvalues", [])):
         out.eigenvalues.append(eigen_set(entry, f"{path}: [[eigenvalues]] {k + 1}", factor,
