@@ -253,3 +253,17 @@ def test_stations_that_count_forward_and_down_are_taken_as_printed(tmp_path):
     assert tr["hub_x"] == pytest.approx((440.0 - CG[0]) * INCH) and tr["hub_z"] == pytest.approx((160.0 - CG[2]) * INCH)
     hows = {r[0]: r[3] for r in report.converted}
     assert hows["tail_rotor.hub_x"].endswith("x = (FS - FS_cg)") and hows["tail_rotor.hub_z"].endswith("z = (WL - WL_cg)")
+
+
+def test_a_station_convention_in_a_file_without_stations_is_warned_of(tmp_path):
+    """``fuselage_station_positive = "forward"`` where every position is given from the CG changes
+    nothing; the check says so (with a station given, it does not)."""
+    conventions = ('\n[conventions]\nfuselage_station_positive = { value = "forward", unit = "-", source = "R1" }\n')
+    plain, stationed = tmp_path / "plain.toml", tmp_path / "stationed.toml"
+    plain.write_text(_bo105() + conventions)
+    stationed.write_text(_with_cg(_entry(_bo105(), "tail_rotor", "hub_x", _station(440.0))) + conventions)
+    said = [w for w in aircraft.check(plain).warnings if w.startswith("conventions.")]
+    assert said == ["conventions.fuselage_station_positive: no position is given as a station, so it changes "
+                    "nothing: give the positions as stations ({ station = ..., unit = ..., source = ... } with "
+                    "aircraft.cg_station), or leave it out"]
+    assert not [w for w in aircraft.check(stationed).warnings if w.startswith("conventions.")]

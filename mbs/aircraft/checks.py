@@ -248,6 +248,22 @@ def surface_slope_notes(v: dict) -> list[str]:
     return out
 
 
+def station_convention_notes(d) -> list[str]:
+    """Conventions of the file's stations (:data:`mbs.aircraft.stations.POSITIVE`) set away from
+    their usual sense in a file that gives no position as a station: they change nothing."""
+    from mbs.aircraft.stations import POSITIVE
+
+    conventions = d.get("conventions", {})
+    turned = [key for key, usual in POSITIVE.values() if conventions.get(key, usual) != usual]
+    used = len(d["fuselage_aero"].get("reference_station", ())) or any(
+        str(meta.get("how", "")).startswith("from station") for entries in d.meta.values() for meta in entries.values())
+    if not turned or used:
+        return []
+    return [f"conventions.{key}: no position is given as a station, so it changes nothing: give the positions as "
+            "stations ({ station = ..., unit = ..., source = ... } with aircraft.cg_station), or leave it out"
+            for key in turned]
+
+
 def tail_rotor_notes(tr: dict) -> list[str]:
     """Entries of the tail rotor that are valid but act less than they may seem to."""
     if tr["hub_type"] == "flapping" and tr["precone"] != 0.0 and tr["flap_stiffness"] == 0.0:
