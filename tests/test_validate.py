@@ -386,3 +386,59 @@ def test_a_csv_speed_unit_written_with_a_blank_is_taken(tmp_path):
     csv = tmp_path / "d.csv"
     csv.write_text(CSV_HEAD.replace("# speed_unit: kt", "# speed unit: kt") + CSV_ROWS.replace("TOL", "absolute 1.0"))
     assert load(csv).speed_unit == "kt"
+
+
+def test_a_csv_note_on_some_rows_keeps_one_series(tmp_path):
+    """A note on the hover row of a collective series split it in two tables and two chart
+    entries (a new user's CSV): the rows stay one series, the note printed with its speeds."""
+    csv = tmp_path / "d.csv"
+    csv.write_text(CSV_HEAD + "kind,quantity,unit,speed,value,source,note\n"
+                   "trim,collective,deg,0,14.0,P1,hover\ntrim,collective,deg,40,12.0,P1,\n"
+                   "trim,collective,deg,60,11.5,P1,\n"
+                   "trim,pitch,deg,0,3.0,P1,read off\ntrim,pitch,deg,40,1.0,P1,read off\n")
+    collective, pitch = load(csv).series
+    assert list(collective.shown_speed) == [0.0, 40.0, 60.0] and collective.note == "at 0: hover"
+    assert pitch.note == "read off"
+
+
+def test_the_report_echoes_each_condition_and_no_trim_in_the_files_units(tmp_path):
+    """A point at 4850 lb and 1000 ft printed as '2199.92 kg, 304.8 m', and a speed that did not
+    trim as '128.611 m/s': both in the units of the file, the header naming only what it gives."""
+    from mbs.validate import report
+    from mbs.validate.data import condition_key
+    from mbs.validate.runner import Result
+
+    v = load(toml(TRIM + 'mass = { value = [4850, 5000], unit = "lb" }\n'
+                  'altitude = { value = 1000, unit = "ft" }\n', tmp_path))
+    s, = v.series
+    assert s.shown_conditions == ("4850 lb, 1000 ft", "5000 lb, 1000 ft")
+    model = Model("forward-flight", "fake")
+    for speed, *condition in s.conditions():
+        model.points[condition_key(speed, *condition)] = fake_point(speed, "no trim: Newton failed" if speed > 0 else "")
+    res = Result(v, model, [(s, compare.rows(s, model)) for s in v.series])
+    text = report.lines(res)
+    assert [r.condition for r in res.blocks[0][1]] == ["4850 lb, 1000 ft", "5000 lb, 1000 ft"]
+    assert "  at 40 kt, 5000 lb, 1000 ft: no trim: Newton failed" in text, text
+    assert "  each point at its mass (a weight added at the CG) and ISA altitude as published" in text
+    assert "2 flight conditions in" in text[2], text[2]
+
+
+def test_a_single_published_point_shows_its_tolerance_in_the_chart(tmp_path):
+    """A band needs two speeds, so a one-point series showed none: its tolerance is a bar; two
+    series of one source in a panel give one legend entry each for the points and the band."""
+    import matplotlib.pyplot as plt
+
+    from mbs.validate import charts
+
+    v = load(toml(TRIM.replace("[0, 40]", "[20]").replace("[14.0, 12.0]", "[13.0]") + "tolerance = { absolute = 1.0 }\n"
+                  + TRIM.replace("[0, 40]", "[60]").replace("[14.0, 12.0]", "[11.0]")
+                  + 'tolerance = { absolute = 1.0 }\nnote = "another"\n', tmp_path))
+    model = fake_model(v.speeds("trim"))
+    fig, ax = plt.subplots()
+    for s in v.series:
+        charts._published(ax, s, compare.rows(s, model), "o")
+    bars = [c for c in ax.collections if c.get_label().startswith("tolerance")]
+    assert [b.get_segments()[0][:, 1].tolist() for b in bars] == [[12.0, 14.0], [10.0, 12.0]]
+    charts._legend(ax)
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["tolerance ±1 deg", "published (P1)"]
+    plt.close(fig)

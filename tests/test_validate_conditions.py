@@ -174,7 +174,7 @@ def test_a_point_at_its_own_cg_trims_as_the_aircraft_with_that_cg(tmp_path):
         assert math.degrees(abs(fwd.controls[k] - value)) < 0.005, (k, fwd.controls[k], value)
     assert math.degrees(abs(fwd.pitch - want.pitch)) < 0.005 and math.degrees(abs(fwd.roll - want.roll)) < 0.005
     assert math.degrees(mid.pitch - fwd.pitch) > 0.3, (mid.pitch, fwd.pitch)
-    assert [r.condition for r in res.blocks[0][1]] == ["CG +0 m", "CG +0.1 m"]
+    assert [r.condition for r in res.blocks[0][1]] == ["CG at station 0 mm", "CG at station -100 mm"]
 
 
 def test_the_chart_shows_the_model_at_every_points_condition():

@@ -58,8 +58,9 @@ def series_chart(blocks, res, path: Path, kind: str) -> Path:
     speeds = [r.speed for _, rows in blocks for r in rows]
     pad = 0.03 * (max(speeds) - min(speeds)) or 1.0
     for ax, group in zip(axes, groups):
-        for k, (s, rows) in enumerate(group):
-            _published(ax, s, rows, MARKERS[k % len(MARKERS)])
+        sources = list(dict.fromkeys(s.source.split()[0] for s, _ in group))  # one marker per source
+        for s, rows in group:
+            _published(ax, s, rows, MARKERS[sources.index(s.source.split()[0]) % len(MARKERS)])
         s = group[0][0]
         _model(ax, [r for _, rows in group for r in rows], "" if s.ours_factor == 1 else f" × {s.ours_factor:g}")
         ax.set_title(f"{s.quantity}", fontsize=9)
@@ -68,8 +69,15 @@ def series_chart(blocks, res, path: Path, kind: str) -> Path:
         ax.set_ylabel(s.unit, fontsize=8)
         ax.tick_params(labelsize=7)
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=6, loc="best")
+        _legend(ax)
     return _save(fig, plt, path, f"{v.title}: {kind}s, model against published", v)
+
+
+def _legend(ax) -> None:
+    """The panel's legend, an entry once (two series of one source draw the same two)."""
+    handles, labels = ax.get_legend_handles_labels()
+    entries = dict(zip(labels, handles))
+    ax.legend(list(entries.values()), list(entries), fontsize=6, loc="best")
 
 
 def _model(ax, rows, factor: str) -> None:
@@ -90,8 +98,11 @@ def _published(ax, s, rows, marker: str) -> None:
     order = np.argsort(speed)
     if s.tolerance is not None:
         half = s.tolerance.absolute if s.tolerance.absolute is not None else s.tolerance.relative * np.abs(pub)
-        ax.fill_between(speed[order], (pub - half)[order], (pub + half)[order], color="0.88", lw=0,
-                        label=f"tolerance {s.tolerance.describe(s.unit)}")
+        label = f"tolerance {s.tolerance.describe(s.unit)}"
+        if len(speed) > 1:
+            ax.fill_between(speed[order], (pub - half)[order], (pub + half)[order], color="0.88", lw=0, label=label)
+        else:  # a band needs two speeds: a single point's tolerance as a bar
+            ax.vlines(speed, pub - half, pub + half, color="0.82", lw=7, label=label)
     ax.errorbar(speed, pub, yerr=np.array([r.uncertainty for r in rows]), fmt=marker, ms=3.5, color="k",
                 mfc="white", capsize=2, lw=0.8, label=f"published ({s.source.split()[0]})")
 

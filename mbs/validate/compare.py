@@ -37,8 +37,9 @@ def rows(series, model) -> list[Row]:
     """The rows of one :class:`mbs.validate.data.Series` against the model's points."""
     convert = None
     out = []
-    for (speed, *condition), shown, pub, unc in zip(series.conditions(), series.shown_speed, series.value,
-                                                     series.uncertainty):
+    echoed = series.shown_conditions or [describe_condition(*c) for _, *c in series.conditions()]
+    for (speed, *condition), shown, pub, unc, said in zip(series.conditions(), series.shown_speed, series.value,
+                                                           series.uncertainty, echoed):
         point = model.at(speed, *condition)
         value, problem = math.nan, point.problem
         if point.ok:
@@ -46,7 +47,7 @@ def rows(series, model) -> list[Row]:
             convert = convert or converter(si_unit, series.unit, f"{series.kind} {series.quantity}")
             value = series.ours_factor * convert(si)
         row = _row(series, float(shown), value, float(pub), float(unc), problem)
-        row.condition = describe_condition(*condition)
+        row.condition = said
         out.append(row)
     return out
 

@@ -24,8 +24,8 @@ near a known one (``# speed unit:``, ``# mass_units:``) is taken or named, not r
 A tolerance is ``absolute x`` or ``±x`` (in the row's unit) or ``relative x`` or ``x%``. A row
 that repeats another of its series exactly (a copied point, not a repeated measurement) and a
 source that the ``# source`` lines do not name are refused. A series' problem names its rows' lines.
-Consecutive rows of the same kind, quantity, unit, source, tolerance, factor and note form one
-series (one speed each); eigenvalue rows of one speed form one set. The meaning of every field is that of the TOML form
+Consecutive rows of the same kind, quantity, unit, source, tolerance and factor form one series
+(one speed each; a note on some rows is the series' note at their speeds); eigenvalue rows of one speed form one set. The meaning of every field is that of the TOML form
 (:mod:`mbs.validate.data`).
 """
 from __future__ import annotations
@@ -78,6 +78,8 @@ def load_csv(path: Path) -> "Validation":  # noqa: F821
         for entry in raw.get(kind, []):
             lines = sorted(entry.pop("_lines").values())
             del entry["_key"]
+            if note := _note(entry.pop("_notes")):
+                entry["note"] = note
             entry["_where"] = (f"the {kind} rows of {entry['quantity']!r} (line{'s' if len(lines) > 1 else ''} "
                                f"{lines[0]}{f'-{lines[-1]}' if len(lines) > 1 else ''})")
             _conditions(entry, condition_units, path)
@@ -158,7 +160,7 @@ def _row(raw: dict, row: dict, path: Path, n: int, width: int, cells: int) -> No
         return
     if kind not in ("trim", "derivative"):
         raise ValidationError(f"{path}: line {n}: kind {kind!r} must be trim, derivative or eigenvalue")
-    key = {k: row.get(k, "") for k in ("quantity", "unit", "source", "tolerance", "ours_factor", "note")}
+    key = {k: row.get(k, "") for k in ("quantity", "unit", "source", "tolerance", "ours_factor")}
     entries = raw.setdefault(kind, [])
     if not entries or entries[-1]["_key"] != key:
         entries.append(_series(key, path, n))
@@ -168,6 +170,7 @@ def _row(raw: dict, row: dict, path: Path, n: int, width: int, cells: int) -> No
                               f"{key['quantity']} {value:g} at speed {speed:g}): a point copied twice counts twice; "
                               "give it once")
     entries[-1]["_lines"][point] = n
+    entries[-1]["_notes"].append((row.get("note", ""), speed))
     entries[-1]["speed"].append(speed)
     entries[-1]["value"].append(value)
     entries[-1]["uncertainty"].append(_number(row.get("uncertainty") or "0", path, n, "uncertainty"))
@@ -176,15 +179,22 @@ def _row(raw: dict, row: dict, path: Path, n: int, width: int, cells: int) -> No
 
 
 def _series(key: dict, path: Path, n: int) -> dict:
-    out = {"_key": key, "_lines": {}, "quantity": key["quantity"], "unit": key["unit"], "source": key["source"],
+    out = {"_key": key, "_lines": {}, "_notes": [], "quantity": key["quantity"], "unit": key["unit"], "source": key["source"],
            "speed": [], "value": [], "uncertainty": [], **{f"_{k}": [] for k in CONDITIONS}}
     if key["tolerance"]:
         out["tolerance"] = _tolerance(key["tolerance"], path, n)
     if key["ours_factor"]:
         out["ours_factor"] = _number(key["ours_factor"], path, n, "ours_factor")
-    if key["note"]:
-        out["note"] = key["note"]
     return out
+
+
+def _note(notes: list[tuple[str, float]]) -> str:
+    """A series' note from its rows' ``(note, speed)``: the note all give, or each note with the
+    speeds of the rows that give it."""
+    given = list(dict.fromkeys(t for t, _ in notes if t))
+    if len(given) == 1 and all(t for t, _ in notes):
+        return given[0]
+    return "; ".join(f"at {', '.join(f'{v:g}' for t, v in notes if t == text)}: {text}" for text in given)
 
 
 def _tolerance(text: str, path: Path, n: int) -> dict:

@@ -76,6 +76,7 @@ class Series:
     altitude: np.ndarray | None = None  # (n,) m: each point's ISA pressure altitude (None: the file's air)
     cg_x: np.ndarray | None = None  # (n,) m: each point's CG forward of the aircraft file's (None: the file's)
     cg_station: np.ndarray | None = None  # (n,) m: the CG's fuselage station as published (:func:`resolve_cg`)
+    shown_conditions: tuple[str, ...] = ()  # each point's condition in the file's units ("4850 lb, 1000 ft")
 
     def conditions(self) -> list[tuple]:
         """Each point's flight condition ``(speed m/s, mass kg, altitude m, cg_x m)``, None where
@@ -317,7 +318,22 @@ def series(entry: dict, kind: str, where: str, default_speed, factor: float, def
     given = {k: entry.get(k, (defaults or {}).get(k)) for k in CONDITIONS}
     read = {k: _condition(given[k], k, len(value), f"{where} ({quantity})") for k in CONDITIONS}
     return Series(kind, quantity, unit, speed * factor, speed, value, unc, _text(entry, "source", where), tol,
-                  float(ours_factor), str(entry.get("note", "")), **read)
+                  float(ours_factor), str(entry.get("note", "")), **read,
+                  shown_conditions=shown_conditions(given, len(value)))
+
+
+SHOWN = {"mass": "{:g} {}", "altitude": "{:g} {}", "cg_station": "CG at station {:g} {}",
+         "cg_x": "CG {:+g} {} forward"}
+"""How a point's condition is echoed, in the file's own numbers and units."""
+
+
+def shown_conditions(given: dict, n: int) -> tuple[str, ...]:
+    """Each of ``n`` points' conditions as the file gives them (``given``: the checked
+    ``{ value, unit }`` of each condition, None where not given); () without any."""
+    columns = [[SHOWN[k].format(float(x), raw["unit"]) for x in
+                (np.full(n, float(raw["value"])) if _is_number(raw["value"]) else raw["value"])]
+               for k, raw in given.items() if raw is not None]
+    return tuple(", ".join(c[i] for c in columns) for i in range(n)) if columns else ()
 
 
 def tolerance(raw, where: str) -> Tolerance | None:

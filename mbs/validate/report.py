@@ -16,18 +16,34 @@ def lines(res) -> list[str]:
     """The human-readable report of :func:`mbs.validate.runner.validate`."""
     v = res.validation
     out = [f"{v.title}", f"  data: {v.path}", f"  model: {res.model.aircraft or 'default aircraft'}, scene {v.scene}; "
-           f"{len(res.model.points)} flight conditions in {res.model.wall_s:.1f} s",
+           f"{_count(len(res.model.points), 'flight condition')} in {res.model.wall_s:.1f} s",
            *[f"  convention, {k}: {t}" for k, t in v.conventions.items()],
            *([f"  model's controls: {res.model.controls}"] if res.model.controls else []),
            *[f"  source {k}: {t}" for k, t in v.sources.items()]]
-    problems = [p for p in res.model.points.values() if not p.ok]
-    out += [f"  at {p.speed:g} m/s{', ' + p.condition if p.condition else ''}: {p.problem}" for p in problems]
+    out += problem_lines(res)
     out += warning_lines(res)
     for s, rows in res.blocks:
         out += series_lines(s, rows, v)
     if res.pairs:
         out += eigen_lines(res.pairs, v.eigen_tolerance or EigenTolerance(), v.speed_unit)
     return out + verdict_lines(res)
+
+
+def problem_lines(res) -> list[str]:
+    """Each point the model could not give, with its reason, at its speed and condition as the data
+    give them."""
+    from mbs.validate.data import condition_key
+
+    v = res.validation
+    factor = speed_factor(v.speed_unit, "[validation] speed_unit")
+    shown = {condition_key(*c): (r.speed, r.condition) for s, rows in res.blocks
+             for c, r in zip(s.conditions(), rows)}
+    out = []
+    for key, p in res.model.points.items():
+        if not p.ok:
+            speed, condition = shown.get(key, (p.speed / factor, p.condition))
+            out.append(f"  at {speed:.6g} {v.speed_unit}{', ' + condition if condition else ''}: {p.problem}")
+    return out
 
 
 def series_lines(s, rows, v) -> list[str]:
@@ -37,33 +53,36 @@ def series_lines(s, rows, v) -> list[str]:
         head.append(f"  model's value times {s.ours_factor:g}: {s.note}")
     elif s.note:
         head.append(f"  note: {s.note}")
-    if any(x is not None for x in (s.mass, s.altitude, s.cg_x)):
-        head.append("  each point at its mass (a weight at the CG), ISA altitude and CG (forward of the file's) as "
-                    "published; the aircraft file's where not given")
-    head.append(f"  {'speed ' + v.speed_unit:>10s} {'ours':>11s} {'published':>11s} {'±':>8s} {'ours-pub':>11s} "
+    given = [what for what, x in (("its mass (a weight added at the CG)", s.mass), ("ISA altitude", s.altitude),
+                                  ("CG", s.cg_x if s.cg_x is not None else s.cg_station)) if x is not None]
+    if given:
+        head.append(f"  each point at {' and '.join(given)} as published")
+    w = max(10, len(f"speed {v.speed_unit}"))
+    head.append(f"  {'speed ' + v.speed_unit:>{w}s} {'ours':>11s} {'published':>11s} {'±':>8s} {'ours-pub':>11s} "
                 f"{'ours/pub':>9s}")
-    return head + [_row_line(r) for r in rows]
+    return head + [_row_line(r, w) for r in rows]
 
 
-def _row_line(r) -> str:
+def _row_line(r, w: int = 10) -> str:
     at = f"  ({r.condition})" if r.condition else ""
     unc = f"{r.uncertainty:8.2g}" if r.uncertainty else f"{'—':>8s}"  # not stated, not exact
     if r.problem:  # its reason is said once above the tables
-        return f"  {r.speed:10.4g} {'—':>11s} {r.published:+11.4g} {unc}  {r.problem.split(':')[0]} (said above){at}"
+        return f"  {r.speed:{w}.4g} {'—':>11s} {r.published:+11.4g} {unc}  {r.problem.split(':')[0]} (said above){at}"
     ratio = f"{r.ratio:9.3f}" if math.isfinite(r.ratio) else " " * 9
-    return (f"  {r.speed:10.4g} {r.ours:+11.4g} {r.published:+11.4g} {unc} {r.difference:+11.4g} "
+    return (f"  {r.speed:{w}.4g} {r.ours:+11.4g} {r.published:+11.4g} {unc} {r.difference:+11.4g} "
             f"{ratio} {MARK[r.within]:3s}{at}").rstrip()
 
 
 def eigen_lines(pairs, tol: EigenTolerance, speed_unit: str) -> list[str]:
+    w = max(10, len(f"speed {speed_unit}"))
     out = [f"eigenvalues (1/s, rad/s), each published one paired with the nearest of the model's: same stability "
            f"(|Re| <= {tol.neutral:g} 1/s neutral) and within {100 * tol.frequency:g} % the frequency |Im| of a "
            f"published oscillation (|Im| >= {tol.min_frequency:g} rad/s) or the rate |λ| of a published subsidence",
-           f"  {'speed ' + speed_unit:>10s} {'published':>20s} {'ours':>20s} {'mode (ours)':22s} {'ratio':>7s} measure"]
+           f"  {'speed ' + speed_unit:>{w}s} {'published':>20s} {'ours':>20s} {'mode (ours)':22s} {'ratio':>7s} measure"]
     for p in pairs:
         ratio = f"{p.ratio:7.3f}" if p.ratio is not None else " " * 7
         verdict = "ok" if p.within else ("OUT: stability" if not p.same_stability else f"OUT: {p.measure}")
-        out.append(f"  {p.speed:10.4g} {_z(p.published):>20s} {_z(p.ours):>20s} {p.mode:22s} {ratio} {p.measure:9s} "
+        out.append(f"  {p.speed:{w}.4g} {_z(p.published):>20s} {_z(p.ours):>20s} {p.mode:22s} {ratio} {p.measure:9s} "
                    f"{verdict}")
     return out
 
