@@ -120,19 +120,38 @@ flight_speed = Within(*SPEED_RANGE, "m/s", "the flight speeds the model covers (
 climb_rate = Within(*CLIMB_RANGE, "m/s", "the climb rates the model covers (4000 ft/min down or up)")
 
 
+def range_ends(lo: str, hi: str, limits: Within) -> tuple[float, float]:
+    """LO and HI of a range in ``limits``' unit, each a bare number or with one of its units
+    (``0:100kt``: a unit on one end is the other's too); :class:`Bad` outside its range."""
+    units = [limits._split(t)[1] for t in (lo, hi)]
+    given = [u for u in units if u]
+    if len(given) == 1:
+        lo, hi = (t if u else f"{t}{given[0]}" for t, u in zip((lo, hi), units))
+    return limits(lo), limits(hi)
+
+
+def speed_ends(lo: str, hi: str) -> tuple[float, float]:
+    """LO and HI of a range of flight speeds (m/s), either with a unit (``0:100kt``)."""
+    return range_ends(lo, hi, flight_speed)
+
+
 def parse_speeds(text: str):
-    """``"LO:HI:N"`` -> N speeds (m/s) from LO to HI."""
+    """``"LO:HI:N"`` -> N speeds (m/s) from LO to HI (``0:100kt:11``: in knots)."""
     import numpy as np
 
     try:
         lo, hi, n = text.split(":")
-        values = np.linspace(float(lo), float(hi), int(n))
+        (lo, hi), n = speed_ends(lo, hi), int(n)
+        values = np.linspace(lo, hi, n)
+    except Bad as exc:
+        raise ValueError(f"sweep {text!r}: {exc}") from None
     except ValueError:
-        raise ValueError(f"sweep {text!r}: expected LO:HI:N (speeds in m/s), e.g. 0:60:13") from None
+        raise ValueError(f"sweep {text!r}: expected LO:HI:N (speeds in m/s, or with a unit: 0:100kt:11), "
+                         "e.g. 0:60:13") from None
     if not (len(values) >= 1 and np.all(np.isfinite(values))):
         raise ValueError(f"sweep {text!r}: need N >= 1 finite speeds")
     if len(values) == 1 and float(lo) != float(hi):
-        raise ValueError(f"sweep {text!r}: N = 1 gives {lo} m/s only, never {hi}; give N >= 2, or --speed {lo}")
+        raise ValueError(f"sweep {text!r}: N = 1 gives {lo:g} m/s only, never {hi:g}; give N >= 2, or --speed {lo:g}")
     for v in (values[0], values[-1]):
         try:
             flight_speed.check(v)

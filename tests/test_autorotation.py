@@ -91,3 +91,31 @@ def test_engine_failure_in_hover_with_the_collective_lowered_the_rotor_recovers(
     assert 0.6 * 44.4 < figures["rotor_speed_min"] < 0.95 * 44.4
     assert sim.columns()["main_rotor.speed"][-1] > figures["rotor_speed_min"] + 1.0  # recovering
     assert figures["sink_rate_end"] > 3.0 and figures["height_lost"] > 5.0
+
+
+def test_autorotation_takes_a_gear_ratio_that_does_not_repeat_as_trim_does(tmp_path, capsys):
+    """A new user's R22 (tail-rotor gear ratio 6.409) trimmed, but 'heli autorotation' refused the
+    same file after compiling, naming an internal function: it now turns the tail rotor at the
+    nearest ratio that repeats, as the trims do, and says so; its speeds take a unit as trim's."""
+    import json
+
+    from mbs import aircraft, cli
+
+    text = aircraft.resolve("bo105").read_text().replace('gear_ratio = { value = 5.25,', 'gear_ratio = { value = 5.2513,')
+    path = tmp_path / "odd_gear.toml"
+    path.write_text(text)
+    assert cli.main(["autorotation", "--aircraft", str(path), "--speeds", "60kt", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert "5.2513 repeats the rotors only every" in out["approximation"], out["approximation"]
+    trim, = out["trims"]
+    assert trim["converged"] and trim["speed"] == pytest.approx(60 * 1852 / 3600)
+
+
+@pytest.mark.parametrize("text, want", [("20,30", [20.0, 30.0]), ("50kt, 70kt", [50 * 1852 / 3600, 70 * 1852 / 3600]),
+                                        ("100km/h", [100 / 3.6])])
+def test_autorotation_speeds_carry_a_unit(text, want):
+    from mbs.drivetrain.commands import speed_list
+
+    assert speed_list(text) == pytest.approx(want)
+    with pytest.raises(ValueError, match="outside the speeds of a steady autorotation"):
+        speed_list("200kt")

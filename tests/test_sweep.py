@@ -151,6 +151,20 @@ def test_resume_refuses_a_folder_of_another_sweep(tmp_path):
         sweep.trim_sweep(SCENE, [0.0], options={"steps_per_rev": 40}, workers=0, out=tmp_path)
 
 
+def test_a_speed_range_takes_a_unit_as_trim_s_speed_does():
+    """'heli trim --speed 60kt' worked, 'heli sweep trim --speed 0kt:100kt:3' did not (a new user):
+    a unit on either end (on one, both's) or on none (m/s); the range checked in m/s."""
+    from mbs.arguments import parse_speeds, speed_ends
+
+    kt = 1852 / 3600
+    for text in ("0kt:100kt:3", "0:100kt:3", "0 kt:100 kt:3"):
+        assert grid.parse_range("--speed", text, speed_ends) == pytest.approx([0, 50 * kt, 100 * kt])
+        assert parse_speeds(text) == pytest.approx([0, 50 * kt, 100 * kt])
+    assert grid.parse_range("--speed", "0:60:3", speed_ends) == pytest.approx([0, 30, 60])
+    with pytest.raises(ValueError, match=r"--speed '0:300kt:3': 300kt \(154.3 m/s\) is outside the flight speeds"):
+        grid.parse_range("--speed", "0:300kt:3", speed_ends)
+
+
 def test_bad_ranges_and_axes_are_named():
     with pytest.raises(ValueError, match=r"--speed '0:70' must be LO:HI:N"):
         grid.parse_range("--speed", "0:70")

@@ -152,7 +152,8 @@ def rotor_period(info, omega: float, gear_ratio: float | None = None) -> RotorPe
     blades = _tail_blades(info)
     gear = checks.periodic_gear(gear_ratio, 1 if teetering else max(1, len(blades)))
     if not gear.exact:
-        raise ValueError(f"{gear.text()}: the periodic analyses shoot over the scene of periodic_scene()")
+        raise ValueError(f"{gear.text()}: this analysis needs a gear ratio that repeats sooner; round the aircraft "
+                         f"file's tail_rotor.gear_ratio (e.g. to {gear.used:.6g})")
     if teetering:
         half = Fraction(2 * gear_ratio).limit_denominator(1000).denominator
         flip = tuple(info.state_names.index(n) for n in TEETER_STATES) if half != gear.revs else ()

@@ -8,31 +8,37 @@ from mbs.cli import add_json, emit
 FT_PER_MIN = 196.850394  # per m/s
 
 
-def speed_list(text: str) -> list[float]:
-    """``20,30,40`` (m/s): finite speeds from 5 to 90 m/s (below 5 m/s the rotor's wake is in the vortex
-    ring and windmill states the inflow models do not cover)."""
-    import math
+AUTOROTATION_SPEED = A.Within(5.0, 90.0, "m/s", "the speeds of a steady autorotation (below 5 m/s the wake is in "
+                              "the vortex ring state, which the inflow models do not cover)", units=A.SPEED_UNITS)
 
+
+def speed_list(text: str) -> list[float]:
+    """``20,30,40`` (m/s) or ``50kt,70kt``: speeds from 5 to 90 m/s."""
+    items = [t for t in str(text).split(",") if t.strip()]
+    if not items:
+        raise ValueError(f"{text!r} is not a comma-separated list of speeds (m/s, or with a unit: 50kt,70kt)")
     try:
-        values = [float(t) for t in str(text).split(",") if t.strip()]
-    except ValueError:
-        raise ValueError(f"{text!r} is not a comma-separated list of speeds (m/s)") from None
-    if not values or not all(math.isfinite(v) and 5.0 <= v <= 90.0 for v in values):
-        raise ValueError(f"{text!r}: give speeds from 5 to 90 m/s (below 5 m/s the wake is in the vortex ring state, "
-                         "which the inflow models do not cover)")
-    return values
+        return [AUTOROTATION_SPEED(t) for t in items]
+    except A.Bad as exc:
+        raise ValueError(f"{text!r}: {exc}") from None
 
 
 def cmd_autorotation(args) -> int:
+    from mbs.analysis.period import periodic_scene, scene_period
     from mbs.analysis.rotor_speed_trim import descent_estimate, rotor_speed_trim
     from mbs.analysis.trim import evaluators
     from mbs.commands import _scene
 
     sc = _scene(args)
     _check(sc)
+    sc = periodic_scene(sc)  # a tail rotor that does not repeat soon turns at the nearest ratio that does
+    speeds = speed_list(args.speeds)
     system, stepper = evaluators(sc)
     rows, lines = [], [f"{sc.name}: steady autorotation at the rotor's nominal speed (descent rate solved for)"]
-    for v in speed_list(args.speeds):
+    gear = scene_period(sc, system).gear
+    approximation = gear.text() if gear is not None and not gear.exact else None
+    lines += [f"  approximation: {approximation}"] if approximation else []
+    for v in speeds:
         res = rotor_speed_trim(sc, v, steps_per_rev=args.steps_per_rev, system=system, stepper=stepper)
         row = {"speed": v, "converged": res.converged, "reason": res.reason, "iterations": res.iterations,
                "climb_rate": res.climb_rate, "descent_rate": -res.climb_rate,
@@ -45,7 +51,7 @@ def cmd_autorotation(args) -> int:
                                           f"ft/min; energy method {row['energy_method_descent_rate']:.2f} m/s), "
                                           f"collective {row['controls']['collective']:.4f} rad, {res.iterations} "
                                           "Newton iterations" if res.converged else f"no trim: {res.reason}"))
-    emit({"scene": sc.name, "trims": rows}, args.json, lines)
+    emit({"scene": sc.name, "trims": rows, "approximation": approximation}, args.json, lines)
     return 0 if all(r["converged"] for r in rows) else 1
 
 
@@ -71,7 +77,7 @@ def register(sub, bench) -> None:
     A.add_scene(p, nargs="?", default="autorotation", what="scene (default autorotation)")
     A.add_aircraft(p)
     p.add_argument("--speeds", default="20,30,40", type=A.checked_by(speed_list), metavar="V1,V2,...",
-                   help="forward speeds in m/s (default 20,30,40)")
+                   help="forward speeds in m/s, or with a unit: 50kt,70kt (default 20,30,40)")
     _steps_per_rev(p)
     _air(p)
     add_json(p)

@@ -162,7 +162,7 @@ def register(sub, bench) -> None:
                    help=f"flight speed in m/s, {SPEED_RANGE[0]:g} to {SPEED_RANGE[1]:g}, or with a unit: 60kt, "
                         "100km/h, ft/s, mph (default: the scene's)")
     p.add_argument("--sweep", metavar="LO:HI:N", default=None, type=A.checked_by(A.parse_speeds),
-                   help="loads at N speeds from LO to HI m/s (e.g. 0:72:13): table, CSV and the chart of the "
+                   help="loads at N speeds from LO to HI m/s (e.g. 0:72:13, or 0:140kt:15): table, CSV and the chart of the "
                         "vibratory hub loads and the power against speed (in --out, default out/loads/SCENE)")
     core._steps_per_rev(p)
     core._backend(p)

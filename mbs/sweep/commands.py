@@ -43,7 +43,7 @@ def _axes(args) -> dict:
 
     axes = {}
     if args.kind == "trim":
-        axes["speed"] = parse_range("--speed", args.speed)
+        axes["speed"] = parse_range("--speed", args.speed, A.speed_ends)
     if args.kind == "floquet":
         axes["omega"] = parse_range("--omega", args.omega)
     for item in args.param or []:
@@ -111,7 +111,7 @@ def _range(flag: str, limits=None):
     def parse(text: str):
         from mbs.sweep.grid import parse_range
 
-        values = parse_range(flag, text)
+        values = parse_range(flag, text, A.speed_ends if limits is A.flight_speed else None)
         for v in (values[0], values[-1]) if limits else ():
             try:
                 limits.check(v)
@@ -163,7 +163,7 @@ def register(sub, bench) -> None:
     t = kinds.add_parser("trim", help="periodic trim at every speed (and parameter value)")
     _common(t)
     t.add_argument("--speed", required=True, metavar="LO:HI:N", type=A.checked_by(_range("--speed", A.flight_speed)),
-                   help="speeds in m/s, e.g. 0:70:15")
+                   help="speeds in m/s, e.g. 0:70:15, or with a unit: 0:100kt:11")
     t.add_argument("--climb-rate", type=A.climb_rate, default=0.0,
                    help=f"climb rate in m/s, up positive, {CLIMB_RANGE[0]:g} to {CLIMB_RANGE[1]:g} (default 0)")
     t.add_argument("--method", choices=("rk4", "rk8"), default="rk4", help="fixed-step method (default rk4)")

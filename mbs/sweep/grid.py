@@ -18,16 +18,21 @@ MAX_POINTS = 1000
 """Points on one axis at most."""
 
 
-def parse_range(flag: str, text: str) -> np.ndarray:
+def parse_range(flag: str, text: str, ends=None) -> np.ndarray:
     """``"LO:HI:N"`` -> N evenly spaced values from LO to HI (inclusive); ``flag`` names the
-    option in errors, e.g. ``--speed '0:70' must be LO:HI:N``."""
+    option in errors, e.g. ``--speed '0:70' must be LO:HI:N``. ``ends(lo, hi)`` reads LO and HI
+    (default: plain numbers; :func:`mbs.arguments.speed_ends` takes them with a unit)."""
+    from mbs.arguments import Bad
+
     parts = str(text).split(":")
     try:
-        lo, hi, n = float(parts[0]), float(parts[1]), int(parts[2])
         if len(parts) != 3:
             raise ValueError
+        (lo, hi), n = (ends or (lambda a, b: (float(a), float(b))))(parts[0], parts[1]), int(parts[2])
+    except Bad as exc:
+        raise ValueError(f"{flag} {text!r}: {exc}") from None
     except (ValueError, IndexError):
-        raise ValueError(f"{flag} {text!r} must be LO:HI:N (e.g. 0:70:15)") from None
+        raise ValueError(f"{flag} {text!r} must be LO:HI:N (e.g. 0:70:15{', or 0:100kt:11' if ends else ''})") from None
     if n < 1 or not (np.isfinite(lo) and np.isfinite(hi)):
         raise ValueError(f"{flag} {text!r}: N must be >= 1 and LO, HI finite")
     if n > MAX_POINTS:
