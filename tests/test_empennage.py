@@ -137,3 +137,45 @@ def test_airframe_warnings_fire_where_they_should(tmp_path):
     assert any("alpha +180.0 deg beyond the breakpoints [-90, 90] deg" in w for w in airframe_warnings(sideways, tables))
     hover = {**calm, "fuselage.u": -1e-7, "fuselage.v": -2e-8, "fuselage.w": -1e-9}  # a hover's round-off: -179 deg
     assert not any("fuselage tables" in w for w in airframe_warnings(hover, tables))  # (a new user: "extend them")
+
+
+def test_a_surface_at_the_wake_edge_is_named_with_the_width():
+    """An AH-1's tailplane half in the wake at 60 kt gave M_θ0 +26 1/s² (no helicopter's) without
+    a word: a surface whose immersion is between 0.1 and 0.9 is named, with the wake's width."""
+    d = aircraft.load("bo105").data
+    calm = {"main_rotor.inflow": 8.0, "horizontal_tail.downwash": 2.0, "fin.sidewash": 1.0, "fuselage.u": 20.0,
+            "fuselage.v": 0.0, "fuselage.w": 0.5, "horizontal_tail.wake_immersion": 0.97, "fin.wake_immersion": 0.0}
+    assert airframe_warnings(calm, d) == []
+    (line,) = airframe_warnings({**calm, "horizontal_tail.wake_immersion": 0.47}, d)
+    assert line.startswith("horizontal tail: at the edge of the main rotor's wake (immersion 0.47; the edge is "
+                           "smoothed over wake.width = 0.25 m)") and "derivatives" in line
+
+
+def test_a_fixed_surface_s_force_is_continuous_where_the_air_meets_it_square():
+    """The folded angle of attack jumps from +90 to -90 deg as the air crosses a surface's normal;
+    the bounded lift jumped with it and an AH-1 whose tail sat square in its hover downwash did not
+    trim. A fixed surface's lift is a flat plate's beyond 60 deg: none at 90 deg from either side,
+    the force continuous with its slope, the normal force the plate's c_D,90 sin α within 10 %, and
+    below 45 deg the section's own, exactly."""
+    from mbs.aero.sections import Airfoil, flat_plate_share, section_force
+
+    foil = Airfoil(lift_slope=3.26, cd0=0.01, alpha_stall=0.26, cd_stalled=1.8)
+    w_c, w_n = ca.SX.sym("w_c"), ca.SX.sym("w_n")
+    plate = ca.Function("f", [w_c, w_n], [ca.vertcat(*section_force(w_c, w_n, foil, 1.225, 1.0, flat_plate=True))])
+    bounded = ca.Function("b", [w_c, w_n], [ca.vertcat(*section_force(w_c, w_n, foil, 1.225, 1.0))])
+    jac = ca.Function("j", [w_c, w_n], [ca.jacobian(plate(w_c, w_n), w_c)])
+    down = -10.0  # m/s through the surface from above
+    side = {s: np.asarray(plate(s * 1e-6, down)).ravel() for s in (-1, 1)}
+    assert np.allclose(side[-1], side[1], atol=1e-3)  # N: continuous (the drag turns with the air)
+    jump = np.asarray(bounded(1e-6, down) - bounded(-1e-6, down)).ravel()
+    assert abs(jump[0]) > 50  # N: the bounded lift's jump
+    assert np.allclose(np.asarray(jac(1e-6, down)), np.asarray(jac(-1e-6, down)), rtol=1e-3, atol=1e-5)
+    q = 0.5 * 1.225 * 20.0**2
+    for deg in (60, 70, 80):
+        a = np.radians(deg)
+        normal = -float(plate(20 * np.cos(a), -20 * np.sin(a))[1]) / q
+        assert normal == pytest.approx(1.8 * np.sin(a), rel=0.1), deg
+    for angle in (0.1, 0.3, 0.7):  # up to 40 deg: the section's own force, exactly
+        wc, wn = 20 * np.cos(angle), -20 * np.sin(angle)
+        assert np.array_equal(np.asarray(plate(wc, wn)), np.asarray(bounded(wc, wn)))
+    assert float(flat_plate_share(0.49)) == 0.0 and float(flat_plate_share(0.76)) == 1.0

@@ -38,3 +38,27 @@ def test_the_shipped_bo105_trims_without_a_flapping_warning(capsys):
     tilt = np.degrees(np.hypot(res["flapping"]["beta1c"], res["flapping"]["beta1s"]))
     assert res["converged"] and 0.5 < tilt < 5.0
     assert not [w for w in res["warnings"] if "flapping" in w], res["warnings"]
+
+
+def test_a_failed_trim_says_what_stays_unbalanced_and_warns_where_it_stopped():
+    """A new user's R22 with a fuselage moment its teetering rotor could not hold, and an AH-1
+    whose tail sat square in the hover's downwash, gave 'the line search found no decrease' and
+    nothing else: the reason names the fuselage's largest residual, the warnings are those of
+    the last iterate."""
+    from mbs.analysis.trim import _unbalanced
+
+    lay = SimpleNamespace(residual_names=["blade1.flap", "fuselage.u", "fuselage.q", "fuselage.w"])
+    note = _unbalanced(lay, np.array([1e-3, 2e-3, 0.05, 0.01]))
+    assert note.startswith("; at the last iterate the pitching moment stays unbalanced (scaled residual of "
+                           "fuselage.q 0.05)")
+    assert _unbalanced(lay, np.array([1.0, 2e-3, 0.05, 0.01])) == ""  # the rotor's own periodicity dominates
+    d = {"envelope": {}, "wake": {"width": 0.34}, "horizontal_tail": {"alpha_stall": 0.26}, "vertical_fin": {"alpha_stall": 0.26},
+         "fuselage_aero": {"model": "polynomials"}}
+    failed = SimpleNamespace(converged=False, pitch=np.radians(-35.0), roll=0.0, sideslip=0.0, x0=np.zeros(0),
+                             state_names=[], last_iterate_means={"horizontal_tail.wake_immersion": 0.88})
+    failed.state = {}
+    lines = trim_checks.warnings(failed, d)
+    assert lines[0].startswith("at the last iterate (no trim): pitch -35.00 deg is outside"), lines
+    assert lines[1].startswith("at the last iterate (no trim): horizontal tail: at the edge of the main rotor's "
+                               "wake (immersion 0.88"), lines
+    assert trim_checks.warnings(SimpleNamespace(converged=False, last_iterate_means={}), d) == []

@@ -79,12 +79,18 @@ def air_velocity(state, body: str, point, rotation, wake=0):
 
 def wake_velocity(state, rotor: str | None, body: str, point):
     """The wake of ``rotor`` (m/s, world) at ``point`` (m, ``body`` frame); 0 without a rotor."""
+    return wake_flow(state, rotor, body, point)[0]
+
+
+def wake_flow(state, rotor: str | None, body: str, point):
+    """The wake of ``rotor`` at ``point`` (m, ``body`` frame): its velocity (m/s, world) and the
+    point's immersion in it (0..1, :meth:`mbs.aero.wake.Wake.flow`); (0, 0) without a rotor."""
     if rotor is None:
-        return 0
+        return 0, 0
     key = f"{rotor}.wake"
     if key not in state.signals:
         raise ValueError(f"no wake of {rotor!r}: its rotor aerodynamics must come first and have a wake geometry")
-    return state.signals[key].velocity(state.point_position(body, point))
+    return state.signals[key].flow(state.point_position(body, point))
 
 
 class LiftingSurface(ForceElement):
@@ -104,13 +110,13 @@ class LiftingSurface(ForceElement):
 
     def apply(self, state, loads):
         rot = state.body(self.body).rotation
-        wake = wake_velocity(state, self.wake, self.body, self.point)
+        wake, immersion = wake_flow(state, self.wake, self.body, self.point)
         if self.wake is not None:
-            state.signals[f"{self.name}.wake"] = ca.mtimes(rot.T, wake)
+            state.signals[f"{self.name}.wake"], state.signals[f"{self.name}.immersion"] = ca.mtimes(rot.T, wake), immersion
         w = air_velocity(state, self.body, self.point, rot, wake)
         w_c, w_n = ca.dot(w, ca.DM(self.c)), ca.dot(w, ca.DM(self.n))
         f_c, f_n = turn(*section_force(*turn(w_c, w_n, self.incidence), self.airfoil, state.density(self.rho),
-                                       self.area),
+                                       self.area, flat_plate=True),
                            -self.incidence)
         force = f_c * ca.DM(self.c) + f_n * ca.DM(self.n)
         loads.add_force(self.body, force, point=self.point, frame="body", rotation=rot)

@@ -102,7 +102,7 @@ class TailSurface(LiftingSurface):
         cos_i, sin_i = ca.cos(incidence), ca.sin(incidence)
         w_c, w_n = cos_i * w_c + sin_i * w_n, -sin_i * w_c + cos_i * w_n
         state.signals[f"{self.name}.alpha"] = section_angle(self.airfoil, w_c, w_n)[0]
-        f_c, f_n = section_force(w_c, w_n, self.airfoil, self.rho, self.area)
+        f_c, f_n = section_force(w_c, w_n, self.airfoil, self.rho, self.area, flat_plate=True)
         f_c, f_n = cos_i * f_c - sin_i * f_n, sin_i * f_c + cos_i * f_n
         loads.add_force(self.body, f_c * ca.DM(self.c) + f_n * ca.DM(self.n), point=self.point, frame="body",
                         rotation=rot)
@@ -122,11 +122,12 @@ class TailSurface(LiftingSurface):
     def _air(self, state, rot):
         """Air velocity (3,) (m/s, body axes) at the surface: the wake's, or the interference's."""
         if self.interference is None:
-            from mbs.aero.airframe import wake_velocity
+            from mbs.aero.airframe import wake_flow
 
-            wake = wake_velocity(state, self.wake, self.body, self.point)
+            wake, immersion = wake_flow(state, self.wake, self.body, self.point)
             if self.wake is not None:
                 state.signals[f"{self.name}.wake"] = ca.mtimes(rot.T, wake)
+                state.signals[f"{self.name}.immersion"] = immersion
             return air_velocity(state, self.body, self.point, rot, wake)
         return self._interfered(state, air_velocity(state, self.body, self.point, rot))
 

@@ -127,20 +127,48 @@ def section_angle(airfoil, w_c, w_n):
     return flow_angle(w_c, w_n)
 
 
+FLAT_PLATE = (np.sin(np.pi / 4) ** 2, np.sin(np.pi / 3) ** 2)
+"""``sin²`` of the angles of attack (45 and 60 deg) between which a fixed surface's lift turns
+into a flat plate's (:func:`flat_plate_share`)."""
+
+
+def flat_plate_share(sin2):
+    """Share (0 to 1) of a flat plate's lift in a fixed surface's at ``sin² α``: none up to 45 deg,
+    all from 60 deg (``t²(3 − 2t)``, ``t`` linear in ``sin² α`` between)."""
+    low, high = FLAT_PLATE
+    t = ca.fmin(1, ca.fmax(0, (sin2 - low) / (high - low)))
+    return t * t * (3 - 2 * t)
+
+
+def flat_plate_lift(airfoil, alpha, sin2, cl):
+    """``c_L`` of a fixed surface: the section's ``cl`` up to 45 deg, a flat plate's
+    ``c_D,90 sin α cos α`` from 60 deg (``c_D,90`` the section's ``cd_stalled``; none without
+    one). The folded angle of :func:`flow_angle` jumps from +90 to -90 deg as the air crosses the
+    surface's normal: the bounded lift jumped with it (a tail square in a hover's downwash did not
+    trim), a flat plate's is none there from either side, with one slope, and its normal force
+    ``c_D,90 sin α`` is the plate's measured one (Hoerner, *Fluid-Dynamic Drag*, 1965, ch. 3)."""
+    plate = getattr(airfoil, "cd_stalled", None) or getattr(getattr(airfoil, "section", None), "cd_stalled", 0.0)
+    w = flat_plate_share(sin2)
+    return (1 - w) * cl + w * (0.5 * plate) * ca.sin(2 * alpha)
+
+
 def section_force(w_c, w_n, airfoil: Airfoil, rho: float, area: float, lift_factor: float = 1.0,
-                  coefficients=None):
+                  coefficients=None, flat_plate: bool = False):
     """Force (N) on a section from the air velocity relative to it, in section axes.
 
     ``w_c``: component along the chord towards the leading edge; ``w_n``: along the
     section normal (the lift direction at zero incidence); ``area`` m². ``lift_factor``
     scales the lift only (tip loss); ``coefficients(alpha, sin²alpha, speed) -> (c_L, c_D)``
-    replaces the aerofoil's (compressibility). Returns ``(f_c, f_n)``.
+    replaces the aerofoil's (compressibility); ``flat_plate``: a fixed surface's lift, a flat plate's
+    beyond 45 deg (:func:`flat_plate_lift`). Returns ``(f_c, f_n)``.
     """
     alpha, sin2 = section_angle(airfoil, w_c, w_n)
     speed = ca.sqrt(w_c**2 + w_n**2 + EPS**2)
     cl, cd = airfoil.coefficients_of(alpha, sin2) if coefficients is None else coefficients(alpha, sin2, speed)
     if lift_factor != 1.0:  # exactly 1.0 leaves the expression as it was without tip loss
         cl = lift_factor * cl
+    if flat_plate and not getattr(airfoil, "full_circle", False):  # a full-circle table gives its own lift at 90 deg
+        cl = flat_plate_lift(airfoil, alpha, sin2, cl)
     k = 0.5 * rho * area * speed
     return k * (cl * w_n + cd * w_c), k * (-cl * w_c + cd * w_n)
 

@@ -135,6 +135,11 @@ class Wake:
 
     def velocity(self, point):
         """Induced air velocity (3,) (m/s, world) of the wake at ``point`` (3,) (m, world)."""
+        return self.flow(point)[0]
+
+    def flow(self, point):
+        """The wake's induced velocity (3,) (m/s, world) at ``point`` (3,) (m, world) and the
+        point's immersion (0 outside the wake, 1 inside, between at the smoothed edge)."""
         axis, r = self.axis, point - self.hub
         depth = -ca.dot(r, axis)
         along = depth * self.stretch
@@ -148,7 +153,7 @@ class Wake:
         immersion = self.immersion(self._edge_distance(e_x, e_y, shrink), depth, self.hover_share)
         swirl = self.swirl / (e2 + self.geometry.core**2)
         tangential = e_x * self.shaft[:, 1] - e_y * self.shaft[:, 0]  # along increasing azimuth: the rotation
-        return immersion * (-self._developed(grow, e_x, e_y) * axis + swirl * tangential)
+        return immersion * (-self._developed(grow, e_x, e_y) * axis + swirl * tangential), immersion
 
     def _edge_flows(self, along):
         """Mean through-flow (m/s) carrying the wake's rear and front edges from the disc down to

@@ -199,7 +199,7 @@ def derivatives(scene: str = "forward-flight", speed: float | None = None, metho
     res = linearise(sol, system, held_stepper, sol.radius, start)
     if sc.aircraft is not None:
         in_pilot_controls(res, sc.aircraft.data)
-        res.warnings += teetering_warning(sc.aircraft.data)
+        res.warnings += [*sol.warnings, *teetering_warning(sc.aircraft.data)]  # the trim's hold for its derivatives
     return res
 
 

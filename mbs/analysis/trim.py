@@ -81,6 +81,7 @@ class Trim:
     published: dict[str, float] = field(default_factory=dict)  # the controls in the aircraft's published conventions
     warnings: list[str] = field(default_factory=list)
     tail_thrust_coefficient: tuple[float, float, float] | None = None  # tail C_T, sigma a, inflow ratio
+    last_iterate_means: dict[str, float] = field(default_factory=dict)  # a failed trim's outputs where it stopped
 
     @property
     def iterations(self) -> int:
@@ -311,6 +312,27 @@ def _at_stops(system, lay: TrimLayout, z) -> str:
             "the range if the aircraft has it, or check the flight condition") if out else ""
 
 
+BALANCE = {"fuselage.u": "the forward force (drag against the rotor's forward tilt)",
+           "fuselage.v": "the side force", "fuselage.w": "the vertical force (thrust against weight)",
+           "fuselage.p": "the rolling moment", "fuselage.q": "the pitching moment", "fuselage.r": "the yawing moment"}
+"""What a fuselage velocity's residual that stays large says is not balanced."""
+
+
+def _unbalanced(lay: TrimLayout, r) -> str:
+    """A note naming what the last iterate of a failed trim leaves most unbalanced (the largest
+    scaled residual of the fuselage's motion), or ""."""
+    r = np.abs(np.asarray(r, dtype=float))
+    fuselage = [k for k, n in enumerate(lay.residual_names) if n in BALANCE]
+    if not fuselage or not np.all(np.isfinite(r)):
+        return ""
+    k = max(fuselage, key=lambda i: r[i])
+    if r[k] < 0.1 * r.max():
+        return ""
+    return (f"; at the last iterate {BALANCE[lay.residual_names[k]]} stays unbalanced (scaled residual of "
+            f"{lay.residual_names[k]} {r[k]:.2g}): check what makes it (a surface at its stall or in the wake's edge, "
+            "a fuselage moment the rotor cannot hold; the warnings below are at the last iterate)")
+
+
 def _scene_speed(system, lay: TrimLayout) -> float:
     if not lay.free:
         return 0.0
@@ -358,7 +380,8 @@ def periodic_solution(sc, speed: float | None = None, climb_rate: float = 0.0, m
     if not res.converged and prob.lay.free and prob.speed > CONTINUATION_STEP:
         res = _continuation(system, stepper, sc, prob, steps_per_rev, tol, max_iterations, res)
     if not res.converged and prob.lay.free:
-        res.reason += _beyond_range(system, prob.speed, sc.aircraft) or _at_stops(system, prob.lay, res.z)
+        res.reason += (_beyond_range(system, prob.speed, sc.aircraft) or _at_stops(system, prob.lay, res.z)
+                       or _unbalanced(prob.lay, res.r))
     cone = sc.aircraft.data["main_rotor"]["precone"] if getattr(sc, "aircraft", None) is not None else 0.0
     out = _result(sc.name, prob, res, steps_per_rev, setup_s, system.nfev - nfev0, cone)
     if sc.aircraft is not None:
@@ -503,8 +526,19 @@ def _result(scene: str, prob: ShootingProblem, res, steps_per_rev, setup_s, nfev
     out.output_units = {o["name"]: o["unit"] for o in prob.system.info.outputs}
     if res.converged:
         out.output_means, out.flapping = _period_figures(prob, res.z, cone)
+    elif prob.lay.free and np.all(np.isfinite(res.z)):
+        out.last_iterate_means = _last_iterate_means(prob, res.z, cone)
     out.thrust = out.output_means.get("main_rotor.thrust")
     return out
+
+
+def _last_iterate_means(prob: ShootingProblem, z, cone: float = 0.0) -> dict[str, float]:
+    """The outputs' period means at a failed trim's last iterate ({} where they cannot be had)."""
+    try:
+        means = _period_figures(prob, z, cone)[0]
+    except (ValueError, RuntimeError, FloatingPointError):
+        return {}
+    return means if all(np.isfinite(v) for v in means.values()) else {}
 
 
 def _period_figures(prob: ShootingProblem, z, cone: float = 0.0) -> tuple[dict[str, float], dict[str, float]]:

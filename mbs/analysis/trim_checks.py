@@ -28,13 +28,25 @@ def warnings(res, d, pilot: dict | None = None, air: dict | None = None) -> list
     ``pilot`` its pilot positions in SI (an aircraft with a rigging); ``air`` its ISA ``altitude``
     (m) and ``temperature_offset`` (K) when it flew in the ISA."""
     if not res.converged:
-        return []
+        return last_iterate(res, d)
     from mbs.aircraft.checks import inertia_warnings
     from mbs.models.helicopter.airframe_warnings import trim_warnings
 
     return [*control_stops(res.controls, d), *pilot_stops(pilot or {}, d), *attitude(res, d), *flapping(res),
             *trim_warnings(res, d),
             *power(res, d, air), *inertia_warnings(d)]
+
+
+def last_iterate(res, d) -> list[str]:
+    """A failed trim's airframe warnings (a surface at its stall or at the wake's edge ...) where
+    its Newton iteration stopped: what may keep it from trimming."""
+    from mbs.models.helicopter.airframe_warnings import airframe_warnings
+
+    means = getattr(res, "last_iterate_means", {})
+    if not means:
+        return []
+    found = attitude(res, d) + airframe_warnings({**dict(res.state), **means}, d)
+    return [f"at the last iterate (no trim): {w}" for w in found]
 
 
 def power(res, d, air: dict | None = None) -> list[str]:

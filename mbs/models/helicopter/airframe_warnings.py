@@ -17,10 +17,28 @@ WAKE_MARGIN = 0.02
 """A surface's wake may exceed the fully developed 2 v0 by this share before it is reported."""
 
 
+EDGE = (0.1, 0.9)
+"""A surface whose immersion in the wake is between these is at the wake's edge."""
+
+
 def airframe_warnings(values: dict, d) -> list[str]:
     """Warnings (one line each) about the airframe at a trim: ``values`` the period means of its
     outputs and states by name (SI), ``d`` the aircraft data."""
-    return _wake(values) + _stall(values, d) + _stops(values, d) + _table_range(values, d)
+    return _wake(values) + _edge(values, d) + _stall(values, d) + _stops(values, d) + _table_range(values, d)
+
+
+def _edge(values: dict, d) -> list[str]:
+    """A tail surface at the wake's edge, where its load follows the edge's smoothing."""
+    width = d.get("wake", {}).get("width")
+    out = []
+    for key, what in (("horizontal_tail", "horizontal tail"), ("fin", "fin")):
+        share = values.get(f"{key}.wake_immersion")
+        if share is not None and width is not None and EDGE[0] < share < EDGE[1]:
+            out.append(f"{what}: at the edge of the main rotor's wake (immersion {share:.2f}; the edge is smoothed "
+                       f"over wake.width = {width:.3g} m): its load changes steeply as the wake moves, so this trim and "
+                       "the derivatives in u, w, q and the controls follow wake.width, an estimate: compare with "
+                       "another width, or give the surface's interference tables")
+    return out
 
 
 def trim_warnings(trim, d) -> list[str]:
@@ -65,8 +83,8 @@ def _stall(values: dict, d) -> list[str]:
         if alpha is not None and abs(alpha - zero) >= stall:
             line = f" from its zero-lift angle {np.degrees(zero):+.1f} deg" if zero else ""
             out.append(f"{what}: angle of attack {np.degrees(alpha):+.1f} deg at or beyond its stall angle "
-                       f"{np.degrees(stall):.1f} deg{line} ({section}.alpha_stall): its lift is only bounded there, "
-                       "not modelled")
+                       f"{np.degrees(stall):.1f} deg{line} ({section}.alpha_stall): its lift is only bounded there "
+                       "(a flat plate's from 60 deg), its stall not modelled")
     return out
 
 

@@ -53,6 +53,10 @@ def _add_airframe_outputs(m: Model, cfg) -> None:
                      "main-rotor wake velocity at the horizontal tail along body z (positive down)")
         m.add_output("fin.sidewash", lambda s: s.signals["fin.wake"][1], "m/s",
                      "main-rotor wake velocity at the fin along body y (positive to starboard)")
+        for key, name in (("horizontal_tail", "horizontal tail"), ("fin", "fin")):
+            m.add_output(f"{key}.wake_immersion", lambda s, name=name: s.signals.get(f"{name}.immersion", 0), "-",
+                         f"share of the main-rotor wake the {name} is in: 0 outside, 1 inside, between at the "
+                         "wake's edge (smoothed over wake.width); 0 where interference tables replace the wake")
     if cfg.download:
         m.add_output("fuselage.download", lambda s: s.signals["fuselage.download"], "N",
                      "vertical drag of the fuselage in the main-rotor wake (positive down)")
