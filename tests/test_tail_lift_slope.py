@@ -22,7 +22,7 @@ def test_a_section_slope_with_the_aspect_ratio_is_converted_and_listed(tmp_path)
     raw = entries("bo105")
     raw["vertical_fin"]["lift_slope"] = {"value": 6.0, "unit": "1/rad", "source": "report", "note": "section"}
     alone = aircraft.check(write(raw, tmp_path / "alone.toml"))
-    assert alone.ok and any(w.startswith("vertical_fin.lift_slope: 6 1/rad is a section's (2-D) slope")
+    assert alone.ok and any(w.startswith("vertical_fin.lift_slope: 6 1/rad reads as a section's (2-D) slope")
                             for w in alone.warnings), alone.warnings
     raw["vertical_fin"]["aspect_ratio"] = {"value": 1.8, "unit": "-", "source": "report"}
     path = write(raw, tmp_path / "converted.toml")

@@ -13,7 +13,7 @@ import casadi as ca
 import numpy as np
 
 from mbs.aero.airframe_tables import flow_angles
-from mbs.aero.sections import EPS, Airfoil, section_force, soft_clip, turn
+from mbs.aero.sections import EPS, Airfoil, section_angle, section_force, soft_clip, turn
 from mbs.environment.air import through_air
 from mbs.forces import ForceElement
 
@@ -115,6 +115,7 @@ class LiftingSurface(ForceElement):
             state.signals[f"{self.name}.wake"], state.signals[f"{self.name}.immersion"] = ca.mtimes(rot.T, wake), immersion
         w = air_velocity(state, self.body, self.point, rot, wake)
         w_c, w_n = ca.dot(w, ca.DM(self.c)), ca.dot(w, ca.DM(self.n))
+        state.signals[f"{self.name}.alpha"] = section_angle(self.airfoil, *turn(w_c, w_n, self.incidence))[0]
         f_c, f_n = turn(*section_force(*turn(w_c, w_n, self.incidence), self.airfoil, state.density(self.rho),
                                        self.area, flat_plate=True),
                            -self.incidence)

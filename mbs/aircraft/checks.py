@@ -12,6 +12,7 @@ import numpy as np
 
 from mbs.aircraft.mass import rotor_masses
 from mbs.aircraft.performance import profile_drag
+from mbs.aircraft.schema import SURFACES
 
 MAX_PERIOD_REVS = 16
 """Longest common period of the rotors (main-rotor revolutions) a periodic analysis shoots over;
@@ -235,16 +236,17 @@ of aspect ratio 6 has 4.5 by Helmbold's formula with a section's 2 pi."""
 
 
 def surface_slope_notes(v: dict) -> list[str]:
-    """Tail surfaces whose ``lift_slope`` (the whole surface's) reads as a section's."""
+    """Surfaces whose ``lift_slope`` (the whole surface's) reads as a section's."""
     out = []
-    for section in ("horizontal_tail", "vertical_fin"):
+    for section in SURFACES:
         sec = v.get(section, {})
         slope = sec.get("lift_slope")
         if slope is None or sec.get("aspect_ratio") or sec.get("coefficient_table") or slope < SECTION_SLOPE:
             continue
-        out.append(f"{section}.lift_slope: {slope:.4g} 1/rad is a section's (2-D) slope; the surface's is less by its "
-                   "aspect ratio (2 pi becomes 4.5 at aspect ratio 6, 2.4 at 1.8): give the surface's, or give "
-                   "aspect_ratio to have this one converted")
+        out.append(f"{section}.lift_slope: {slope:.4g} 1/rad reads as a section's (2-D) slope, and the model takes it "
+                   "as the whole surface's, which is less by its aspect ratio (2 pi becomes 4.5 at aspect ratio 6, "
+                   "2.4 at 1.8): give aspect_ratio to have a section's converted; a surface's as measured stays as "
+                   "it is")
     return out
 
 
@@ -335,7 +337,7 @@ def tail_clearance_note(v: dict) -> list[str]:
 def _polars(v: dict) -> list[str]:
     """An analytic section's drag polar ``cd0 + cd1 α + cd2 α²`` positive over ±alpha_stall."""
     out = []
-    for name in ("main_rotor", "tail_rotor", "horizontal_tail", "vertical_fin"):
+    for name in ("main_rotor", "tail_rotor", *SURFACES):
         sec = v.get(name, {})
         if "cd0" not in sec or sec.get("coefficient_table") or sec.get("airfoils"):
             continue
@@ -365,10 +367,10 @@ POSITIVE_COLUMNS = {"chord_table": "the chord", "mass_table": "the mass per leng
 
 
 def _surface_tables(v: dict) -> list[str]:
-    """A tail surface's coefficient table: two rows or more, the angles increasing within ±90 deg."""
+    """A surface's coefficient table: two rows or more, the angles increasing within ±90 deg."""
     out = []
-    for section in ("horizontal_tail", "vertical_fin"):
-        rows = np.asarray(v[section].get("coefficient_table") or np.zeros((0, 3)), float)
+    for section in SURFACES:
+        rows = np.asarray(v.get(section, {}).get("coefficient_table") or np.zeros((0, 3)), float)
         if not len(rows):
             continue
         alpha, where = rows[:, 0], f"{section}.coefficient_table"

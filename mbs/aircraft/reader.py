@@ -31,7 +31,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from mbs.aircraft import stations, units
-from mbs.aircraft.schema import DERIVED, ENTRIES, FROM_TABLES, OPTIONAL_SECTIONS, Entry
+from mbs.aircraft.schema import DERIVED, ENTRIES, FROM_TABLES, OPTIONAL_SECTIONS, SURFACES, Entry
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -346,8 +346,8 @@ def surface_slope(section_slope: float, aspect_ratio: float) -> float:
 
 
 def _surface_slopes(out: Reading) -> None:
-    """A tail surface's ``lift_slope`` given as its section's with ``aspect_ratio``: the surface's."""
-    for section in ("horizontal_tail", "vertical_fin"):
+    """A surface's ``lift_slope`` given as its section's with ``aspect_ratio``: the surface's."""
+    for section in SURFACES:
         v = out.values.get(section, {})
         if not v.get("aspect_ratio"):
             continue

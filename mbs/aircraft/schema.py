@@ -159,6 +159,16 @@ def _surface(what: str, arg: str = "alpha", flow: str = "downwash") -> dict[str,
             **_interference(what, arg, flow)}
 
 
+def _wing() -> dict[str, Entry]:
+    """A wing (an attack helicopter's stub wing, a compound's): a tail surface's entries without
+    interference tables, in one panel on the centre line or two at a quarter of its span out."""
+    keep = {k: e for k, e in _surface("wing").items() if not k.startswith("interference") and k not in (
+        "q_ratio", "downwash", "chord")}
+    return {**keep, "span": num("m", "wing span tip to tip: two panels of half the area each, a quarter of the span "
+                                "to port and to starboard of the centre line (their lift rolls the aircraft); 0: one "
+                                "panel on the centre line", 0.0, default=0.0)}
+
+
 def _interference(what: str, arg: str, flow: str) -> dict[str, Entry]:
     """Published interference at a tail surface: it replaces the main rotor's wake model there."""
     side = "to starboard" if flow == "sidewash" else "down"
@@ -435,6 +445,7 @@ ENTRIES: dict[str, dict[str, Entry]] = {
     },
     "horizontal_tail": _surface("horizontal tail"),
     "vertical_fin": _surface("fin", "beta", "sidewash"),
+    "wing": _wing(),
     "stabilator": _stabilator(),
     "wake": {"width": positive("m", "edge smoothing of the main rotor's wake tube (tail wake, download), an "
                                "estimate that scales with the rotor (the Bo105's 0.25 m is 0.05 R): a tail at the "
@@ -499,11 +510,14 @@ ENTRIES: dict[str, dict[str, Entry]] = {
 }
 
 OPTIONAL_SECTIONS = ("environment", "geometry", "elastic_blade", "swashplate", "stabilator", "controls",
-                     "conventions", "envelope", "lag_damper", "drive_train")
+                     "conventions", "envelope", "lag_damper", "drive_train", "wing")
 """Sections a file may leave out: ISA, display sizes scaled from the rotor, no elastic blades, no
 swashplate mechanism (the blade pitch then only driven), no pilot-control rigging (the controls are
 the blade angles), the model's own conventions, no drive-train data (the rotors then only at
-constant speed)."""
+constant speed), no wing."""
+
+SURFACES = ("horizontal_tail", "vertical_fin", "wing")
+"""The fixed lifting surfaces an aircraft file may give (the wing optional)."""
 
 
 @dataclass(frozen=True)

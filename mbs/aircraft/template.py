@@ -29,7 +29,8 @@ HEADER = """\
 # {{ station = ..., unit = "in", source = "..." }}, with aircraft.cg_station. Check the file with:  heli aircraft check FILE
 """
 
-COMMENTED = ("elastic_blade", "swashplate", "stabilator", "controls", "conventions", "envelope", "lag_damper")
+COMMENTED = ("elastic_blade", "swashplate", "stabilator", "controls", "conventions", "envelope", "lag_damper",
+             "wing")
 """Optional sections written commented out (their entries are required once the section is there)."""
 EXAMPLES = {"airfoils": [[0.0, "root_airfoil.c81"], [0.85, "tip_airfoil.c81"]],
             "chord_table": [[0.2, 0.27], [0.9, 0.27], [1.0, 0.2]],

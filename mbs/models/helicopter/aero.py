@@ -129,6 +129,16 @@ def tail_surface(d, cfg, section: str, name: str, normal, wake: str | None) -> L
     return TailSurface(*args, schedule=schedule, interference=interference)
 
 
+def wing_panels(d) -> list[tuple[float, float, float]]:
+    """The points (m, body axes from the CG) of the wing's panels: one on the centre line, or two
+    a quarter of its span to either side; none without a wing."""
+    wing = d.get("wing") or {}
+    if "area" not in wing:
+        return []
+    half = wing.get("span", 0.0) / 4
+    return [(wing["x"], 0.0, wing["z"])] if not half else [(wing["x"], -half, wing["z"]), (wing["x"], half, wing["z"])]
+
+
 def add_airframe_aero(m: Model, d, cfg) -> None:
     fa, ht, fin, rho = d["fuselage_aero"], d["horizontal_tail"], d["vertical_fin"], d["environment"]["rho"]
     wake = "main_rotor" if cfg.tail_wake else None
@@ -138,6 +148,10 @@ def add_airframe_aero(m: Model, d, cfg) -> None:
         m.add_force(FuselageAero("fuselage", {k: fa[k] for k in "XYZMN"}, fa["v_ref"], fa["angle_limit"], rho))
     m.add_force(tail_surface(d, cfg, "horizontal_tail", "horizontal tail", (0, 0, -1), wake))
     m.add_force(tail_surface(d, cfg, "vertical_fin", "fin", (0, 1, 0), wake))
+    for k, panel in enumerate(wing_panels(d)):
+        m.add_force(LiftingSurface(f"wing{k + 1}" if len(wing_panels(d)) > 1 else "wing", "fuselage", panel,
+                                   (1, 0, 0), (0, 0, -1), d["wing"]["incidence"], d["wing"]["area"] / len(wing_panels(d)),
+                                   airfoil(d["wing"]), rho, wake))
     if cfg.download:
         m.add_force(Download("fuselage", "main_rotor", d["download"]["panels"], rho))
     if cfg.hub_drag:

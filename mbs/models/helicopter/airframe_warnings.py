@@ -17,6 +17,9 @@ WAKE_MARGIN = 0.02
 """A surface's wake may exceed the fully developed 2 v0 by this share before it is reported."""
 
 
+WINGS = (("wing", "wing"), ("wing1", "wing (port panel)"), ("wing2", "wing (starboard panel)"))
+"""A wing's outputs' names and what a warning calls them."""
+
 EDGE = (0.1, 0.9)
 """A surface whose immersion in the wake is between these is at the wake's edge."""
 
@@ -31,7 +34,7 @@ def _edge(values: dict, d) -> list[str]:
     """A tail surface at the wake's edge, where its load follows the edge's smoothing."""
     width = d.get("wake", {}).get("width")
     out = []
-    for key, what in (("horizontal_tail", "horizontal tail"), ("fin", "fin")):
+    for key, what in (("horizontal_tail", "horizontal tail"), ("fin", "fin"), *WINGS):
         share = values.get(f"{key}.wake_immersion")
         if share is not None and width is not None and EDGE[0] < share < EDGE[1]:
             out.append(f"{what}: at the edge of the main rotor's wake (immersion {share:.2f}; the edge is smoothed "
@@ -65,8 +68,10 @@ fuselage: -179 deg of round-off at 1e-7 m/s)."""
 
 def _stall(values: dict, d) -> list[str]:
     out = []
-    for section, key, what in (("horizontal_tail", "horizontal_tail", "horizontal tail"), ("vertical_fin", "fin", "fin")):
-        alpha, speed = _estimated_flow(values, d, section)
+    surfaces = (("horizontal_tail", "horizontal_tail", "horizontal tail"), ("vertical_fin", "fin", "fin"),
+                *(("wing", key, what) for key, what in WINGS if f"{key}.alpha" in values))
+    for section, key, what in surfaces:
+        alpha, speed = _estimated_flow(values, d, section) if section != "wing" else (None, _speed(values))
         alpha = values.get(f"{key}.alpha", alpha)
         if speed is not None and speed < STILL_AIR:
             continue
@@ -140,6 +145,13 @@ def _own_range(fa: dict, angles: dict) -> list[str]:
                            f"own angles [{np.degrees(grid[0]):.4g}, {np.degrees(grid[-1]):.4g}] deg; the table is "
                            "continued linearly there: give it over the range flown")
     return out
+
+
+def _speed(values: dict) -> float | None:
+    """The trim's air speed (m/s) at the CG, None without the fuselage's velocity."""
+    if "fuselage.u" not in values:
+        return None
+    return float(np.hypot(np.hypot(values["fuselage.u"], values.get("fuselage.v", 0.0)), values.get("fuselage.w", 0.0)))
 
 
 def _estimated_flow(values: dict, d, section: str) -> tuple:

@@ -77,6 +77,22 @@ def _add_tail_outputs(m: Model, d, cfg) -> None:
         if special:
             m.add_output(f"{key}.alpha", lambda s, n=name: s.signals[f"{n}.alpha"], "rad",
                          f"angle of attack of the {name} section")
+    _add_wing_outputs(m, d, cfg)
+
+
+def _add_wing_outputs(m: Model, d, cfg) -> None:
+    """Each wing panel's angle of attack and, in the wake, its immersion in it."""
+    from mbs.models.helicopter.aero import wing_panels
+
+    panels = wing_panels(d)
+    for k in range(len(panels)):
+        name = f"wing{k + 1}" if len(panels) > 1 else "wing"
+        side = ("" if len(panels) == 1 else (" (port panel)" if k == 0 else " (starboard panel)"))
+        m.add_output(f"{name}.alpha", lambda s, n=name: s.signals[f"{n}.alpha"], "rad",
+                     f"angle of attack of the wing{side}")
+        if cfg.tail_wake:
+            m.add_output(f"{name}.wake_immersion", lambda s, n=name: s.signals.get(f"{n}.immersion", 0), "-",
+                         f"share of the main-rotor wake the wing{side} is in: 0 outside, 1 inside")
 
 
 def _add_rotor_outputs(m: Model, d, cfg, name: str, speed_ratio: float) -> None:
