@@ -550,3 +550,37 @@ def test_loads_and_a_mass_in_pounds_as_printed_load_as_in_si_and_the_check_says_
     assert listed["fuselage_aero.X"].endswith("lb (lb as pound-force)")
     assert listed["fuselage_aero.M"].endswith("ft-lb (lb as pound-force)")
     assert "pound-force" not in listed["aircraft.mass"]
+
+
+def test_a_diameter_tip_speeds_and_minutes_of_arc_as_a_flight_manual_prints_them(tmp_path):
+    """A new user's R22 and AH-1: '25 ft 2 in' diameters, tail-rotor speeds printed as tip speeds
+    and a precone of 1 deg 11 min had to be converted by hand. A diameter gives the radius, a main
+    rotor's tip speed its speed, a tail rotor's its gear ratio, each listed as converted with its
+    source; arcmin is an angle (and 'min' for one says so); a diameter with a radius is refused."""
+    from mbs.aircraft import units
+
+    d = aircraft.load("bo105").data
+    mr, tr = d["main_rotor"], d["tail_rotor"]
+    raw = entries("bo105")
+    del raw["main_rotor"]["radius"], raw["main_rotor"]["omega"], raw["tail_rotor"]["gear_ratio"]
+    raw["main_rotor"]["diameter"] = {"value": 2 * mr["radius"] / 0.3048, "unit": "ft", "source": "POH"}
+    raw["main_rotor"]["tip_speed"] = {"value": mr["omega"] * mr["radius"] / 0.3048, "unit": "ft/s", "source": "POH"}
+    raw["tail_rotor"]["tip_speed"] = {"value": tr["gear_ratio"] * mr["omega"] * tr["radius"], "unit": "m/s",
+                                      "source": "POH"}
+    report = aircraft.check(write(raw, tmp_path / "printed.toml"))
+    assert report.ok, report.problems
+    got = aircraft.load(tmp_path / "printed.toml").data
+    for section, key in (("main_rotor", "radius"), ("main_rotor", "omega"), ("tail_rotor", "gear_ratio")):
+        assert got[section][key] == pytest.approx(d[section][key], rel=1e-12), key
+    listed = {e: (how, source) for e, _, _, how, source in report.converted}
+    assert listed["main_rotor.radius"] == ("half the diameter " + f"{2 * mr['radius'] / 0.3048!r} ft "
+                                           "(main_rotor.diameter)", "POH")
+    assert listed["main_rotor.omega"][0].startswith("main_rotor.tip_speed") and "main_rotor.radius 4.91 m" in \
+        listed["main_rotor.omega"][0]
+    assert listed["tail_rotor.gear_ratio"][0].startswith("tail_rotor.tip_speed")
+    raw["main_rotor"]["radius"] = {"value": 4.91, "unit": "m", "source": "S1"}
+    both = aircraft.check(write(raw, tmp_path / "both.toml"))
+    assert both.problems == ["main_rotor.diameter: replaces main_rotor.radius; leave radius out"]
+    assert units.convert(71.0, "arcmin", "rad") == pytest.approx(math.radians(1 + 11 / 60), rel=1e-15)
+    with pytest.raises(units.UnitError, match="minutes of arc are arcmin"):
+        units.convert(71.0, "min", "rad")

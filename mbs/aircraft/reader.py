@@ -76,6 +76,8 @@ def read(text: str, base: Path | None = None) -> Reading:
         else:
             for key, entry in entries.items():
                 _entry(out, section, key, entry, base)
+    _diameters(out)
+    _tip_speeds(out)
     _place_stations(out)
     _radial_stations(out)
     _radius_columns(out)
@@ -85,6 +87,32 @@ def read(text: str, base: Path | None = None) -> Reading:
     _missing(out, raw)
     _teetering_blades(out)
     return out
+
+
+def _diameters(out: Reading) -> None:
+    """A rotor's diameter as published: its radius is half of it (listed as converted)."""
+    for section in ROTORS:
+        v = out.values.get(section, {})
+        if v.get("diameter") and "radius" not in v:
+            meta = out.meta[section]["diameter"]
+            out.put(section, "radius", v["diameter"] / 2, {**meta, "how": f"half the diameter {meta['value']} "
+                                                                          f"{meta['unit']} ({section}.diameter)"})
+
+
+def _tip_speeds(out: Reading) -> None:
+    """A rotor's tip speed as published: the main rotor's speed, or the tail rotor's gear ratio
+    (listed as converted)."""
+    mr, tr = out.values.get("main_rotor", {}), out.values.get("tail_rotor", {})
+    if mr.get("tip_speed") and mr.get("radius") and "omega" not in mr:
+        meta = out.meta["main_rotor"]["tip_speed"]
+        out.put("main_rotor", "omega", mr["tip_speed"] / mr["radius"],
+                {**meta, "how": f"main_rotor.tip_speed {meta['value']} {meta['unit']} over main_rotor.radius "
+                                f"{mr['radius']:.6g} m"})
+    if tr.get("tip_speed") and tr.get("radius") and mr.get("omega") and "gear_ratio" not in tr:
+        meta = out.meta["tail_rotor"]["tip_speed"]
+        out.put("tail_rotor", "gear_ratio", tr["tip_speed"] / tr["radius"] / mr["omega"],
+                {**meta, "how": f"tail_rotor.tip_speed {meta['value']} {meta['unit']} over tail_rotor.radius "
+                                f"{tr['radius']:.6g} m and main_rotor.omega {mr['omega']:.6g} rad/s"})
 
 
 def _teetering_blades(out: Reading) -> None:

@@ -57,6 +57,8 @@ SYMBOLS["psi"] = (_LB * _G0 / 0.0254**2, (-1, 1, -2, 0))  # pounds-force per squ
 SYMBOLS["fpm"] = (_FT / 60, (1, 0, -1, 0))  # feet per minute (rate of climb)
 ALIASES["KTAS"] = "kt"  # knots true airspeed
 SYMBOLS["mph"] = (1609.344 / 3600, (1, 0, -1, 0))  # statute miles per hour
+SYMBOLS["arcmin"] = (math.pi / 180 / 60, (0, 0, 0, 1))  # minutes of arc (1 deg 11' = 71 arcmin)
+SYMBOLS["arcsec"] = (math.pi / 180 / 3600, (0, 0, 0, 1))  # seconds of arc
 NOT_TRUE_AIRSPEED = {"KIAS": "indicated", "KCAS": "calibrated", "KEAS": "equivalent"}
 """Airspeeds a unit cannot convert: they need the air's density (and the pitot's errors)."""
 DIMENSIONLESS = ("-", "1", "")
@@ -264,7 +266,9 @@ def factor_to(text: str, target: str) -> float:
     want = parse(target)
     have = reading(text, [want.dims])
     if not _matches(have, want):
-        raise UnitError(f"unit {text!r} is {have.describe()}, not {want.describe()} like {target!r}")
+        hint = " (minutes of arc are arcmin: 1 deg 11' is 71 arcmin)" if "min" in text.split() and \
+            want.dims == SYMBOLS["rad"][1] else ""
+        raise UnitError(f"unit {text!r} is {have.describe()}, not {want.describe()} like {target!r}{hint}")
     return have.factor / want.factor
 
 
