@@ -91,6 +91,24 @@ def test_engine_failure_in_hover_with_the_collective_lowered_the_rotor_recovers(
     assert 0.6 * 44.4 < figures["rotor_speed_min"] < 0.95 * 44.4
     assert sim.columns()["main_rotor.speed"][-1] > figures["rotor_speed_min"] + 1.0  # recovering
     assert figures["sink_rate_end"] > 3.0 and figures["height_lost"] > 5.0
+    columns = sim.columns()
+    after = np.asarray(columns["time"]) >= 3.0  # both engines spooled down: no power, and no margin either
+    for k in (1, 2):
+        margin, power = (np.asarray(columns[f"engine{k}.{n}"])[after] for n in ("takeoff_margin", "power"))
+        assert np.allclose(margin, -power, atol=1e-9) and np.abs(margin).max() < 0.05 * 313e3
+
+
+def test_the_pilot_line_says_when_the_rotor_speed_is_still_falling_at_the_end():
+    """A new user's R22 run ended 2 s after the failure with the rotor still slowing, and the
+    summary called its last value the lowest."""
+    from mbs.drivetrain.report import pilot_figures, pilot_line
+
+    t = np.linspace(0.0, 3.0, 31)
+    falling = pilot_figures({"time": t, "main_rotor.speed": 44.4 - 2.0 * np.maximum(t - 1.0, 0.0)}, 1.0)
+    assert pilot_line(falling).startswith("rotor speed: still falling at the end of the run, 91.0 % of 44.4 rad/s "
+                                          "2.00 s after the failure and falling at 2 rad/s^2")
+    turned = pilot_figures({"time": t, "main_rotor.speed": 40.0 + (t - 2.0) ** 2}, None)
+    assert pilot_line(turned) == "rotor speed: lowest 90.9 % of 44.0 rad/s, 2.00 s after the start"
 
 
 def test_autorotation_takes_a_gear_ratio_that_does_not_repeat_as_trim_does(tmp_path, capsys):

@@ -32,6 +32,40 @@ def test_power_available_is_the_ratings_lapse_and_the_gearbox_limit():
     assert power_available(BO105, 0.0, 0.0, engines_out=2) == 0.0
 
 
+def test_a_piston_engine_holds_its_derated_rating_to_its_critical_altitude(tmp_path):
+    """A new user's R22 (a 180 hp O-360 derated to 131 hp take-off) could only be given a
+    turboshaft's lapse. A piston engine's rating holds until its full-throttle power, lapsing as
+    1.132 sigma - 0.132 (Gagg and Ferrar), falls to it: for 131 of 180 hp at sigma 0.7596, about
+    2800 m in the ISA; a turboshaft's entries with it are refused."""
+    from aircraft_files import entries, write
+
+    hp = 745.69987158227022
+    raw = entries("bo105")
+    engine = raw["engine"]
+    for key in ("lapse_temperature",):
+        del engine[key]
+    engine.update(model={"value": "piston", "unit": "-", "source": "POH"},
+                  count={"value": 1, "unit": "-", "source": "POH"},
+                  takeoff_power={"value": 131, "unit": "hp", "source": "POH"},
+                  max_continuous_power={"value": 124, "unit": "hp", "source": "POH"},
+                  oei_power={"value": 131, "unit": "hp", "source": "EST"},
+                  transmission_power={"value": 131, "unit": "hp", "source": "POH"},
+                  full_throttle_power={"value": 180, "unit": "hp", "source": "engine data"})
+    path = write(raw, tmp_path / "piston.toml")
+    report = aircraft.check(path)
+    assert report.ok, report.problems
+    d = aircraft.load(path).data
+    sigma = lambda h: isa.pressure(h) / isa.P0 / (isa.temperature(h) / isa.T0)  # noqa: E731
+    assert sigma(2700.0) > (131 / 180 + 0.132) / 1.132 > sigma(2900.0)
+    for h in (0.0, 1000.0, 2700.0):
+        assert power_available(d, h) == pytest.approx(131 * hp, rel=1e-12), h
+    for h in (2900.0, 4000.0):
+        assert power_available(d, h) == pytest.approx(180 * hp * (1.132 * sigma(h) - 0.132), rel=1e-12), h
+    engine["lapse_temperature"] = {"value": 1.0, "unit": "-", "source": "x"}
+    bad = aircraft.check(write(raw, tmp_path / "both.toml"))
+    assert "engine.lapse_temperature: applies only when engine.model = 'turboshaft'; leave it out" in bad.problems
+
+
 def test_the_ceiling_is_the_margins_last_zero():
     assert zero_crossing(np.array([0.0, 1000.0, 2000.0]), np.array([10.0, 5.0, -5.0])) == pytest.approx(1500.0)
     assert zero_crossing(np.array([0.0, 1000.0]), np.array([10.0, 5.0])) is None

@@ -692,9 +692,10 @@ def _missing(out: Reading, raw: dict) -> None:
 
 def _idle(section: str, other: str, wanted, keys: list[str]) -> str:
     """The problem of entries given where ``section.other`` is not ``wanted``: one line for them all."""
+    wanted = " or ".join(map(repr, wanted)) if isinstance(wanted, tuple) else repr(wanted)
     if len(keys) == 1:
-        return f"{section}.{keys[0]}: applies only when {section}.{other} = {wanted!r}; leave it out"
-    return (f"{section}.{', '.join(keys)}: apply only when {section}.{other} = {wanted!r} "
+        return f"{section}.{keys[0]}: applies only when {section}.{other} = {wanted}; leave it out"
+    return (f"{section}.{', '.join(keys)}: apply only when {section}.{other} = {wanted} "
             f"({len(keys)} entries); leave them out")
 
 
@@ -704,5 +705,6 @@ def _applies(spec: Entry, values: dict, entries: dict | None = None) -> bool:
         return True
     other, wanted = spec.only_if
     default = (entries or {}).get(other)
-    fallback = default.default if default is not None and default.default is not None else wanted
-    return values.get(other, fallback) == wanted
+    wanted = wanted if isinstance(wanted, tuple) else (wanted,)
+    fallback = default.default if default is not None and default.default is not None else wanted[0]
+    return values.get(other, fallback) in wanted

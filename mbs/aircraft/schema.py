@@ -235,8 +235,8 @@ def _fuselage_tables() -> dict[str, Entry]:
 
 
 def _turboshaft() -> dict[str, Entry]:
-    """The turboshaft engines' entries (only with ``model = "turboshaft"``)."""
-    ts = ("model", "turboshaft")
+    """The engines' entries (only with ``model = "turboshaft"`` or ``"piston"``)."""
+    ts = ("model", ("turboshaft", "piston"))
     return {
         "count": count("number of engines", 1, 4, only_if=ts),
         "takeoff_power": positive("W", "each engine's take-off power rating at sea level, ISA", only_if=ts),
@@ -246,7 +246,11 @@ def _turboshaft() -> dict[str, Entry]:
         "transmission_power": positive("W", "main gearbox limit on the engines' power together", only_if=ts),
         "lapse_temperature": num("-", "power available at altitude: rating times delta / theta^lapse_temperature "
                                  "(delta, theta: ambient pressure and temperature over sea level ISA)", 0.0, 4.0,
-                                 only_if=ts),
+                                 only_if=("model", "turboshaft")),
+        "full_throttle_power": positive("W", "a piston engine's full-throttle power at sea level, ISA (its rated "
+                                        "power, before the helicopter's derating): each rating is available up to "
+                                        "the altitude where this, lapsing as 1.132 sigma - 0.132 (Gagg and Ferrar), "
+                                        "falls to it, and this lapsed above", only_if=("model", "piston")),
         "gas_generator_time_constant": positive("s", "lag of the gas generator's power behind the fuel flow",
                                                 only_if=ts),
         "fuel_time_constant": positive("s", "lag of the metered fuel flow behind the governor's demand", only_if=ts),
@@ -474,9 +478,11 @@ ENTRIES: dict[str, dict[str, Entry]] = {
         "transmission_efficiency": num("-", "main gearbox and tail-rotor drive together: engine power = rotors' "
                                        "shaft power / efficiency + accessory power", 0.5, 1.0, open_low=True),
         "accessory_power": num("W", "hydraulic pumps, generators, cooling fans driven by the gearbox", 0.0),
-        "model": choice("the engines' dynamics: none (the power the rotors need, as it comes) or turboshaft (gas "
+        "model": choice("the engines' dynamics: none (the power the rotors need, as it comes), turboshaft (gas "
                         "generator, fuel-flow lag, power limits and a rotor-speed governor, for scenes whose rotor "
-                        "speed is a state)", "none", "turboshaft", default="none"),
+                        "speed is a state) or piston (the same dynamics, the power lag the engine's own, with a "
+                        "normally aspirated engine's lapse and derated ratings)", "none", "turboshaft", "piston",
+                        default="none"),
         **{k: e for k, e in _turboshaft().items()},
     },
     "drive_train": {

@@ -56,7 +56,7 @@ def power(res, d, air: dict | None = None) -> list[str]:
     from mbs.performance.available import power_available
 
     needed = res.output_means.get("engine.power")
-    if needed is None or d["engine"].get("model") != "turboshaft":
+    if needed is None or d["engine"].get("model") not in ("turboshaft", "piston"):
         return []
     altitude, offset = (air or {}).get("altitude"), (air or {}).get("temperature_offset", 0.0)
     if altitude is None:

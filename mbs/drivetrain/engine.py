@@ -10,7 +10,10 @@ the take-off rating ``P_TO``, speeds of the transmission referred to the main ro
 * limits: ``d_k`` held within ``[0, throttle_k · L_k]``, ``L_k`` the
   rating in force over ``P_TO``: take-off power, its share of the gearbox limit while every
   engine runs, the one-engine-inoperative rating once another has failed; every rating lapses
-  with the air as ``δ / θ^n`` (``n`` the file's ``lapse_temperature``);
+  with the air as ``δ / θ^n`` (``n`` the file's ``lapse_temperature``); a piston engine's
+  ratings, derated below its full-throttle power ``P_FT``, hold to the altitude where ``P_FT``
+  lapsing as ``1.132 σ − 0.132`` (Gagg and Ferrar's law of a normally aspirated engine, ``σ =
+  δ/θ``) falls to them, then follow it;
 * fuel flow ``τ_f ẇ_k = d_k − w_k`` (zero demand after the engine's failure time: a flame-out);
 * gas generator ``τ_g ε̇_k = w_k − ε_k``; shaft power ``P_k = ε_k P_TO``.
 
@@ -51,22 +54,35 @@ class Turboshaft:
     governor_lag: float
     efficiency: float
     accessory_power: float
+    kind: str = "turboshaft"  # or "piston"
+    full_throttle_power: float = 0.0  # W: a piston engine's at sea level, ISA
 
     @classmethod
     def of(cls, d) -> "Turboshaft":
         """From the aircraft data ``d``; ValueError when it has no turboshaft engines."""
         e = d["engine"]
-        if e.get("model") != "turboshaft":
-            raise ValueError("the aircraft file's [engine] has no turboshaft model (model = \"turboshaft\" with "
-                             "its ratings, time constants and governor): a scene with engines needs it")
-        keys = [k for k in cls.__dataclass_fields__ if k not in ("efficiency", "accessory_power")]
-        return cls(**{k: e[k] for k in keys}, efficiency=e["transmission_efficiency"],
-                   accessory_power=e["accessory_power"])
+        if e.get("model") not in ("turboshaft", "piston"):
+            raise ValueError("the aircraft file's [engine] has no engine model (model = \"turboshaft\" or "
+                             "\"piston\" with its ratings, time constants and governor): a scene with engines needs it")
+        keys = [k for k in cls.__dataclass_fields__ if k not in ("efficiency", "accessory_power", "kind",
+                                                                  "lapse_temperature", "full_throttle_power")]
+        return cls(**{k: e[k] for k in keys}, lapse_temperature=e.get("lapse_temperature", 0.0),
+                   efficiency=e["transmission_efficiency"], accessory_power=e["accessory_power"], kind=e["model"],
+                   full_throttle_power=e.get("full_throttle_power", 0.0))
 
     def lapse(self, delta, theta):
-        """Power available at the air's pressure ratio ``delta`` and temperature ratio ``theta``
-        over the sea-level rating."""
+        """A turboshaft's power available at the air's pressure ratio ``delta`` and temperature
+        ratio ``theta`` over the sea-level rating."""
         return delta / theta**self.lapse_temperature
+
+    def available(self, rating, delta, theta):
+        """The power (W) a ``rating`` (W, sea level ISA) gives in the air of ``delta`` and ``theta``:
+        a turboshaft's lapsed, a piston engine's held to its full-throttle power's lapse."""
+        if self.kind != "piston":
+            return rating * self.lapse(delta, theta)
+        full = self.full_throttle_power * (1.132 * delta / theta - 0.132)
+        return 0.5 * (rating + full - ca.fabs(rating - full)) if isinstance(full, (ca.SX, ca.MX)) \
+            else min(rating, full)
 
 
 def names(k: int) -> tuple[str, str]:
@@ -114,13 +130,12 @@ class Engines(ForceElement):
         """Each engine's power limit (fraction of take-off power) with its throttle."""
         eng, p, t = self.eng, state.p, state.t
         delta, theta = self.air_ratios(state)
-        lapse = eng.lapse(delta, theta)
         failed = [t >= p[f"engine{k}_failure_time"] for k in range(1, eng.count + 1)]
         running = sum(1 - f for f in failed)
-        all_run = eng.takeoff_power * lapse
+        all_run = eng.available(eng.takeoff_power, delta, theta)
         shared = eng.transmission_power / eng.count
         normal = ca.fmin(all_run, shared) / eng.takeoff_power
-        oei = eng.oei_power * lapse / eng.takeoff_power
+        oei = eng.available(eng.oei_power, delta, theta) / eng.takeoff_power
         rating = ca.if_else(running < eng.count, oei, normal)
         return [p[f"engine{k}_throttle"] * rating * (1 - failed[k - 1]) for k in range(1, eng.count + 1)]
 
@@ -158,8 +173,10 @@ def add_outputs(m, element: Engines) -> None:
         for what, rating in (("takeoff", eng.takeoff_power), ("max_continuous", eng.max_continuous_power),
                              ("oei", eng.oei_power)):
             m.add_output(f"engine{k}.{what}_margin",
-                         lambda s, z=power, r=rating: r * eng.lapse(*element.air_ratios(s)) - eng.takeoff_power * s.z(z),
-                         "W", f"engine {k}'s {what.replace('_', ' ')} rating at the air's conditions minus its power")
+                         lambda s, z=power, r=rating, k=k: eng.available(r, *element.air_ratios(s))
+                         * (1 - (s.t >= s.p[f"engine{k}_failure_time"])) - eng.takeoff_power * s.z(z),
+                         "W", f"engine {k}'s {what.replace('_', ' ')} rating at the air's conditions minus its power "
+                         "(a failed engine has none: its margin is minus the power it still gives as it spools down)")
     m.add_output("engines.torque", lambda s: s.signals["engines.torque"], "N m",
                  "the engines' torque on the transmission (after the accessories and transmission losses)")
     m.add_output("governor.demand", lambda s: element.demand(s)[0], "1",

@@ -1,6 +1,7 @@
 """The power the engines make available (W), as the engine model limits it
 (:class:`mbs.drivetrain.engine.Turboshaft`): every engine at its take-off rating lapsing with the
-air (``δ / θ^n``), all together within the gearbox limit; one engine inoperative, the other at its
+air (a turboshaft's ``δ / θ^n``, a piston engine's derated rating held to its critical altitude),
+all together within the gearbox limit; one engine inoperative, the other at its
 one-engine-inoperative rating."""
 from __future__ import annotations
 
@@ -13,9 +14,9 @@ def power_available(d, altitude: float, offset: float = 0.0, engines_out: int = 
     ``engines_out`` engines failed."""
     eng = Turboshaft.of(d)
     isa.check(altitude, offset)
-    lapse = eng.lapse(isa.pressure(altitude) / isa.P0, isa.temperature(altitude, offset) / isa.T0)
+    air = (isa.pressure(altitude) / isa.P0, isa.temperature(altitude, offset) / isa.T0)
     if engines_out >= eng.count:
         return 0.0
     if engines_out:
-        return (eng.count - engines_out) * eng.oei_power * lapse
-    return min(eng.count * eng.takeoff_power * lapse, eng.transmission_power)
+        return (eng.count - engines_out) * eng.available(eng.oei_power, *air)
+    return min(eng.count * eng.available(eng.takeoff_power, *air), eng.transmission_power)
