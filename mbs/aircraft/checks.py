@@ -164,6 +164,10 @@ def _main_hub_type(v: dict) -> list[str]:
     if mr["flap_hinge_offset"] != 0.0:
         out.append(f"main_rotor.flap_hinge_offset: {mr['flap_hinge_offset']:g} m on a teetering hub, whose blades "
                    "start at the teeter hinge on the axis: give 0 (their height below it is undersling)")
+    if 0.0 < mr.get("coning_hinge_offset", 0.0) < 0.01 * mr["radius"]:
+        out.append(f"main_rotor.coning_hinge_offset: {mr['coning_hinge_offset']:g} m is within 1 % of the radius "
+                   "of the teeter hinge, which then moves the blades as the coning hinges do: give the hinges' "
+                   "offset, or 0 for none")
     if "lag_stiffness" in mr:
         out.append("main_rotor.lag_stiffness: applies only when main_rotor.hub_type = 'flapping' (a teetering "
                    "rotor has no lag hinge); leave it out")

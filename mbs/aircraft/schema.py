@@ -298,6 +298,13 @@ ENTRIES: dict[str, dict[str, Entry]] = {
                                 "mast head's)", only_if=("hub_type", "teetering")),
         "seesaw_size": Entry("m", "teetering hub: the yoke as a box along the blades (inertia, display)", "vector",
                              0.0, math.inf, open_low=True, length=3, only_if=("hub_type", "teetering")),
+        "coning_hinge_offset": num("m", "teetering hub with coning hinges (a Robinson's three-hinge rotor): each "
+                                   "blade's coning hinge, a flap hinge on the yoke, this far from the rotor axis; "
+                                   "the blades cone on it about the precone, free or on coning_stiffness (0: no "
+                                   "coning hinges, the blades fixed to the yoke at the precone)", 0.0, default=0.0,
+                                   only_if=("hub_type", "teetering")),
+        "coning_stiffness": num("N m/rad", "spring of each coning hinge about the precone (0: free)", 0.0,
+                                default=0.0, only_if=("hub_type", "teetering")),
         "undersling": num("m", "teetering hub: the blades' roots below the teeter hinge (an underslung hub puts "
                           "the coned blades' centre of mass at the hinge's height)", 0.0, default=0.0,
                           only_if=("hub_type", "teetering")),

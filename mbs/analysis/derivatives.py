@@ -199,7 +199,10 @@ def derivatives(scene: str = "forward-flight", speed: float | None = None, metho
     res = linearise(sol, system, held_stepper, sol.radius, start)
     if sc.aircraft is not None:
         in_pilot_controls(res, sc.aircraft.data)
-        res.warnings += [*sol.warnings, *teetering_warning(sc.aircraft.data)]  # the trim's hold for its derivatives
+        from mbs.aircraft.checks import inertia_warnings
+
+        of_the_file = set(inertia_warnings(sc.aircraft.data))  # said by the check and the trim already
+        res.warnings += [*(w for w in sol.warnings if w not in of_the_file), *teetering_warning(sc.aircraft.data)]
     return res
 
 

@@ -558,7 +558,8 @@ def _period_figures(prob: ShootingProblem, z, cone: float = 0.0) -> tuple[dict[s
     flaps = [traj.x[1:, i] for i, n in enumerate(info.state_names) if re.fullmatch(r"blade\d+\.flap", n)]
     if "main_seesaw.teeter" in info.state_names:  # blade 1 up by the teeter angle, blade 2 down, on the precone
         teeter = traj.x[1:, info.state_names.index("main_seesaw.teeter")]
-        flaps = [cone + teeter, cone - teeter]
+        coning = flaps or [0.0, 0.0]  # the coning hinges' angles about the precone, where the hub has them
+        flaps = [cone + coning[0] + teeter, cone + coning[1] - teeter]
     if "main_rotor.azimuth" not in info.output_names or not flaps:
         return means, {}
     psi = y[:, info.output_names.index("main_rotor.azimuth")]

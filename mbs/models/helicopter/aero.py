@@ -55,9 +55,15 @@ def main_rotor(d, cfg, parent: str) -> Rotor:
     tilt = mr["shaft_tilt"] if cfg.shaft_tilt else 0.0
     blades = [f"blade{k + 1}" for k in range(cfg.blade_count(mr["n_blades"]))]
     return Rotor("main_rotor", "main_hub", blades, mr["radius"], mr["chord"], mr["twist"], mr["root_cutout"],
-                 int(cfg.elements or mr["elements"]), mr["flap_hinge_offset"], None if parent == "world" else parent,
+                 int(cfg.elements or mr["elements"]), _main_hinge_radius(mr), None if parent == "world" else parent,
                  fr.azimuth_frame(fr.shaft_frame(tilt), fr.main_sense(d)), pieces=rotor_pieces(d, cfg),
                  **_distributions(mr))
+
+
+def _main_hinge_radius(mr: dict) -> float:
+    """Where a main blade's body is jointed (m from the axis): its flap hinge, or a teetering
+    hub's coning hinge (none: the axis)."""
+    return mr.get("coning_hinge_offset", 0.0) if mr["hub_type"] == "teetering" else mr["flap_hinge_offset"]
 
 
 def tail_rotor(d, parent: str) -> Rotor:

@@ -124,8 +124,10 @@ def add_main_rotor(m: Model, d, cfg, parent: str) -> None:
 def _add_teetering_blades(m: Model, d, cfg, sense: int) -> None:
     """A teetering main rotor: the yoke on the teeter hinge across the shaft (its spring the
     file's flap_stiffness), both blades on it at their precone and the undersling below the
-    hinge, each on its pitch bearing only (stiff in plane: no lag hinge). The teeter angle lifts
-    blade 1 and lowers blade 2."""
+    hinge, each on its pitch bearing only (stiff in plane: no lag hinge), or on a coning hinge
+    (``blade<k>.flap``, about the precone) ``coning_hinge_offset`` out along it first (a
+    Robinson's three-hinge rotor; the blade's mass as along its span from the axis). The teeter
+    angle lifts blade 1 and lowers blade 2."""
     mr = d["main_rotor"]
     if cfg.swashplate or cfg.blade_segments or cfg.blade_modes or cfg.blade_count(2) != 2:
         raise ValueError("main_rotor.hub_type: a teetering main rotor is built with its two rigid blades and their "
@@ -136,13 +138,15 @@ def _add_teetering_blades(m: Model, d, cfg, sense: int) -> None:
                mass=yoke.mass, inertia=yoke.inertia,
                shape={"kind": "box", "size": mr["seesaw_size"], "color": "#50565e"})
     big_r, c, t = mr["radius"], mr["chord"], mr["blade_thickness"]
-    blade = mass_props.main_blade(d)
+    blade, e = mass_props.main_blade(d), mr.get("coning_hinge_offset", 0.0)
     for k, psi0 in enumerate(fr.blade_azimuths(2)):
         frame = fr.rz(sense * psi0) @ fr.precone_frame(mr["precone"])
         pitch = _pitch_bearing(cfg, psi0, sense)
-        m.add_body(f"blade{k + 1}", "main_seesaw", pitch or Fixed(), mass=blade.mass, com=blade.com,
-                   inertia=blade.inertia, frame=frame, at=(0.0, 0.0, -mr["undersling"]),
-                   shape={"kind": "box", "size": [big_r, c, t], "offset": [big_r / 2, 0, 0],
+        joint = Serial(Hinge((0, -1, 0), name="flap", stiffness=mr.get("coning_stiffness", 0.0)),
+                       *([pitch] if pitch else [])) if e else pitch or Fixed()
+        m.add_body(f"blade{k + 1}", "main_seesaw", joint, mass=blade.mass, com=blade.com - [e, 0.0, 0.0],
+                   inertia=blade.inertia, frame=frame, at=np.array([0.0, 0.0, -mr["undersling"]]) + e * frame[:, 0],
+                   shape={"kind": "box", "size": [big_r - e, c, t], "offset": [(big_r - e) / 2, 0, 0],
                           "color": BLADE_COLORS[k % 4]})
 
 
