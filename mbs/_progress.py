@@ -21,6 +21,8 @@ class Progress:
         self.start = self._last = time.perf_counter()
         self._first: tuple[float, int] | None = None
         self.width = 0
+        self.tty = bool(getattr(self.stream, "isatty", lambda: False)())
+        self._tenth = -1  # a file or pipe gets a line at each tenth done, not a redrawn bar
 
     def __call__(self, done: int, total: int) -> None:
         now = time.perf_counter()
@@ -32,6 +34,9 @@ class Progress:
         frac = done / total if total else 1.0
         bar = "#" * int(30 * frac)
         line = f"{self.label} [{bar:<30}] {100 * frac:5.1f}%  {now - self.start:6.1f} s{self._left(now, done, total)}"
+        if not self.tty:
+            self._line(line.rstrip(), int(10 * frac), done >= total)
+            return
         self.width = max(self.width, len(line))
         self.stream.write("\r" + line)
         if done >= total:
@@ -41,6 +46,13 @@ class Progress:
             _DRAWN.append(self)
         self.stream.flush()
 
+    def _line(self, line: str, tenth: int, finished: bool) -> None:
+        """A whole line when a tenth more is done (a log keeps no carriage returns)."""
+        if tenth > self._tenth or finished:
+            self._tenth = 10 if finished else tenth
+            self.stream.write(line + "\n")
+            self.stream.flush()
+
     def _left(self, now: float, done: int, total: int) -> str:
         t0, d0 = self._first
         rate = (done - d0) / (now - t0) if done > d0 and now > t0 else 0.0
@@ -48,6 +60,8 @@ class Progress:
 
     def clear(self) -> None:
         """Erase the bar's line (it stays when finished: its last line is a record)."""
+        if not self.tty:
+            return
         self.stream.write("\r" + " " * self.width + "\r")
         self.stream.flush()
         _forget(self)

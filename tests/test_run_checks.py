@@ -90,6 +90,30 @@ def test_a_long_run_says_its_time_and_size_first(tmp_path, capsys, monkeypatch):
     assert len(said) == 1 and re.search(r"results.csv about \d+ kB \(101 rows of \d+ columns\)", said[0]), said
 
 
+class _Terminal(__import__("io").StringIO):
+    def isatty(self) -> bool:
+        return True
+
+
+def test_progress_into_a_file_is_a_line_a_tenth_without_carriage_returns(monkeypatch):
+    """A new user's redirected 'heli trim' output held long lines of redrawn bars: into a file or
+    a pipe the bar is a whole line at each tenth done and at the end, and nothing is erased."""
+    import io
+
+    from mbs import _progress
+
+    clock = iter(float(t) for t in range(100))
+    monkeypatch.setattr(_progress.time, "perf_counter", lambda: next(clock))
+    stream = io.StringIO()
+    bar = _progress.Progress("sweep", stream=stream)
+    for done in range(0, 21):
+        bar(done, 20)
+    _progress.clear()
+    lines = stream.getvalue().splitlines()
+    assert "\r" not in stream.getvalue() and len(lines) == 11, lines
+    assert lines[-1].startswith("sweep [") and "100.0%" in lines[-1]
+
+
 def test_progress_shows_the_time_left(monkeypatch):
     import io
 
@@ -97,7 +121,7 @@ def test_progress_shows_the_time_left(monkeypatch):
 
     clock = iter([0.0, 5.0, 7.0, 9.0])
     monkeypatch.setattr(_progress.time, "perf_counter", lambda: next(clock))
-    stream = io.StringIO()
+    stream = _Terminal()
     bar = _progress.Progress("simulate hover", stream=stream)
     bar(0, 100)  # after 5 s of set-up
     bar(25, 100)  # 2 s for a quarter: 6 s left
@@ -116,7 +140,7 @@ def test_progress_does_not_count_the_set_up_as_work_to_come(monkeypatch):
 
     clock = iter([0.0, 60.0, 61.0, 62.0])
     monkeypatch.setattr(_progress.time, "perf_counter", lambda: next(clock))
-    stream = io.StringIO()
+    stream = _Terminal()
     bar = _progress.Progress("trim hover", stream=stream)
     bar(1, 20)
     bar(2, 20)
