@@ -179,3 +179,52 @@ def test_a_fixed_surface_s_force_is_continuous_where_the_air_meets_it_square():
         wc, wn = 20 * np.cos(angle), -20 * np.sin(angle)
         assert np.array_equal(np.asarray(plate(wc, wn)), np.asarray(bounded(wc, wn)))
     assert float(flat_plate_share(0.49)) == 0.0 and float(flat_plate_share(0.76)) == 1.0
+
+
+def test_a_schedule_holds_its_end_incidences_beyond_its_airspeeds():
+    """A new user's Apache schedule began at 30 kt with 25 deg; below it the spline ran on to 31 deg
+    at 20 kt and 44 deg in hover without a word. It holds its first and last incidence."""
+    from mbs.aero.empennage import HOLD_WIDTH, Schedule
+
+    sched = Schedule((15.0, 20.0, 30.0), (0.44, 0.32, 0.17), 0.0, 0.0, 0.0, -0.5, 0.8)
+    assert float(sched(0.0, 0.0, 0.0)[1]) == pytest.approx(0.44, abs=1e-4)  # the clamp rounds by width²/4d
+    assert float(sched(15.0 - 5 * HOLD_WIDTH, 0.0, 0.0)[1]) == pytest.approx(0.44, abs=1e-3)
+    assert float(sched(80.0, 0.0, 0.0)[1]) == pytest.approx(0.17, abs=1e-4)
+    assert float(sched(20.0, 0.0, 0.0)[1]) == pytest.approx(0.32, abs=1e-9)
+
+
+def test_a_stabilator_as_printed_trailing_edge_up_positive_and_without_a_fixed_tail_incidence(tmp_path):
+    """The Apache's source counts trailing edge down negative; its user flipped every sign by hand,
+    and the tail's fixed incidence, which the schedule replaces, was taken without a word. With
+    conventions.stabilator_positive = 'trailing edge up' the schedule, gains and stops read
+    negated (stops swapped), listed as converted; the fixed incidence is optional beside a
+    schedule and warned of as unused when given; a table in two variables is refused naming the
+    collective gain."""
+    base = aircraft.load(_file(tmp_path, 0.5)).data["stabilator"]
+    text = open(_file(tmp_path, 0.5)).read()
+    flipped = (text.replace(f"value = {SCHEDULE_DEG}", f"value = {[-x for x in SCHEDULE_DEG]}")
+               .replace('collective_gain = { value = 0.5', 'collective_gain = { value = -0.5')
+               .replace('incidence_min = { value = -10.0', 'incidence_min = { value = -35.0')
+               .replace('incidence_max = { value = 35.0', 'incidence_max = { value = 10.0')
+               + '\n[conventions]\nstabilator_positive = { value = "trailing edge up", unit = "-", source = "TEST" }\n')
+    path = tmp_path / "flipped.toml"
+    path.write_text(flipped)
+    report = aircraft.check(path)
+    assert report.ok, report.problems
+    got = aircraft.load(path).data["stabilator"]
+    for key in ("incidence", "collective_gain", "incidence_min", "incidence_max"):
+        assert got[key] == pytest.approx(base[key], abs=1e-15), key
+    listed = {e: how for e, _, _, how, _ in report.converted}
+    assert "times -1 (conventions.stabilator_positive" in listed["stabilator.incidence"]
+    assert listed["stabilator.incidence_min"].startswith("minus incidence_max as printed, 10.0 deg")
+    assert any(w.startswith("horizontal_tail.incidence: 3.999 deg is not used") for w in report.warnings)
+    lines = [x for x in text.splitlines() if not x.startswith("incidence = { value = 0.0698,")]
+    (tmp_path / "no_fixed.toml").write_text("\n".join(lines))
+    quiet = aircraft.check(tmp_path / "no_fixed.toml")
+    assert quiet.ok and not any(w.startswith("horizontal_tail.incidence") for w in quiet.warnings), quiet.problems
+    two = text.replace(f'incidence = {{ value = {SCHEDULE_DEG}, unit = "deg"',
+                       'incidence = { value = [[0.0, 25, 15.5], [0.5, 25.0, 18.3]], unit = "-, deg, deg"')
+    (tmp_path / "two.toml").write_text(two)
+    problems = aircraft.check(tmp_path / "two.toml").problems
+    assert any(p.startswith("stabilator.incidence: must be one list of numbers in one unit") and "collective_gain"
+               in p for p in problems), problems

@@ -33,6 +33,19 @@ def smooth_clamp(x, low: float, high: float, width: float = CLAMP_SMOOTHING):
     return 0.5 * (up + high - ca.sqrt((up - high) ** 2 + width**2))
 
 
+HOLD_WIDTH = 0.5
+"""m/s: the rounding of a schedule's hold at its first and last airspeed."""
+
+
+def held(x, low: float, high: float, width: float):
+    """``x`` held within ``[low, high]``: itself from ``width`` inside the ends, the end from
+    ``width`` beyond, a parabola between (value and slope continuous)."""
+    def end(x, at, sign):
+        band = sign * (x - at) + width  # 0 at width beyond the end, 2 width at width inside
+        return ca.if_else(band <= 0, at, ca.if_else(band >= 2 * width, x, at + sign * band**2 / (4 * width)))
+    return end(end(x, low, 1.0), high, -1.0)
+
+
 @dataclass(frozen=True)
 class Schedule:
     """Stabilator incidence against ``airspeed`` (m/s) breakpoints: ``incidence`` (rad) values,
@@ -50,7 +63,11 @@ class Schedule:
     cyclic_gain: float = 0.0
 
     def __call__(self, airspeed, collective, pitch_rate, cyclic=0.0):
-        """The scheduled incidence (rad) and the incidence before the stops (rad)."""
+        """The scheduled incidence (rad) and the incidence before the stops (rad): the spline in
+        airspeed, held at its first and last incidence beyond its airspeeds (a schedule does not
+        run on past its table; the airspeed :func:`held` within its ends)."""
+        if len(self.airspeed) > 1:
+            airspeed = held(airspeed, self.airspeed[0], self.airspeed[-1], HOLD_WIDTH)
         raw = Spline(self.airspeed, self.incidence)(airspeed)
         if self.collective_gain:
             raw = raw + self.collective_gain * (collective - self.collective_reference)

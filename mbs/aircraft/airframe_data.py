@@ -37,6 +37,10 @@ def _increasing(value, unit: str, target: str) -> list[float]:
 
 def read_curve(value, unit: str, spec) -> list[float]:
     """Values on breakpoints given elsewhere: at least two numbers, in SI."""
+    if "," in str(unit) or (isinstance(value, list) and any(isinstance(v, list) for v in value)):
+        raise ValueError(f"must be one list of numbers in one unit, one per breakpoint, not rows in {unit!r}: a table "
+                         "in two variables is not taken here (a stabilator's incidence is a curve in airspeed; its "
+                         "dependence on the collective, linear, is collective_gain about collective_reference)")
     factor = units.factor_to(str(unit), spec.unit)
     if not (isinstance(value, list) and len(value) >= 2 and all(_is_number(v) for v in value)):
         raise ValueError("must be a list of at least two numbers (one per breakpoint)")

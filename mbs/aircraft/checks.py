@@ -270,6 +270,22 @@ def station_convention_notes(d) -> list[str]:
             for key in turned]
 
 
+def stabilator_notes(d) -> list[str]:
+    """A horizontal tail's fixed incidence in a file whose stabilator schedule sets it, and a
+    stabilator convention in a file without one: they change nothing."""
+    from mbs.aircraft.airframe_data import has_stabilator
+
+    origin = d.meta.get("horizontal_tail", {}).get("incidence", {}).get("origin")
+    out = []
+    if has_stabilator(d) and origin in ("file", "override"):
+        out.append(f"horizontal_tail.incidence: {math.degrees(d['horizontal_tail']['incidence']):.4g} deg is not used: "
+                   "the [stabilator] schedule sets the tail's incidence; leave it out")
+    if not has_stabilator(d) and d.get("conventions", {}).get("stabilator_positive", "leading edge up") != \
+            "leading edge up":
+        out.append("conventions.stabilator_positive: the file has no [stabilator], so it changes nothing; leave it out")
+    return out
+
+
 def tail_rotor_notes(tr: dict) -> list[str]:
     """Entries of the tail rotor that are valid but act less than they may seem to."""
     if tr["hub_type"] == "flapping" and tr["precone"] != 0.0 and tr["flap_stiffness"] == 0.0:

@@ -83,10 +83,35 @@ def read(text: str, base: Path | None = None) -> Reading:
     _radius_columns(out)
     _surface_coefficients(out)
     _surface_slopes(out)
+    _stabilator_sign(out)
     _laws(out)
     _missing(out, raw)
     _teetering_blades(out)
     return out
+
+
+STABILATOR_SIGNED = ("incidence", "collective_gain", "pitch_rate_gain", "cyclic_gain")
+"""A stabilator's entries whose sign follows conventions.stabilator_positive (and its stops, swapped)."""
+
+
+def _stabilator_sign(out: Reading) -> None:
+    """A stabilator given trailing edge up positive: its incidence, gains and stops in the model's
+    leading-edge-up sense (listed as converted)."""
+    if out.values.get("conventions", {}).get("stabilator_positive") != "trailing edge up":
+        return
+    st, meta = out.values.get("stabilator", {}), out.meta.get("stabilator", {})
+    for key in STABILATOR_SIGNED:
+        if key in st:
+            st[key] = [-x for x in st[key]] if isinstance(st[key], list) else -st[key]
+            meta[key]["how"] = f"times -1 (conventions.stabilator_positive = 'trailing edge up'): from {meta[key]['value']}"
+    if "incidence_min" in st and "incidence_max" in st:
+        low, high = st["incidence_min"], st["incidence_max"]
+        st["incidence_min"], st["incidence_max"] = -high, -low
+        low_meta, high_meta = meta["incidence_min"], meta["incidence_max"]
+        meta["incidence_min"] = {**high_meta, "how": f"minus incidence_max as printed, {high_meta['value']} "
+                                                     f"{high_meta['unit']} (trailing edge up positive)"}
+        meta["incidence_max"] = {**low_meta, "how": f"minus incidence_min as printed, {low_meta['value']} "
+                                                    f"{low_meta['unit']} (trailing edge up positive)"}
 
 
 def _diameters(out: Reading) -> None:
@@ -684,6 +709,10 @@ def _missing(out: Reading, raw: dict) -> None:
                 computed = ", which is computed from it" if key in FROM_TABLES.get(section, {}) else ""
                 out.problems.append(f"{section}.{replaced[key]}: replaces {section}.{key}{computed}; leave {key} out")
             elif key not in given and spec.default is None and applies and key not in replaced:
+                if (section, key) == ("horizontal_tail", "incidence") and "airspeed" in raw.get("stabilator", {}):
+                    out.put(section, key, 0.0, {"unit": "rad", "source": "", "note": "", "origin": "default",
+                                                "value": 0.0})  # the schedule's, not used
+                    continue
                 out.problems.append(f"{section}.{key}: missing ({spec.text}, in {spec.unit})")
             elif key in given and not applies:
                 idle.setdefault(spec.only_if, []).append(key)

@@ -427,6 +427,10 @@ ENTRIES: dict[str, dict[str, Entry]] = {
                                             "aft", "forward", default="aft"),
         "water_line_positive": choice("the way water lines count positive in this file's stations (down: a "
                                       "datum's z down)", "up", "down", default="up"),
+        "stabilator_positive": choice("which way a positive stabilator incidence turns the surface in this file "
+                                      "([stabilator] incidence, stops and gains): leading edge up (trailing edge "
+                                      "down), the model's, or trailing edge up", "leading edge up",
+                                      "trailing edge up", default="leading edge up"),
     },
     "lag_damper": {
         "hub_point": Entry("m", "the lag damper's end on the hub, in its blade's rotating frame at zero azimuth: "

@@ -132,8 +132,9 @@ def warning_lines(res) -> list[str]:
     factor = speed_factor(v.speed_unit, "[validation] speed_unit")
     for texts, speeds in warnings(res).values():
         shown = [x / factor for x in speeds]
-        at = (", ".join(f"{x:.4g}" for x in shown) if len(shown) <= LISTED_SPEEDS
-              else f"{len(shown)} points, {min(shown):.4g} to {max(shown):.4g}")
+        distinct = sorted(set(round(x, 9) for x in shown))  # points of several conditions at one speed: once
+        at = (", ".join(f"{x:.4g}" for x in distinct) + (f" ({len(shown)} points)" if len(shown) > len(distinct) else "")
+              if len(distinct) <= LISTED_SPEEDS else f"{len(shown)} points, {min(shown):.4g} to {max(shown):.4g}")
         figures = "" if len(set(texts)) == 1 else f" (the figures at {shown[0]:.4g} {v.speed_unit})"
         out.append(f"  warning at {at} {v.speed_unit}{figures}: {texts[0]}")
     return out
