@@ -137,3 +137,29 @@ def test_autorotation_speeds_carry_a_unit(text, want):
     assert speed_list(text) == pytest.approx(want)
     with pytest.raises(ValueError, match="outside the speeds of a steady autorotation"):
         speed_list("200kt")
+
+
+def test_an_engine_failure_starts_from_its_governed_trim(tmp_path, capsys):
+    """A new user's one-engine failure began with a start-up transient (rotor speed -2.8 %, 23
+    deg/s of yaw before the failure) and '--start trim' refused with the wrong reason. A scene
+    whose engines govern its rotor speed starts from its trim with the governor's reference
+    solved for: until the failure at 1 s the rotor turns at its nominal speed to 1e-9 and the
+    aircraft does not yaw; a rotor speed that no engine governs names heli autorotation."""
+    import json
+
+    from mbs.cli import main
+
+    out = tmp_path / "ef"
+    assert main(["simulate", "engine-failure", "--revs", "8", "--out", str(out), "--quiet"]) == 0
+    err = capsys.readouterr().err
+    assert "trimming it now" in err or "starting from the periodic trim" in err, err
+    run = json.loads((out / "run.json").read_text())
+    assert run["initial_state"]["from"] == "periodic trim"
+    import csv
+
+    rows = [r for r in csv.DictReader(open(out / "results.csv")) if float(r["time"]) < 1.0]
+    speed = np.array([float(r["main_rotor.speed"]) for r in rows])
+    assert np.abs(speed - 44.4).max() < 1e-9 * 44.4
+    assert max(abs(float(r["fuselage.r"])) for r in rows) < 1e-6
+    assert main(["simulate", "autorotation", "--revs", "1", "--start", "trim", "--out", str(tmp_path / "a")]) == 2
+    assert "without an engine governing it" in capsys.readouterr().err

@@ -13,19 +13,31 @@ TRIM, SCENE = "trim", "scene"
 
 def default_start(scene) -> str:
     """``trim`` for a trimmable scene whose fuselage flies free (forward-flight, hover and the
-    swashplate scenes), ``scene`` otherwise."""
+    swashplate scenes) and for one whose engines govern a rotor speed that is a state (the engine
+    failures, hover-engines), ``scene`` otherwise."""
     from mbs.analysis.trim import trimmable
 
-    return TRIM if _flies(scene) and trimmable(scene) else SCENE
+    return TRIM if _flies(scene) and (trimmable(scene) or governed(scene)) else SCENE
+
+
+def governed(scene) -> bool:
+    """Whether ``scene``'s rotor speed is a state held by its engines' governor: its steady state
+    is a trim at the nominal rotor speed with the governor's reference solved for."""
+    return "governor_speed" in scene.model().parameters
 
 
 def check(start: str, scene) -> None:
-    """Refuse ``--start trim`` for a scene that has no periodic solution."""
+    """Refuse ``--start trim`` for a scene that has no periodic solution, saying why."""
     from mbs.analysis.trim import trimmable
 
-    if start == TRIM and not trimmable(scene):
-        raise ValueError(f"--start trim: scene {scene.name!r} has no periodic trim (it has no controls or no rotor "
-                         f"aerodynamics); it starts from its own initial state: drop --start or give --start scene")
+    if start != TRIM or trimmable(scene) or (governed(scene) and _flies(scene)):
+        return
+    if scene.options.get("drive_train", getattr(getattr(scene.builder, "config", None), "drive_train", None)):
+        raise ValueError(f"--start trim: scene {scene.name!r} turns its rotors at a speed that is a state without an "
+                         "engine governing it: its steady state is an autorotation ('heli autorotation' trims it); "
+                         "it starts from its own initial state: drop --start or give --start scene")
+    raise ValueError(f"--start trim: scene {scene.name!r} has no periodic trim (it has no controls or no rotor "
+                     f"aerodynamics); it starts from its own initial state: drop --start or give --start scene")
 
 
 def _flies(scene) -> bool:
@@ -93,21 +105,55 @@ def _computed(scene, system, ident, what, log, progress, backend):
     log(f"heli simulate: no stored periodic trim of {what}{why}; trimming it now (for a new aircraft about a "
         "minute, most of it compiling the model's AD step) and storing it; --start scene starts from the scene's "
         "own state instead")
-    res = trim(scene, speed=ident["speed"], method=ident["method"], steps_per_rev=ident["steps_per_rev"],
-               backend=backend or "compiled", system=system, progress=progress)
-    if not res.converged:
-        raise ValueError(f"no periodic trim of {what}: {res.reason}; 'heli trim {scene.name} --speed "
-                         f"{ident['speed']:g}' shows the iterations; --start scene starts from the scene's own "
-                         "state (with a transient)")
-    entry, path = entry_of(res, scene, ident["parameters"]), store.default_file()
+    if governed(scene):
+        entry, path = _governed_entry(scene, ident, what, progress), store.default_file()
+    else:
+        res = trim(scene, speed=ident["speed"], method=ident["method"], steps_per_rev=ident["steps_per_rev"],
+                   backend=backend or "compiled", system=system, progress=progress)
+        if not res.converged:
+            raise ValueError(f"no periodic trim of {what}: {res.reason}; 'heli trim {scene.name} --speed "
+                             f"{ident['speed']:g}' shows the iterations; --start scene starts from the scene's own "
+                             "state (with a transient)")
+        entry, path = entry_of(res, scene, ident["parameters"]), store.default_file()
     try:
         name = store.write(path, entry)
     except (OSError, ValueError) as exc:
         warn(f"the trim could not be stored in {path} ({getattr(exc, 'strerror', None) or exc}): the next run trims "
              "again; set XDG_DATA_HOME to a writable folder")
         return None, store.key(entry), entry
-    log(f"heli simulate: trimmed in {res.wall_s + res.setup_s:.1f} s; stored in {path} (later runs start from it)")
+    took = entry.pop("wall_s", None) if governed(scene) else res.wall_s + res.setup_s
+    log(f"heli simulate: trimmed in {took:.1f} s; stored in {path} (later runs start from it)")
     return path, name, entry
+
+
+def _governed_entry(scene, ident: dict, what: str, progress=None) -> dict:
+    """The stored form of the trim of a scene whose engines govern its rotor speed: the rotor at
+    its nominal speed, the governor's reference solved for (:mod:`mbs.analysis.rotor_speed_trim`)."""
+    import time
+
+    from mbs.analysis.period import scene_period
+    from mbs.analysis.rotor_speed_trim import rotor_speed_trim
+    from mbs.analysis.trim import evaluators
+
+    start = time.perf_counter()
+    system, stepper = evaluators(scene)
+    system = _with(system, ident["parameters"])
+    res = rotor_speed_trim(scene, ident["speed"], extra="governor_speed", steps_per_rev=ident["steps_per_rev"],
+                           system=system, stepper=stepper, progress=progress)
+    if not res.converged:
+        raise ValueError(f"no periodic trim of {what} (its rotor speed held by the governor): {res.reason}; "
+                         "--start scene starts from the scene's own state (with a transient)")
+    controls = [q["name"] for q in system.info.parameters if q.get("control") and not q["name"].endswith("_throttle")]
+    craft = scene.aircraft
+    about = {"aircraft": craft.name, "aircraft_file": str(craft.path.resolve())} if craft is not None else {}
+    entry = {"scene": ident["scene"], **about, **ident, "shooting_revs": scene_period(scene, system).revs,
+             "controls": {**{c: float(res.unknowns[c]) for c in controls},
+                          "governor_speed": float(res.unknowns["governor_speed"])},
+             "roll": float(res.unknowns["roll"]), "pitch": float(res.unknowns["pitch"]),
+             "max_abs_residual": float(res.residual),
+             "state": dict(zip(system.info.state_names, map(float, res.x0)))}
+    entry["wall_s"] = time.perf_counter() - start
+    return entry
 
 
 def _files(scene) -> list:
