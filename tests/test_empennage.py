@@ -228,3 +228,19 @@ def test_a_stabilator_as_printed_trailing_edge_up_positive_and_without_a_fixed_t
     problems = aircraft.check(tmp_path / "two.toml").problems
     assert any(p.startswith("stabilator.incidence: must be one list of numbers in one unit") and "collective_gain"
                in p for p in problems), problems
+
+
+def test_a_fin_that_loads_the_tail_rotor_in_cruise_is_named():
+    """A new user's clockwise EC135 had its fin's zero-lift angle signed for a counter-clockwise
+    rotor: at 141 kt the fin pushed the tail with the torque (fan thrust 3443 N against 1593 N,
+    power 732 against 642 kW) without a word. A fin side force against the tail rotor, more than a
+    quarter of its thrust, in forward flight, is named with its sign convention; the Bo105's own
+    trim at 60 m/s has no such line, and its fin turned the other way has."""
+    d = aircraft.load("bo105").data
+    cruise = {"fuselage.u": 60.0, "fuselage.v": 0.0, "fuselage.w": 2.0, "fin.sidewash": 0.0,
+              "tail_rotor.thrust": 600.0, "main_rotor.inflow": 3.0}
+    assert not [w for w in airframe_warnings(cruise, d) if w.startswith("fin:")]
+    turned = {**d, "vertical_fin": {**d["vertical_fin"], "incidence": -d["vertical_fin"]["incidence"]}}
+    (line,) = [w for w in airframe_warnings(cruise, turned) if w.startswith("fin:")]
+    assert line.startswith("fin: its side force,") and "to port, pushes the tail the way the counter-clockwise" in line
+    assert not [w for w in airframe_warnings({**cruise, "fuselage.u": 10.0}, turned) if w.startswith("fin:")]

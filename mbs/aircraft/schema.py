@@ -141,7 +141,10 @@ def _controls(prefix: str, what: str) -> dict[str, Entry]:
 
 
 def _surface(what: str, arg: str = "alpha", flow: str = "downwash") -> dict[str, Entry]:
-    return {"area": positive("m^2", f"{what} area"), "incidence": angle(f"{what} incidence", 30),
+    lift = ("positive to starboard for either sense of rotation: a counter-clockwise rotor's fin, lifting to starboard "
+            "to unload its tail rotor, has positive incidence or a negative zero-lift angle, a clockwise rotor's "
+            "the other signs" if flow == "sidewash" else "leading edge up positive")
+    return {"area": positive("m^2", f"{what} area"), "incidence": angle(f"{what} incidence ({lift})", 30),
             "x": num("m", f"{what} aerodynamic centre, x (forward) from the CG", axis="x"),
             "z": num("m", f"{what} aerodynamic centre, z (down) from the CG", axis="z"),
             "chord": positive("m", f"{what} chord (display only)"), **_airfoil(what, cd2_default=0.0),

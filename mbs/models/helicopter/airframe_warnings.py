@@ -27,7 +27,42 @@ EDGE = (0.1, 0.9)
 def airframe_warnings(values: dict, d) -> list[str]:
     """Warnings (one line each) about the airframe at a trim: ``values`` the period means of its
     outputs and states by name (SI), ``d`` the aircraft data."""
-    return _wake(values) + _edge(values, d) + _stall(values, d) + _stops(values, d) + _table_range(values, d)
+    return (_wake(values) + _edge(values, d) + _stall(values, d) + _stops(values, d) + _table_range(values, d)
+            + _fin_against_the_tail_rotor(values, d))
+
+
+FIN_LOAD = 0.25
+"""A fin pushing the tail the torque's way with more than this share of the tail rotor's thrust,
+in forward flight, is warned of (a fin's incidence or camber of the wrong sign for the rotation)."""
+FORWARD = 20.0
+"""m/s: the speed from which a fin carries the load its incidence is set for."""
+
+
+def _fin_against_the_tail_rotor(values: dict, d) -> list[str]:
+    """A fin whose side force adds to the main rotor's torque reaction in forward flight, so that
+    the tail rotor carries more than the torque: its incidence or zero-lift angle likely signed
+    for the other sense of rotation (positive lift is to starboard for either)."""
+    from mbs.aero.sections import section_force, turn
+    from mbs.models.helicopter.aero import airfoil
+
+    thrust = values.get("tail_rotor.thrust")
+    if thrust is None or "fuselage.u" not in values or _speed(values) < FORWARD:
+        return []
+    fin = d["vertical_fin"]
+    air = -np.array([values["fuselage.u"], values.get("fuselage.v", 0.0), values["fuselage.w"]])
+    air[1] += values.get("fin.sidewash", 0.0)
+    w_c, w_n = turn(air[0], air[1], fin["incidence"])
+    f_c, f_n = section_force(w_c, w_n, airfoil(fin), d["environment"]["rho"], fin["area"], flat_plate=True)
+    side = float(turn(float(f_c), float(f_n), -fin["incidence"])[1])  # N, to starboard
+    anti_torque = 1.0 if d["main_rotor"]["rotation"] == "counter-clockwise" else -1.0  # the tail rotor's push
+    if side * anti_torque >= 0 or abs(side) < FIN_LOAD * abs(thrust):
+        return []
+    way = "port" if side < 0 else "starboard"
+    return [f"fin: its side force, {abs(side):.4g} N to {way}, pushes the tail the way the "
+            f"{d['main_rotor']['rotation']} main rotor's torque does, {abs(side) / abs(thrust):.2g} of the tail "
+            "rotor's thrust, which must carry it: a fin is usually set to unload the tail rotor in forward flight; "
+            "check the sign of vertical_fin.incidence (and zero_lift_angle): positive lift is to starboard for "
+            "either sense of rotation"]
 
 
 def _edge(values: dict, d) -> list[str]:
