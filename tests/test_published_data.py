@@ -584,3 +584,19 @@ def test_a_diameter_tip_speeds_and_minutes_of_arc_as_a_flight_manual_prints_them
     assert units.convert(71.0, "arcmin", "rad") == pytest.approx(math.radians(1 + 11 / 60), rel=1e-15)
     with pytest.raises(units.UnitError, match="minutes of arc are arcmin"):
         units.convert(71.0, "min", "rad")
+
+
+def test_the_control_ranges_are_shown_in_the_file_s_conventions_where_those_differ(tmp_path):
+    """A new user's EC135 gave collective_radius 0.75 and its collective range at 0.75 R, which the
+    model reads at the root, without a word. The check now shows each range the file's conventions
+    turn, as those conventions state it."""
+    from mbs.aircraft import checks
+
+    assert checks.control_range_notes(aircraft.load("bo105").data) == []
+    path = edited(tmp_path / "c75.toml", "bo105", **{"conventions.collective_radius": 0.75})
+    d = aircraft.load(path).data
+    (line,) = checks.control_range_notes(d)
+    low = math.degrees(d["main_rotor"]["collective_min"] + 0.75 * d["main_rotor"]["twist"])
+    assert line.startswith("main_rotor.collective_min, _max: the model's collective range 7.62 to 23.61 deg is "
+                           f"{low:.4g} to ")
+    assert any("tail_collective range" in w for w in checks.control_range_notes(aircraft.load("puma").data))

@@ -270,6 +270,31 @@ def station_convention_notes(d) -> list[str]:
             for key in turned]
 
 
+def control_range_notes(d) -> list[str]:
+    """The control ranges, which are the model's (root collective, θ1c/θ1s, anti-torque tail
+    pitch), as the file's conventions state published angles, when those differ: a range copied
+    from a report in its own conventions then shows as not the report's."""
+    from mbs.aircraft import rigging
+
+    conv = rigging.conventions(d)
+    if conv == rigging.Conventions():
+        return []
+    out = []
+    for key, (section, entry) in (("collective", ("main_rotor", "collective")),
+                                  ("lateral_cyclic", ("main_rotor", "lateral_cyclic")),
+                                  ("longitudinal_cyclic", ("main_rotor", "longitudinal_cyclic")),
+                                  ("tail_collective", ("tail_rotor", "collective"))):
+        low, high = d[section][f"{entry}_min"], d[section][f"{entry}_max"]
+        ends = sorted(conv.to_published({key: v})[key] for v in (low, high))
+        if ends != [low, high]:
+            out.append(f"{section}.{entry}_min, _max: the model's {key} range {math.degrees(low):.4g} to "
+                       f"{math.degrees(high):.4g} deg is {math.degrees(ends[0]):.4g} to {math.degrees(ends[1]):.4g} deg "
+                       "in the file's [conventions] (published angles): the ranges are given as the model's "
+                       "(collective at the root, theta_1c/theta_1s, anti-torque tail pitch); check them against "
+                       "the report's")
+    return out
+
+
 def stabilator_notes(d) -> list[str]:
     """A horizontal tail's fixed incidence in a file whose stabilator schedule sets it, and a
     stabilator convention in a file without one: they change nothing."""

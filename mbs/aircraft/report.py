@@ -151,7 +151,7 @@ def _warnings(data: Data, rows: list[tuple]) -> list[str]:
     tr = data["tail_rotor"]
     out += checks.main_rotor_notes(data["main_rotor"]) + checks.tail_rotor_notes(tr)
     out += checks.tail_clearance_note(data) + checks.surface_slope_notes(data) + _drag_area_note(data)
-    out += checks.station_convention_notes(data) + checks.stabilator_notes(data)
+    out += checks.station_convention_notes(data) + checks.stabilator_notes(data) + checks.control_range_notes(data)
     gear = checks.periodic_gear(tr["gear_ratio"], checks.tail_blade_symmetry(tr))
     if not gear.exact:
         out.append(f"tail_rotor.gear_ratio: {gear.text()}; simulations keep {gear.ratio:.8g}")
