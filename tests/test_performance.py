@@ -131,3 +131,17 @@ def test_a_trim_needing_more_power_than_the_engines_make_warns():
     said = power(trim, heavy)  # the file's air, no ISA: at its density altitude
     assert len(said) == 1 and "in the file's air (density altitude 4500 m)" in said[0], said
     assert power(trim, BO105) == []
+
+
+def test_performance_takes_an_aircraft_file_and_refuses_one_without_engine_ratings(capsys):
+    """A new user's EC135 could not be given to 'heli performance' (Bo105 only). It takes
+    --aircraft, its masses default to the file's, and an aircraft without rated engines is refused
+    before any trim is swept."""
+    from mbs.cli import main
+    from mbs.performance.commands import _masses
+    from types import SimpleNamespace
+
+    assert _masses(SimpleNamespace(masses=None, aircraft=aircraft.load("puma"))).tolist() == [5805.0]
+    assert _masses(SimpleNamespace(masses="2000,2500", aircraft=None)).tolist() == [2000.0, 2500.0]
+    assert main(["performance", "speed", "--aircraft", "puma", "--workers", "0", "--quiet"]) == 2
+    assert "the aircraft file's [engine] needs model = \"turboshaft\" or \"piston\"" in capsys.readouterr().err

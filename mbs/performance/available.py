@@ -9,6 +9,14 @@ from mbs.drivetrain.engine import Turboshaft
 from mbs.environment import atmosphere as isa
 
 
+def check(d) -> None:
+    """ValueError unless the aircraft data ``d`` rate their engines (before a sweep is run for them)."""
+    if d["engine"].get("model") not in ("turboshaft", "piston"):
+        raise ValueError("the power available comes from the engines' ratings: the aircraft file's [engine] needs "
+                         "model = \"turboshaft\" or \"piston\" with take-off, maximum continuous and OEI ratings "
+                         "and the gearbox limit (docs: drive-train.md)")
+
+
 def power_available(d, altitude: float, offset: float = 0.0, engines_out: int = 0) -> float:
     """W at pressure ``altitude`` (m) and ISA ``offset`` (K) of the aircraft data ``d``, with
     ``engines_out`` engines failed."""

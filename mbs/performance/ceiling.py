@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mbs.performance.available import power_available
+from mbs.performance.available import check, power_available
 
 IGE_SKID_CLEARANCE = 1.0  # m: the skids' clearance above the ground in an in-ground-effect hover
 HUB_ABOVE_SKIDS = 2.8  # m: the Bo105's main-rotor hub above its skids (overall height 3.0 m)
@@ -58,19 +58,31 @@ def zero_crossing(x: np.ndarray, margin: np.ndarray) -> float | None:
     return float(x[i] + margin[i] / (margin[i] - margin[i + 1]) * (x[i + 1] - x[i]))
 
 
-def hover_ceilings(altitudes, masses, offsets, grounds=("oge", "ige"), workers: int | None = None,
-                   progress=None) -> list[Ceiling]:
-    """The hover ceilings of the Bo105 (scene hover) at every ``masses`` (kg), ``offsets`` (K) and
-    ``grounds`` from trims at ``altitudes`` (m) on Dask (``workers``; 0: a plain loop)."""
+def _aircraft(craft):
+    """The aircraft data and the sweep options of ``craft`` (an :class:`mbs.aircraft.Aircraft`;
+    None: the packaged Bo105)."""
     from mbs import scenes
+    from mbs.sweep.models import aircraft_option
+
+    if craft is None:
+        return scenes.get("hover").aircraft.data, {}
+    return craft.data, {"aircraft": aircraft_option(craft)}
+
+
+def hover_ceilings(altitudes, masses, offsets, grounds=("oge", "ige"), workers: int | None = None,
+                   progress=None, aircraft=None) -> list[Ceiling]:
+    """The hover ceilings of ``aircraft`` (an :class:`mbs.aircraft.Aircraft`, default the Bo105;
+    scene hover) at every ``masses`` (kg), ``offsets`` (K) and ``grounds`` from trims at
+    ``altitudes`` (m) on Dask (``workers``; 0: a plain loop)."""
     from mbs.sweep import trim_sweep
 
-    d = scenes.get("hover").aircraft.data
+    d, craft = _aircraft(aircraft)
+    check(d)
     base = d["aircraft"]["mass"]
     out = []
     for ground in grounds:
-        options = {"environment": {"atmosphere": "isa", "ground_effect": True, "height": start_height(d, ground),
-                                   "payload": 0.0}}
+        options = {**craft, "environment": {"atmosphere": "isa", "ground_effect": True,
+                                            "height": start_height(d, ground), "payload": 0.0}}
         table = trim_sweep("hover", [0.0], {"altitude": np.asarray(altitudes, float),
                                             "temperature_offset": np.asarray(offsets, float),
                                             "payload": np.asarray(masses, float) - base},
@@ -102,15 +114,17 @@ class LevelSpeed:
     failed: int = 0
 
 
-def level_speeds(speeds, altitudes, masses, offsets, workers: int | None = None, progress=None) -> list[LevelSpeed]:
-    """The largest level speed of the Bo105 (scene forward-flight) out of ground effect from trims
-    at ``speeds`` (m/s) at every ``altitudes`` (m), ``masses`` (kg) and ``offsets`` (K)."""
-    from mbs import scenes
+def level_speeds(speeds, altitudes, masses, offsets, workers: int | None = None, progress=None,
+                 aircraft=None) -> list[LevelSpeed]:
+    """The largest level speed of ``aircraft`` (default the Bo105; scene forward-flight) out of
+    ground effect from trims at ``speeds`` (m/s) at every ``altitudes`` (m), ``masses`` (kg) and
+    ``offsets`` (K)."""
     from mbs.sweep import trim_sweep
 
-    d = scenes.get("forward-flight").aircraft.data
+    d, craft = _aircraft(aircraft)
+    check(d)
     base = d["aircraft"]["mass"]
-    options = {"environment": {"atmosphere": "isa", "payload": 0.0}}
+    options = {**craft, "environment": {"atmosphere": "isa", "payload": 0.0}}
     table = trim_sweep("forward-flight", np.asarray(speeds, float),
                        {"altitude": np.asarray(altitudes, float), "temperature_offset": np.asarray(offsets, float),
                         "payload": np.asarray(masses, float) - base},

@@ -39,8 +39,16 @@ def cmd_ceiling(args) -> int:
     from mbs.performance.ceiling import hover_ceilings
 
     grounds = tuple(g for g in ("oge", "ige") if g in args.grounds.split(","))
-    res = hover_ceilings(ALTITUDES(args.altitudes), MASSES(args.masses), TEMPERATURES(args.temperatures), grounds,
-                         workers=args.workers, progress=Progress("performance ceiling", not args.quiet))
+    if args.aircraft is not None and "ige" in grounds:
+        from mbs.cli import warn
+        from mbs.performance.ceiling import HUB_ABOVE_SKIDS, IGE_SKID_CLEARANCE
+
+        warn(f"in ground effect the main-rotor hub is taken {IGE_SKID_CLEARANCE + HUB_ABOVE_SKIDS:g} m above the "
+             "ground (the Bo105's hub over its skids, the skids 1 m up): for this aircraft the IGE ceiling is the "
+             "one at that hub height")
+    res = hover_ceilings(ALTITUDES(args.altitudes), _masses(args), TEMPERATURES(args.temperatures), grounds,
+                         workers=args.workers, progress=Progress("performance ceiling", not args.quiet),
+                         aircraft=args.aircraft)
     rows = [{**c.__dict__} for c in res]
     lines = ["hover ceiling (pressure altitude; power required from the trims, available from the engine model):"]
     for c in res:
@@ -57,9 +65,9 @@ def cmd_speed(args) -> int:
     from mbs._progress import Progress
     from mbs.performance.ceiling import level_speeds
 
-    res = level_speeds(SPEEDS(args.speeds), ALTITUDES(args.altitudes), MASSES(args.masses),
+    res = level_speeds(SPEEDS(args.speeds), ALTITUDES(args.altitudes), _masses(args),
                        TEMPERATURES(args.temperatures), workers=args.workers,
-                       progress=Progress("performance speed", not args.quiet))
+                       progress=Progress("performance speed", not args.quiet), aircraft=args.aircraft)
     rows = [{**c.__dict__} for c in res]
     lines = ["largest level speed (power required from the trims, available from the engine model):"]
     for c in res:
@@ -70,6 +78,15 @@ def cmd_speed(args) -> int:
     files = _write(args.out, "speed", rows, None) if args.out else {}
     emit({"level_speeds": rows, "files": files}, args.json, lines + [f"wrote {p}" for p in files.values()])
     return 0
+
+
+def _masses(args) -> np.ndarray:
+    """``--masses``, or the aircraft file's own mass."""
+    if args.masses is not None:
+        return MASSES(args.masses)
+    from mbs import aircraft
+
+    return np.array([(args.aircraft or aircraft.load()).data["aircraft"]["mass"]])
 
 
 def _write(out: str, kind: str, rows: list[dict], plot) -> dict:
@@ -97,7 +114,7 @@ def _plot_ceiling(res, path: Path) -> Path:
     ax.set_ylabel("pressure altitude (m)")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
-    ax.set_title("Bo105 hover: the ceiling where the margin is zero")
+    ax.set_title("hover: the ceiling where the margin is zero")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -112,7 +129,9 @@ def register(sub, bench) -> None:
         q = kinds.add_parser(kind, help=text)
         q.add_argument("--altitudes", default="0:4000:5" if kind == "ceiling" else "0,2000",
                        type=A.checked_by(ALTITUDES), help="pressure altitudes in m: A,B,... or LO:HI:N (default %(default)s)")
-        q.add_argument("--masses", default="2200", type=A.checked_by(MASSES), help="masses in kg (default 2200)")
+        A.add_aircraft(q)
+        q.add_argument("--masses", default=None, type=A.checked_by(MASSES),
+                       help="masses in kg (default: the aircraft file's)")
         q.add_argument("--temperatures", default="0,20" if kind == "ceiling" else "0", type=A.checked_by(TEMPERATURES),
                        help="ISA temperature offsets in K (default %(default)s)")
         if kind == "ceiling":
