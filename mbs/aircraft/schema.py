@@ -358,7 +358,8 @@ ENTRIES: dict[str, dict[str, Entry]] = {
         "hub_type": choice("teetering (two blades on a seesaw), flapping (each blade on its own flap hinge: an "
                            "articulated rotor, or the equivalent hinge and spring of a hingeless or bearingless one) "
                            "or rigid (blades on pitch bearings only)", "teetering", "rigid", "flapping"),
-        "upper_blade": choice("which way the upper tail-rotor blade moves", "aft", "forward"),
+        "upper_blade": choice("which way the upper tail-rotor blade moves: the tail rotor's sense of rotation, for "
+                              "any number of blades (a fan-in-fin's too)", "aft", "forward"),
         "gear_ratio": positive("-", "tail-rotor speed per main-rotor speed"),
         "omega": num("rad/s", "nominal tail-rotor speed as published (rpm ...); replaces gear_ratio, which is "
                      "computed from it and main_rotor.omega (0: not given)", 0.0, math.inf, open_low=True,

@@ -42,7 +42,9 @@ OLDER_FORMS = {("fuselage_aero", "reference_station"), ("fuselage_aero", "cg_sta
 """Entries still read but not offered: ``reference_point`` given as a station, with
 ``aircraft.cg_station``, says the same once."""
 NEEDED_BY = {"elastic_blade": "the elastic-rotor scene's blades (elastic, 8 segments)",
-             "swashplate": "the swashplate scenes, forward-flight-swashplate and forward-flight-actuators"}
+             "swashplate": "the swashplate scenes, forward-flight-swashplate and forward-flight-actuators",
+             "drive_train": "the scenes whose rotor speed is a state (engine-failure, engine-failure-cruise, "
+                            "autorotation, hover-engines) and heli autorotation"}
 """What needs an optional section that the template writes commented out."""
 
 
@@ -83,6 +85,8 @@ def _commented(spec, values: dict, entries: dict) -> bool:
 
 def _optional(section: str) -> str:
     """The comment of an optional section's header line."""
+    if section in NEEDED_BY and section not in COMMENTED:
+        return f"  # optional, but needed by {NEEDED_BY[section]}: keep it for them"
     if section in NEEDED_BY:
         return (f"  # optional, needed by {NEEDED_BY[section]}: remove one '# ' from each line of the block to "
                 "use it (lines still commented then are defaults or do not apply)")
