@@ -2,6 +2,7 @@
 tail-rotor pitch and collective conventions, and trims at zero bank and in steady turns."""
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -600,3 +601,31 @@ def test_the_control_ranges_are_shown_in_the_file_s_conventions_where_those_diff
     assert line.startswith("main_rotor.collective_min, _max: the model's collective range 7.62 to 23.61 deg is "
                            f"{low:.4g} to ")
     assert any("tail_collective range" in w for w in checks.control_range_notes(aircraft.load("puma").data))
+
+
+def test_a_main_rotor_delta3_couples_pitch_to_flapping_by_its_tangent(tmp_path, capsys):
+    """A new user's EC135 (a bearingless rotor with delta3 = 7.5 deg, as its paper prints it) could
+    not be given it: main_rotor.delta3 skews the flap hinge as the tail rotor's is. In hover, the
+    blades coned by beta0 lose tan(delta3) beta0 of pitch, which the trim's collective makes up:
+    for 30 deg on the Bo105, within 1 % (measured 1.0798 against 1.0805 deg); the flapping reported
+    is the blades' (the hinge's angle times cos delta3); with the swashplate's own delta3 it is
+    refused as the same coupling given twice."""
+    from mbs.cli import main
+
+    path = tmp_path / "d3.toml"
+    raw = entries("bo105")
+    raw["main_rotor"]["delta3"] = {"value": 30.0, "unit": "deg", "source": "test"}
+    write(raw, path)
+    trims = {}
+    for name, file in (("plain", "bo105"), ("skewed", str(path))):
+        assert main(["trim", "forward-flight", "--aircraft", file, "--speed", "0", "--json", "--quiet"]) == 0
+        trims[name] = json.loads(capsys.readouterr().out)
+    gained = trims["skewed"]["controls"]["collective"] - trims["plain"]["controls"]["collective"]
+    beta0 = trims["skewed"]["flapping"]["beta0"]
+    assert gained == pytest.approx(math.tan(math.radians(30.0)) * beta0, rel=0.01), (gained, beta0)
+    assert beta0 == pytest.approx(trims["plain"]["flapping"]["beta0"], rel=0.1)
+    raw["swashplate"]["horn"]["value"] = "blade"  # a horn on the blade, whose delta3 is the coupling
+    raw["swashplate"].pop("ball_radius")
+    raw["swashplate"]["delta3"] = {"value": 10.0, "unit": "deg", "source": "test"}
+    both = aircraft.check(write(raw, tmp_path / "both.toml"))
+    assert any(p.startswith("main_rotor.delta3: the swashplate's delta3 is the same coupling") for p in both.problems)

@@ -151,7 +151,15 @@ def _blades(v: dict) -> list[str]:
                    f"(radius {mr['radius']:g} m)")
     elif not mr.get("mass_table"):
         out += _blade_body(mr)
-    return out + _main_hub_type(v) + _tail_hub_type(v["tail_rotor"])
+    return out + _main_hub_type(v) + _tail_hub_type(v["tail_rotor"]) + _delta3_once(v)
+
+
+def _delta3_once(v: dict) -> list[str]:
+    """A main rotor's pitch-flap coupling given as its skewed hinge and as the swashplate's horn."""
+    if v["main_rotor"].get("delta3") and v.get("swashplate", {}).get("delta3"):
+        return ["main_rotor.delta3: the swashplate's delta3 is the same coupling, made by its pitch horn: give it "
+                "once (main_rotor.delta3 for every scene, or swashplate.delta3 for the swashplate scenes)"]
+    return []
 
 
 def _main_hub_type(v: dict) -> list[str]:

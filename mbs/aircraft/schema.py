@@ -337,6 +337,10 @@ ENTRIES: dict[str, dict[str, Entry]] = {
                                  "teetering hub, whose blades start at the teeter hinge on the axis)", 0.0),
         "flap_stiffness": num("N m/rad", "flap spring (centre-spring equivalent of a hingeless rotor; on a teetering "
                               "hub the hub spring on the teeter angle)", 0.0),
+        "delta3": angle("pitch-flap coupling angle of the flap hinge (or the teeter hinge): its axis skewed by delta3 "
+                        "in the disc plane, so that flapping up by beta pitches the blade by -tan(delta3) beta (a "
+                        "bearingless or hingeless rotor's kinematic coupling as published; with a [swashplate], its "
+                        "own delta3 is the pitch horn's: give one of the two)", 70, default=0.0),
         "precone": angle("precone of the main-rotor blades: the rest angle of the flap spring (a hingeless or "
                          "bearingless rotor's built-in coning; nothing without flap_stiffness), built into the yoke "
                          "of a teetering hub", 20, default=0.0),

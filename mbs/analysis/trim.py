@@ -382,8 +382,9 @@ def periodic_solution(sc, speed: float | None = None, climb_rate: float = 0.0, m
     if not res.converged and prob.lay.free:
         res.reason += (_beyond_range(system, prob.speed, sc.aircraft) or _at_stops(system, prob.lay, res.z)
                        or _unbalanced(prob.lay, res.r))
-    cone = sc.aircraft.data["main_rotor"]["precone"] if getattr(sc, "aircraft", None) is not None else 0.0
-    out = _result(sc.name, prob, res, steps_per_rev, setup_s, system.nfev - nfev0, cone)
+    mr = sc.aircraft.data["main_rotor"] if getattr(sc, "aircraft", None) is not None else {}
+    cone, tilt = mr.get("precone", 0.0), float(np.cos(mr.get("delta3", 0.0)))
+    out = _result(sc.name, prob, res, steps_per_rev, setup_s, system.nfev - nfev0, cone, tilt)
     if sc.aircraft is not None:
         out.aircraft = sc.aircraft.name
         out.rotor = rotor_coefficients(sc.aircraft.data, out.thrust, out.speed, system.params(out.params))
@@ -512,7 +513,8 @@ def _problem(system, stepper, sc, speed, flight: FlightPath, steps_per_rev) -> S
                            reference_radius(sc))
 
 
-def _result(scene: str, prob: ShootingProblem, res, steps_per_rev, setup_s, nfev, cone: float = 0.0) -> Trim:
+def _result(scene: str, prob: ShootingProblem, res, steps_per_rev, setup_s, nfev, cone: float = 0.0,
+            tilt: float = 1.0) -> Trim:
     x0, p = prob.start(res.z)[:2]
     controls, attitude = prob.lay.split(res.z)[:2]
     flight = prob.flight
@@ -525,7 +527,7 @@ def _result(scene: str, prob: ShootingProblem, res, steps_per_rev, setup_s, nfev
                flight=flight, sideslip=sideslip)
     out.output_units = {o["name"]: o["unit"] for o in prob.system.info.outputs}
     if res.converged:
-        out.output_means, out.flapping = _period_figures(prob, res.z, cone)
+        out.output_means, out.flapping = _period_figures(prob, res.z, cone, tilt)
     elif prob.lay.free and np.all(np.isfinite(res.z)):
         out.last_iterate_means = _last_iterate_means(prob, res.z, cone)
     out.thrust = out.output_means.get("main_rotor.thrust")
@@ -541,11 +543,13 @@ def _last_iterate_means(prob: ShootingProblem, z, cone: float = 0.0) -> dict[str
     return means if all(np.isfinite(v) for v in means.values()) else {}
 
 
-def _period_figures(prob: ShootingProblem, z, cone: float = 0.0) -> tuple[dict[str, float], dict[str, float]]:
+def _period_figures(prob: ShootingProblem, z, cone: float = 0.0,
+                    tilt: float = 1.0) -> tuple[dict[str, float], dict[str, float]]:
     """The model's outputs averaged over the shooting interval (azimuths left out) and the
     main-rotor blades' flapping ``β = β0 + β1c cos ψ + β1s sin ψ`` (rad, relative to the shaft;
     ψ of each blade from the tail in the sense of rotation), averaged over the blades; a
-    teetering rotor's blades flap by ± its teeter angle on its precone ``cone`` (rad)."""
+    teetering rotor's blades flap by ± its teeter angle on its precone ``cone`` (rad); a hinge
+    skewed by δ3 lifts the tip by its angle times ``tilt = cos δ3``."""
     from mbs.analysis.signals import azimuth_harmonics
 
     info = prob.system.info
@@ -557,9 +561,11 @@ def _period_figures(prob: ShootingProblem, z, cone: float = 0.0) -> tuple[dict[s
     means = {n: float(y[:, info.output_names.index(n)].mean()) for n in names}
     flaps = [traj.x[1:, i] for i, n in enumerate(info.state_names) if re.fullmatch(r"blade\d+\.flap", n)]
     if "main_seesaw.teeter" in info.state_names:  # blade 1 up by the teeter angle, blade 2 down, on the precone
-        teeter = traj.x[1:, info.state_names.index("main_seesaw.teeter")]
+        teeter = tilt * traj.x[1:, info.state_names.index("main_seesaw.teeter")]  # a skewed hinge: its tip's share
         coning = flaps or [0.0, 0.0]  # the coning hinges' angles about the precone, where the hub has them
         flaps = [cone + coning[0] + teeter, cone + coning[1] - teeter]
+    elif tilt != 1.0:  # a flap hinge skewed by δ3 lifts the tip by its angle times cos δ3
+        flaps = [tilt * f for f in flaps]
     if "main_rotor.azimuth" not in info.output_names or not flaps:
         return means, {}
     psi = y[:, info.output_names.index("main_rotor.azimuth")]

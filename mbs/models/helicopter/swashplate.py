@@ -176,7 +176,7 @@ def link_joint(d, cfg, k: int, psi0: float, sense: int) -> LoopJoint:
                     Assembly(0.0, tuple(sp.neutral_anchor(sense))), inboard=sp.horn == "housing")
     loop = link if cfg.loop_solver == "closed-form" else Newton(link, _pitch_guess(sp, plate, psi),
                                                                 iterations=NEWTON_ITERATIONS)
-    return LoopJoint(main_flap_hinge(mr),
+    return LoopJoint(main_flap_hinge(mr, sense),
                      Hinge((0, 0, -sense), name="lag", stiffness=mr["lag_stiffness"],
                            damping=mr["lag_damping"] if cfg.dampers else 0.0),
                      Hinge((sense, 0, 0), name="pitch"), loop=loop)

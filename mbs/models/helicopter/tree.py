@@ -77,7 +77,7 @@ def _pitch_bearing(cfg, psi0: float, sense: int):
 
 def _blade_joint(d, cfg, psi0: float, sense: int):
     mr = d["main_rotor"]
-    parts = [main_flap_hinge(mr),
+    parts = [main_flap_hinge(mr, sense),
              Hinge((0, 0, -sense), name="lag", stiffness=mr["lag_stiffness"],
                    damping=mr["lag_damping"] if cfg.dampers else 0.0)]
     pitch = _pitch_bearing(cfg, psi0, sense)
@@ -134,7 +134,8 @@ def _add_teetering_blades(m: Model, d, cfg, sense: int) -> None:
                          "pitch law; this scene needs per-blade hinges (swashplate, elastic or single blades): fly "
                          "another scene, or give hub_type = \"flapping\"")
     yoke = mass_props.seesaw(d, "main_rotor")
-    m.add_body("main_seesaw", "main_hub", Hinge((0, -1, 0), name="teeter", stiffness=mr["flap_stiffness"]),
+    m.add_body("main_seesaw", "main_hub", Hinge(fr.delta3_axis(mr.get("delta3", 0.0), sense), name="teeter",
+                                                 stiffness=mr["flap_stiffness"]),
                mass=yoke.mass, inertia=yoke.inertia,
                shape={"kind": "box", "size": mr["seesaw_size"], "color": "#50565e"})
     big_r, c, t = mr["radius"], mr["chord"], mr["blade_thickness"]
