@@ -76,7 +76,8 @@ def _add_tail_outputs(m: Model, d, cfg) -> None:
             cfg.tail_wake and interference_tables(d, section) is not None)
         if special:
             m.add_output(f"{key}.alpha", lambda s, n=name: s.signals[f"{n}.alpha"], "rad",
-                         f"angle of attack of the {name} section")
+                         f"angle of attack of the {name} section as it is read (air from behind its trailing edge "
+                         "folded into +-90 deg, as a flat plate's)")
     _add_wing_outputs(m, d, cfg)
 
 
@@ -89,7 +90,8 @@ def _add_wing_outputs(m: Model, d, cfg) -> None:
         name = f"wing{k + 1}" if len(panels) > 1 else "wing"
         side = ("" if len(panels) == 1 else (" (port panel)" if k == 0 else " (starboard panel)"))
         m.add_output(f"{name}.alpha", lambda s, n=name: s.signals[f"{n}.alpha"], "rad",
-                     f"angle of attack of the wing{side}")
+                     f"angle of attack of the wing{side} as its section is read (air from behind its trailing "
+                     "edge folded into +-90 deg: near 90 deg the sign flips with the air crossing the normal)")
         if cfg.tail_wake:
             m.add_output(f"{name}.wake_immersion", lambda s, n=name: s.signals.get(f"{n}.immersion", 0), "-",
                          f"share of the main-rotor wake the wing{side} is in: 0 outside, 1 inside")
