@@ -54,7 +54,7 @@ def _add_airframe_outputs(m: Model, cfg) -> None:
         m.add_output("fin.sidewash", lambda s: s.signals["fin.wake"][1], "m/s",
                      "main-rotor wake velocity at the fin along body y (positive to starboard)")
         for key, name in (("horizontal_tail", "horizontal tail"), ("fin", "fin")):
-            m.add_output(f"{key}.wake_immersion", lambda s, name=name: s.signals.get(f"{name}.immersion", 0), "-",
+            m.add_output(f"{key}.wake_immersion", lambda s, name=name: s.signals.get(f"{name}.immersion", 0), "1",
                          f"share of the main-rotor wake the {name} is in: 0 outside, 1 inside, between at the "
                          "wake's edge (smoothed over wake.width); 0 where interference tables replace the wake")
     if cfg.download:
@@ -93,7 +93,7 @@ def _add_wing_outputs(m: Model, d, cfg) -> None:
                      f"angle of attack of the wing{side} as its section is read (air from behind its trailing "
                      "edge folded into +-90 deg: near 90 deg the sign flips with the air crossing the normal)")
         if cfg.tail_wake:
-            m.add_output(f"{name}.wake_immersion", lambda s, n=name: s.signals.get(f"{n}.immersion", 0), "-",
+            m.add_output(f"{name}.wake_immersion", lambda s, n=name: s.signals.get(f"{n}.immersion", 0), "1",
                          f"share of the main-rotor wake the wing{side} is in: 0 outside, 1 inside")
 
 
