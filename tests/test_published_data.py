@@ -629,3 +629,15 @@ def test_a_main_rotor_delta3_couples_pitch_to_flapping_by_its_tangent(tmp_path, 
     raw["swashplate"]["delta3"] = {"value": 10.0, "unit": "deg", "source": "test"}
     both = aircraft.check(write(raw, tmp_path / "both.toml"))
     assert any(p.startswith("main_rotor.delta3: the swashplate's delta3 is the same coupling") for p in both.problems)
+
+
+def test_an_elastic_blade_frequency_no_uniform_blade_has_is_the_entry_s_problem(tmp_path):
+    """A new user's Mi-8 kept the Puma's [elastic_blade] section: every command stopped with
+    SciPy's 'f(a) and f(b) must have different signs'. It is the entry's problem, naming the
+    frequencies the rotor's uniform blade can have and the ways out."""
+    path = edited(tmp_path / "low.toml", "bo105", **{"elastic_blade.flap_frequency": 0.9, "elastic_blade.flap_stiffness": None})
+    report = aircraft.check(path)
+    assert not report.ok
+    (line,) = report.problems
+    assert line.startswith("elastic_blade.flap_frequency: 0.9/rev is beyond what this rotor's uniform blade gives (")
+    assert "give elastic_blade.flap_stiffness" in line and "leave [elastic_blade] out" in line

@@ -115,7 +115,10 @@ def complete(values: dict) -> list[str]:
     _set(tr, "tip_loss", lambda: tip_loss(hover.tail.thrust_coefficient, tr["n_blades"]))
     _set(values.setdefault("wake", {}), "core", lambda: mr["root_cutout"])
     if "elastic_blade" in values and values["elastic_blade"] and mr["hub_type"] == "flapping":
-        _elastic(values)
+        try:
+            _elastic(values)
+        except ValueError as exc:  # a frequency no uniform blade of this rotor has: the entry's problem
+            return [str(exc)]
     if values.get("swashplate"):
         _swashplate(values["swashplate"], mr["flap_hinge_offset"])
     return _problems(values)

@@ -151,5 +151,13 @@ def calibrate(blade: Blade, omega: float, targets: dict[str, float]) -> dict[str
         def miss(log_stiffness: float) -> float:
             trial = Blade(**{**blade.__dict__, f"{k}_stiffness": np.exp(log_stiffness)})
             return beam_frequencies(trial, omega)[k] / omega - per_rev
-        out[k] = float(np.exp(brentq(miss, np.log(1.0), np.log(1e9), xtol=1e-12)))
+        low, high = np.log(1.0), np.log(1e9)
+        ends = (miss(low), miss(high))
+        if ends[0] * ends[1] > 0:
+            reach = [per_rev + e for e in ends]
+            raise ValueError(f"elastic_blade.{k}_frequency: {per_rev:.4g}/rev is beyond what this rotor's uniform blade "
+                             f"gives ({min(reach):.4g} to {max(reach):.4g}/rev for a stiffness of 1 to 1e9 N m^2): give "
+                             f"elastic_blade.{k}_stiffness, or a frequency within that, or leave [elastic_blade] out "
+                             "(only the elastic-rotor scenes use it)")
+        out[k] = float(np.exp(brentq(miss, low, high, xtol=1e-12)))
     return out
