@@ -442,3 +442,20 @@ def test_a_single_published_point_shows_its_tolerance_in_the_chart(tmp_path):
     charts._legend(ax)
     assert [t.get_text() for t in ax.get_legend().get_texts()] == ["tolerance ±1 deg", "published (P1)"]
     plt.close(fig)
+
+
+def test_a_published_rating_is_a_bound_not_a_value(tmp_path):
+    """A new user's Mi-8 had only its engine ratings to compare the power with, and could give them
+    only as values with a wide tolerance. A bound is within when ours is on its side: TOML
+    { bound = "upper" }, CSV 'at most' or '<=' (and 'at least', '>=')."""
+    v = load(toml('[[trim]]\nquantity = "engine.power"\nunit = "kW"\nspeed = [0, 40]\nvalue = [280.0, 320.0]\n'
+                  'source = "P1"\ntolerance = { bound = "upper" }\n', tmp_path))
+    low, high = compare.rows(v.series[0], fake_model(v.speeds("trim")))
+    assert (low.within, high.within) == (False, True)  # ours 300 kW: above 280, below 320
+    assert v.series[0].tolerance.describe("kW") == "the published value an upper bound of ours"
+    with pytest.raises(ValidationError, match="tolerance bound = 'above' must be"):
+        load(toml(TRIM + 'tolerance = { bound = "above" }\n', tmp_path))
+    for text, bound in (("at most", "upper"), ("<=", "upper"), ("at least", "lower"), (">=", "lower")):
+        csv = tmp_path / "b.csv"
+        csv.write_text(CSV_HEAD + CSV_ROWS.replace("TOL", text))
+        assert load(csv).series[0].tolerance.bound == bound, text

@@ -96,15 +96,18 @@ def _published(ax, s, rows, marker: str) -> None:
     speed = np.array([r.speed for r in rows])
     pub = np.array([r.published for r in rows])
     order = np.argsort(speed)
-    if s.tolerance is not None:
+    if s.tolerance is not None and s.tolerance.bound is not None:  # a limit: its side, marked by the point's shape
+        marker = "v" if s.tolerance.bound == "upper" else "^"
+    elif s.tolerance is not None:
         half = s.tolerance.absolute if s.tolerance.absolute is not None else s.tolerance.relative * np.abs(pub)
         label = f"tolerance {s.tolerance.describe(s.unit)}"
         if len(speed) > 1:
             ax.fill_between(speed[order], (pub - half)[order], (pub + half)[order], color="0.88", lw=0, label=label)
         else:  # a band needs two speeds: a single point's tolerance as a bar
             ax.vlines(speed, pub - half, pub + half, color="0.82", lw=7, label=label)
+    bound = "" if s.tolerance is None or s.tolerance.bound is None else f", {s.tolerance.bound} bound"
     ax.errorbar(speed, pub, yerr=np.array([r.uncertainty for r in rows]), fmt=marker, ms=3.5, color="k",
-                mfc="white", capsize=2, lw=0.8, label=f"published ({s.source.split()[0]})")
+                mfc="white", capsize=2, lw=0.8, label=f"published ({s.source.split()[0]}{bound})")
 
 
 def root_locus(res, path: Path) -> Path:

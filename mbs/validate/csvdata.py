@@ -21,7 +21,8 @@ optional (a point's flight condition, in the units of the ``# mass_unit:``, ``# 
 ``# cg_station_unit:`` and ``# cg_x_unit:`` lines, which a column with values needs). The ``#
 speed_unit:`` line is required (a CSV has no other place to say it). A ``#`` line whose key is
 near a known one (``# speed unit:``, ``# mass_units:``) is taken or named, not read as a comment.
-A tolerance is ``absolute x`` or ``±x`` (in the row's unit) or ``relative x`` or ``x%``. A row
+A tolerance is ``absolute x`` or ``±x`` (in the row's unit) or ``relative x`` or ``x%``, or ``at most``
+(``<=``) / ``at least`` (``>=``) for a published limit of the model's value. A row
 that repeats another of its series exactly (a copied point, not a repeated measurement) and a
 source that the ``# source`` lines do not name are refused. A series' problem names its rows' lines.
 Consecutive rows of the same kind, quantity, unit, source, tolerance and factor form one series
@@ -198,8 +199,12 @@ def _note(notes: list[tuple[str, float]]) -> str:
 
 
 def _tolerance(text: str, path: Path, n: int) -> dict:
-    """``absolute x`` or ``±x`` (``+-x``), ``relative x`` or ``x%``, as the TOML form's table."""
+    """``absolute x`` or ``±x`` (``+-x``), ``relative x`` or ``x%``, ``at most`` (``<=``) or
+    ``at least`` (``>=``), as the TOML form's table."""
     compact = text.replace(" ", "")
+    bound = {"atmost": "upper", "<=": "upper", "≤": "upper", "atleast": "lower", ">=": "lower", "≥": "lower"}
+    if compact.lower() in bound:
+        return {"bound": bound[compact.lower()]}
     for prefix, kind, scale in (("absolute", "absolute", 1.0), ("relative", "relative", 1.0), ("±", "absolute", 1.0),
                                 ("+-", "absolute", 1.0)):
         if compact.startswith(prefix):

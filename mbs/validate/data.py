@@ -40,19 +40,26 @@ class ValidationError(ValueError):
 
 @dataclass(frozen=True)
 class Tolerance:
-    """``|ours - published| <= absolute`` (in the series' unit) or ``|ours / published - 1| <= relative``."""
+    """``|ours - published| <= absolute`` (in the series' unit), ``|ours / published - 1| <=
+    relative``, or a published bound: ``ours <= published`` (``bound = "upper"``: a rating, a
+    limit) or ``ours >= published`` (``"lower"``)."""
 
     absolute: float | None = None
     relative: float | None = None
+    bound: str | None = None
 
     def within(self, ours: float, published: float) -> bool:
         if not (math.isfinite(ours) and math.isfinite(published)):
             return False
+        if self.bound is not None:
+            return ours <= published if self.bound == "upper" else ours >= published
         if self.absolute is not None:
             return abs(ours - published) <= self.absolute
         return published != 0.0 and abs(ours / published - 1.0) <= self.relative
 
     def describe(self, unit: str) -> str:
+        if self.bound is not None:
+            return f"the published value {'an upper' if self.bound == 'upper' else 'a lower'} bound of ours"
         return f"±{self.absolute:g} {unit}" if self.absolute is not None else f"±{100 * self.relative:g} %"
 
 
@@ -337,13 +344,20 @@ def shown_conditions(given: dict, n: int) -> tuple[str, ...]:
 
 
 def tolerance(raw, where: str) -> Tolerance | None:
-    """``{ absolute = x }`` or ``{ relative = x }`` (x > 0), or None."""
+    """``{ absolute = x }`` or ``{ relative = x }`` (x > 0), ``{ bound = "upper" }`` or
+    ``{ bound = "lower" }`` (the published value a limit of the model's), or None."""
     if raw is None:
         return None
-    if not isinstance(raw, dict) or len(raw) != 1 or set(raw) - {"absolute", "relative"}:
-        raise ValidationError(f"{where}: tolerance must be {{ absolute = x }} (in the unit) or {{ relative = x }} "
-                              f"(a fraction), not {raw!r}")
+    if not isinstance(raw, dict) or len(raw) != 1 or set(raw) - {"absolute", "relative", "bound"}:
+        raise ValidationError(f"{where}: tolerance must be {{ absolute = x }} (in the unit), {{ relative = x }} "
+                              f"(a fraction) or {{ bound = \"upper\" }} / {{ bound = \"lower\" }} (a published "
+                              f"limit, a rating), not {raw!r}")
     (key, value), = raw.items()
+    if key == "bound":
+        if value not in ("upper", "lower"):
+            raise ValidationError(f"{where}: tolerance bound = {value!r} must be \"upper\" (ours at most the "
+                                  "published value) or \"lower\" (at least)")
+        return Tolerance(bound=value)
     if not _is_number(value) or not value > 0:
         raise ValidationError(f"{where}: tolerance {key} = {value!r} must be a positive number")
     return Tolerance(**{key: float(value)})
