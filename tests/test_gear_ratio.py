@@ -260,3 +260,24 @@ def test_floquet_and_derivatives_of_the_uh60a_tail_rotor(uh60):
     d = linearise(res, ev["system"], held, res.radius)
     assert d.held.converged
     assert d.table["Z_θ0T"] < 0 and d.table["M_θ0T"] < 0 and abs(d.table["N_θ0T"]) > 1.0
+
+
+def test_a_run_starts_from_the_trim_of_a_gear_ratio_that_does_not_repeat(tmp_path, capsys):
+    """A new user's R22 (tail tip speed 622 ft/s: gear ratio 6.4076) trimmed, but 'heli simulate'
+    then stopped checking the trim it had just made, naming the gear ratio; the engine failure
+    the same. The trim's check runs over the period it was trimmed over: a forward-flight run
+    starts from the trim and a second run from the stored one; the engine failure from its
+    governed trim."""
+    from mbs.cli import main
+
+    text = aircraft.resolve("bo105").read_text().replace('gear_ratio = { value = 5.25,', 'gear_ratio = { value = 5.2513,')
+    path = tmp_path / "odd_gear.toml"
+    path.write_text(text)
+    for k in range(2):
+        assert main(["simulate", "forward-flight", "--aircraft", str(path), "--revs", "1", "--out",
+                     str(tmp_path / f"ff{k}")]) == 0
+        err = capsys.readouterr().err
+        assert ("trimming it now" if k == 0 else "starting from the periodic trim") in err, err
+    assert main(["simulate", "engine-failure", "--aircraft", str(path), "--revs", "2", "--out",
+                 str(tmp_path / "ef")]) == 0
+    assert "trimmed in" in capsys.readouterr().err

@@ -23,7 +23,7 @@ import casadi as ca
 import numpy as np
 
 from mbs.analysis.newton import newton
-from mbs.analysis.period import scene_period
+from mbs.analysis.period import periodic_scene, scene_period
 from mbs.analysis.shooting import TrimLayout, euler_angles, quaternion, residual_scales
 from mbs.analysis.trim import ShootingProblem
 
@@ -145,7 +145,7 @@ class SpeedProblem(ShootingProblem):
         self.system, self.stepper, self.speed, self.omega = system, stepper, speed, omega
         self.radius = sc.aircraft.data["main_rotor"]["radius"]
         self.lay = SpeedLayout.of(info, extra)
-        period = scene_period(sc, system)
+        period = scene_period(periodic_scene(sc), system)  # a tail rotor repeating late: the nearest ratio's
         self.period = period
         self.h = 2 * np.pi / omega / steps_per_rev
         self.n = period.revs * steps_per_rev

@@ -46,8 +46,10 @@ def residual(entry: dict, system, scene) -> float:
     """Max-norm scaled periodicity residual of the stored ``entry`` for ``system`` (the scene's
     model, its parameters those of the entry): ``S x(τ) - x(0)`` over every state but the
     position, after the trim's shooting interval ``τ`` with its controls held; ``inf`` when the
-    model's states or controls are not those of the entry or the run fails."""
-    from mbs.analysis.period import scene_period
+    model's states or controls are not those of the entry or the run fails. A tail rotor whose
+    gear ratio does not repeat soon is checked over the period it was trimmed over, that of the
+    nearest ratio that repeats (:func:`mbs.analysis.period.periodic_scene`)."""
+    from mbs.analysis.period import periodic_scene, scene_period
     from mbs.analysis.shooting import residual_scales
     from mbs.analysis.trim import reference_radius
 
@@ -57,7 +59,7 @@ def residual(entry: dict, system, scene) -> float:
         p = system.params(entry["controls"])
     except (KeyError, ValueError):
         return float("inf")
-    period = scene_period(scene, system, p)
+    period = scene_period(periodic_scene(scene), system, p)
     n = period.revs * entry["steps_per_rev"]
     traj = system.run(x0, 0.0, period.duration / n, n, every=n, p=p, method=entry["method"])
     if not traj.ok:

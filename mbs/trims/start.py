@@ -131,7 +131,7 @@ def _governed_entry(scene, ident: dict, what: str, progress=None) -> dict:
     its nominal speed, the governor's reference solved for (:mod:`mbs.analysis.rotor_speed_trim`)."""
     import time
 
-    from mbs.analysis.period import scene_period
+    from mbs.analysis.period import periodic_scene, scene_period
     from mbs.analysis.rotor_speed_trim import rotor_speed_trim
     from mbs.analysis.trim import evaluators
 
@@ -146,7 +146,7 @@ def _governed_entry(scene, ident: dict, what: str, progress=None) -> dict:
     controls = [q["name"] for q in system.info.parameters if q.get("control") and not q["name"].endswith("_throttle")]
     craft = scene.aircraft
     about = {"aircraft": craft.name, "aircraft_file": str(craft.path.resolve())} if craft is not None else {}
-    entry = {"scene": ident["scene"], **about, **ident, "shooting_revs": scene_period(scene, system).revs,
+    entry = {"scene": ident["scene"], **about, **ident, "shooting_revs": scene_period(periodic_scene(scene), system).revs,
              "controls": {**{c: float(res.unknowns[c]) for c in controls},
                           "governor_speed": float(res.unknowns["governor_speed"])},
              "roll": float(res.unknowns["roll"]), "pitch": float(res.unknowns["pitch"]),
