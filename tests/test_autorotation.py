@@ -92,10 +92,9 @@ def test_engine_failure_in_hover_with_the_collective_lowered_the_rotor_recovers(
     assert sim.columns()["main_rotor.speed"][-1] > figures["rotor_speed_min"] + 1.0  # recovering
     assert figures["sink_rate_end"] > 3.0 and figures["height_lost"] > 5.0
     columns = sim.columns()
-    after = np.asarray(columns["time"]) >= 3.0  # both engines spooled down: no power, and no margin either
+    after = np.asarray(columns["time"]) >= 1.0  # both engines failed: no rating left, no margin shown
     for k in (1, 2):
-        margin, power = (np.asarray(columns[f"engine{k}.{n}"])[after] for n in ("takeoff_margin", "power"))
-        assert np.allclose(margin, -power, atol=1e-9) and np.abs(margin).max() < 0.05 * 313e3
+        assert np.all(np.asarray(columns[f"engine{k}.takeoff_margin"])[after] == 0.0)
 
 
 def test_the_pilot_line_says_when_the_rotor_speed_is_still_falling_at_the_end():

@@ -235,8 +235,8 @@ def _undersling_note(mr: dict) -> list[str]:
     """An undersling far below the one that puts the coned blades' centre of mass at the teeter
     hinge, ``x_cg sin(precone)`` (the UH-1H's 0.176 m is its 3.7 m and 2.75 deg)."""
     balance = mr["first_moment"] / mr["blade_mass"] * math.sin(mr["precone"])
-    if mr["undersling"] <= 2 * balance + UNDERSLING_SLACK:
-        return []
+    if mr["undersling"] <= 2 * balance + UNDERSLING_SLACK or mr.get("coning_hinge_offset"):
+        return []  # blades on coning hinges cone with the thrust, not at the precone: no balance to name
     return [f"main_rotor.undersling: {mr['undersling']:.4g} m puts the blades' centre of mass "
             f"{mr['undersling'] - balance:.3g} m below the teeter hinge, where {balance:.3g} m (x_cg sin(precone)) "
             "would put it at the hinge: check the value (the blades' roots below the hinge, in m)"]

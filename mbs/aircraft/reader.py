@@ -713,6 +713,12 @@ def _missing(out: Reading, raw: dict) -> None:
                     out.put(section, key, 0.0, {"unit": "rad", "source": "", "note": "", "origin": "default",
                                                 "value": 0.0})  # the schedule's, not used
                     continue
+                if (section, key) == ("engine", "oei_power") and out.values.get("engine", {}).get("count") == 1 \
+                        and "takeoff_power" in out.values["engine"]:
+                    out.put(section, key, out.values["engine"]["takeoff_power"],
+                            {"unit": "W", "source": "", "note": "one engine: no other to fail", "origin": "default",
+                             "value": out.values["engine"]["takeoff_power"]})  # never in force with one engine
+                    continue
                 out.problems.append(f"{section}.{key}: missing ({spec.text}, in {spec.unit})")
             elif key in given and not applies:
                 idle.setdefault(spec.only_if, []).append(key)

@@ -245,13 +245,14 @@ def _turboshaft() -> dict[str, Entry]:
         "takeoff_power": positive("W", "each engine's take-off power rating at sea level, ISA", only_if=ts),
         "max_continuous_power": positive("W", "each engine's maximum continuous power at sea level, ISA", only_if=ts),
         "oei_power": positive("W", "an engine's one-engine-inoperative rating (the power the remaining engine may "
-                              "give when another has failed), sea level, ISA", only_if=ts),
+                              "give when another has failed), sea level, ISA (not needed with one engine)", only_if=ts),
         "transmission_power": positive("W", "main gearbox limit on the engines' power together", only_if=ts),
         "lapse_temperature": num("-", "power available at altitude: rating times delta / theta^lapse_temperature "
                                  "(delta, theta: ambient pressure and temperature over sea level ISA)", 0.0, 4.0,
                                  only_if=("model", "turboshaft")),
-        "full_throttle_power": positive("W", "a piston engine's full-throttle power at sea level, ISA (its rated "
-                                        "power, before the helicopter's derating): each rating is available up to "
+        "full_throttle_power": positive("W", "a piston engine's full-throttle power at sea level, ISA, as its maker "
+                                        "rates it (the O-360's 180 hp, not the helicopter's 'derated' figure, which "
+                                        "is its take-off rating): each rating is available up to "
                                         "the altitude where this, lapsing as 1.132 sigma - 0.132 (Gagg and Ferrar), "
                                         "falls to it, and this lapsed above", only_if=("model", "piston")),
         "gas_generator_time_constant": positive("s", "lag of the gas generator's power behind the fuel flow",

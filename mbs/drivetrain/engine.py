@@ -173,10 +173,10 @@ def add_outputs(m, element: Engines) -> None:
         for what, rating in (("takeoff", eng.takeoff_power), ("max_continuous", eng.max_continuous_power),
                              ("oei", eng.oei_power)):
             m.add_output(f"engine{k}.{what}_margin",
-                         lambda s, z=power, r=rating, k=k: eng.available(r, *element.air_ratios(s))
-                         * (1 - (s.t >= s.p[f"engine{k}_failure_time"])) - eng.takeoff_power * s.z(z),
+                         lambda s, z=power, r=rating, k=k: (1 - (s.t >= s.p[f"engine{k}_failure_time"]))
+                         * (eng.available(r, *element.air_ratios(s)) - eng.takeoff_power * s.z(z)),
                          "W", f"engine {k}'s {what.replace('_', ' ')} rating at the air's conditions minus its power "
-                         "(a failed engine has none: its margin is minus the power it still gives as it spools down)")
+                         "(none once the engine has failed: it has no rating left)")
     m.add_output("engines.torque", lambda s: s.signals["engines.torque"], "N m",
                  "the engines' torque on the transmission (after the accessories and transmission losses)")
     m.add_output("governor.demand", lambda s: element.demand(s)[0], "1",
