@@ -162,3 +162,28 @@ def test_an_engine_failure_starts_from_its_governed_trim(tmp_path, capsys):
     assert max(abs(float(r["fuselage.r"])) for r in rows) < 1e-6
     assert main(["simulate", "autorotation", "--revs", "1", "--start", "trim", "--out", str(tmp_path / "a")]) == 2
     assert "without an engine governing it" in capsys.readouterr().err
+
+
+def test_autorotation_at_a_rotor_speed_of_its_own():
+    """An R22 flight manual gives its glide at 90 % rotor speed; heli autorotation held only the
+    nominal one. --rotor-speed takes rad/s, rpm or a percentage, within the rotor's range."""
+    from mbs.drivetrain.commands import rotor_speed
+
+    mr = {"omega": 44.4, "omega_min": 22.2, "omega_max": 53.3}
+    assert rotor_speed(None, mr) is None
+    assert rotor_speed("90%", mr) == pytest.approx(39.96)
+    assert rotor_speed("400rpm", mr) == pytest.approx(400 * np.pi / 30)
+    assert rotor_speed("40", mr) == 40.0
+    with pytest.raises(ValueError, match="outside the rotor's omega_min..omega_max"):
+        rotor_speed("10%", mr)
+    with pytest.raises(ValueError, match="give rad/s, rpm"):
+        rotor_speed("fast", mr)
+
+
+def test_a_slower_rotor_autorotates_as_the_trim_at_that_speed(autorotation):
+    """At 95 % rotor speed the autorotation's torque balances there: the descent differs from the
+    nominal speed's, the trim converges."""
+    sc, system, stepper, trims = autorotation
+    slow = rotor_speed_trim(sc, 30.0, system=system, stepper=stepper, omega=0.95 * 44.4)
+    assert slow.converged and abs(slow.torque_balance) < 1e-10
+    assert slow.climb_rate != pytest.approx(trims[30.0].climb_rate, abs=1e-3)

@@ -33,13 +33,16 @@ def cmd_autorotation(args) -> int:
     _check(sc)
     sc = periodic_scene(sc)  # a tail rotor that does not repeat soon turns at the nearest ratio that does
     speeds = speed_list(args.speeds)
+    omega = rotor_speed(args.rotor_speed, sc.aircraft.data["main_rotor"])  # checked before the model is built
     system, stepper = evaluators(sc)
     rows, lines = [], [f"{sc.name}: steady autorotation at the rotor's nominal speed (descent rate solved for)"]
     gear = scene_period(sc, system).gear
     approximation = gear.text() if gear is not None and not gear.exact else None
     lines += [f"  approximation: {approximation}"] if approximation else []
+    if omega is not None:
+        lines[0] = lines[0].replace("at the rotor's nominal speed", f"at {omega:.4g} rad/s")
     for v in speeds:
-        res = rotor_speed_trim(sc, v, steps_per_rev=args.steps_per_rev, system=system, stepper=stepper)
+        res = rotor_speed_trim(sc, v, steps_per_rev=args.steps_per_rev, system=system, stepper=stepper, omega=omega)
         row = {"speed": v, "converged": res.converged, "reason": res.reason, "iterations": res.iterations,
                "climb_rate": res.climb_rate, "descent_rate": -res.climb_rate,
                "energy_method_descent_rate": -descent_estimate(sc, v), "controls":
@@ -53,6 +56,28 @@ def cmd_autorotation(args) -> int:
                                           "Newton iterations" if res.converged else f"no trim: {res.reason}"))
     emit({"scene": sc.name, "trims": rows, "approximation": approximation}, args.json, lines)
     return 0 if all(r["converged"] for r in rows) else 1
+
+
+def rotor_speed(text: str | None, mr: dict) -> float | None:
+    """``--rotor-speed``: rad/s, ``400rpm``, or ``90%`` of the nominal speed (None: nominal);
+    ValueError outside the rotor's omega_min..omega_max."""
+    if text is None:
+        return None
+    t = str(text).strip().lower().replace(" ", "")
+    try:
+        if t.endswith("%"):
+            omega = float(t[:-1]) / 100 * mr["omega"]
+        elif t.endswith("rpm"):
+            omega = float(t[:-3]) * 2 * 3.141592653589793 / 60
+        else:
+            omega = float(t.removesuffix("rad/s"))
+    except ValueError:
+        raise ValueError(f"--rotor-speed {text!r}: give rad/s, rpm (400rpm) or a percentage of the nominal speed "
+                         "(90%)") from None
+    if not mr["omega_min"] <= omega <= mr["omega_max"]:
+        raise ValueError(f"--rotor-speed {text!r} ({omega:.4g} rad/s) is outside the rotor's omega_min..omega_max, "
+                         f"{mr['omega_min']:.4g} to {mr['omega_max']:.4g} rad/s")
+    return omega
 
 
 def _check(sc) -> None:
@@ -78,6 +103,9 @@ def register(sub, bench) -> None:
     A.add_aircraft(p)
     p.add_argument("--speeds", default="20,30,40", type=A.checked_by(speed_list), metavar="V1,V2,...",
                    help="forward speeds in m/s, or with a unit: 50kt,70kt (default 20,30,40)")
+    p.add_argument("--rotor-speed", default=None, metavar="OMEGA",
+                   help="the rotor speed held: rad/s, rpm (400rpm) or a percentage of the nominal (90%%); "
+                        "default the nominal speed")
     _steps_per_rev(p)
     _air(p)
     add_json(p)
