@@ -144,3 +144,16 @@ def test_performance_takes_an_aircraft_file_and_refuses_one_without_engine_ratin
     assert _masses(SimpleNamespace(masses="2000,2500", aircraft=None)).tolist() == [2000.0, 2500.0]
     assert main(["performance", "speed", "--aircraft", "puma", "--workers", "0", "--quiet"]) == 2
     assert "the aircraft file's [engine] needs model = \"turboshaft\" or \"piston\"" in capsys.readouterr().err
+
+
+def test_performance_sweeps_take_the_units_a_flight_manual_prints():
+    """An R22 user's altitudes in ft and mass in lb were refused where trim took kt."""
+    from mbs.performance.commands import ALTITUDES, HUB_HEIGHTS, MASSES, SPEEDS
+
+    assert ALTITUDES("0:10000ft:3") == pytest.approx([0.0, 1524.0, 3048.0])
+    assert ALTITUDES("0,2km") == pytest.approx([0.0, 2000.0])
+    assert MASSES("1370lb") == pytest.approx([1370 * 0.45359237])
+    assert SPEEDS("80kt:140kt:4")[-1] == pytest.approx(140 * 1852 / 3600)
+    assert HUB_HEIGHTS("10ft") == pytest.approx([3.048])
+    with pytest.raises(ValueError, match="outside the altitudes a sweep takes"):
+        ALTITUDES("70000ft")

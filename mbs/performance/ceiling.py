@@ -37,12 +37,13 @@ class Ceiling:
     failed: int = 0
 
 
-def start_height(d, ground: str) -> float:
+def start_height(d, ground: str, hub_height: float | None = None) -> float:
     """The run-time ``height`` (m, of the start, at the CG, above the ground) of a hover ``ground``
-    "ige" (skids :data:`IGE_SKID_CLEARANCE` above the ground) or "oge"."""
+    "ige" (the hub ``hub_height`` above the ground; default the Bo105's, skids
+    :data:`IGE_SKID_CLEARANCE` up) or "oge"."""
     if ground == "oge":
         return OGE_HEIGHT
-    hub = IGE_SKID_CLEARANCE + HUB_ABOVE_SKIDS
+    hub = IGE_SKID_CLEARANCE + HUB_ABOVE_SKIDS if hub_height is None else hub_height
     return hub + d["main_rotor"]["hub_z"]  # hub_z is negative: the hub above the CG
 
 
@@ -70,7 +71,7 @@ def _aircraft(craft):
 
 
 def hover_ceilings(altitudes, masses, offsets, grounds=("oge", "ige"), workers: int | None = None,
-                   progress=None, aircraft=None) -> list[Ceiling]:
+                   progress=None, aircraft=None, hub_height: float | None = None) -> list[Ceiling]:
     """The hover ceilings of ``aircraft`` (an :class:`mbs.aircraft.Aircraft`, default the Bo105;
     scene hover) at every ``masses`` (kg), ``offsets`` (K) and ``grounds`` from trims at
     ``altitudes`` (m) on Dask (``workers``; 0: a plain loop)."""
@@ -82,7 +83,7 @@ def hover_ceilings(altitudes, masses, offsets, grounds=("oge", "ige"), workers: 
     out = []
     for ground in grounds:
         options = {**craft, "environment": {"atmosphere": "isa", "ground_effect": True,
-                                            "height": start_height(d, ground), "payload": 0.0}}
+                                            "height": start_height(d, ground, hub_height), "payload": 0.0}}
         table = trim_sweep("hover", [0.0], {"altitude": np.asarray(altitudes, float),
                                             "temperature_offset": np.asarray(offsets, float),
                                             "payload": np.asarray(masses, float) - base},

@@ -13,25 +13,34 @@ from mbs.cli import add_json, emit
 FT = 0.3048
 
 
-def values(flag: str, low: float, high: float):
-    """Type: ``A,B,C`` or ``LO:HI:N`` of finite numbers within ``[low, high]``."""
+def values(flag: str, low: float, high: float, unit: str, units: dict | None = None):
+    """Type: ``A,B,C`` or ``LO:HI:N`` of finite numbers within ``[low, high]`` (``unit``), each
+    bare or with one of ``units`` (name -> factor to ``unit``: ``0:10000ft:6``, ``2000lb``)."""
+    within = A.Within(low, high, unit, f"the {flag[2:]} a sweep takes", units=units or {})
+
     def parse(text: str) -> np.ndarray:
         from mbs.sweep.grid import parse_range
 
         try:
-            out = parse_range(flag, text) if ":" in text else np.array([float(t) for t in text.split(",") if t])
+            if ":" in text:
+                out = parse_range(flag, text, lambda a, b: A.range_ends(a, b, within))
+            else:
+                out = np.array([within(t) for t in text.split(",") if t.strip()])
+        except A.Bad as exc:
+            raise ValueError(f"{flag} {text!r}: {exc}") from None
         except ValueError as exc:
             raise ValueError(str(exc) if ":" in text else f"{flag} {text!r} must be A,B,... or LO:HI:N") from None
-        if not out.size or not np.all(np.isfinite(out)) or out.min() < low or out.max() > high:
-            raise ValueError(f"{flag} {text!r}: give values from {low:g} to {high:g}")
+        if not out.size:
+            raise ValueError(f"{flag} {text!r} must be A,B,... or LO:HI:N")
         return out
     return parse
 
 
-ALTITUDES = values("--altitudes", -1000.0, 20000.0)
-MASSES = values("--masses", 500.0, 10000.0)
-TEMPERATURES = values("--temperatures", -60.0, 60.0)
-SPEEDS = values("--speeds", 5.0, 100.0)
+ALTITUDES = values("--altitudes", -1000.0, 20000.0, "m", {"m": 1.0, "km": 1000.0, "ft": 0.3048})
+MASSES = values("--masses", 100.0, 100000.0, "kg", {"kg": 1.0, "lb": 0.45359237, "t": 1000.0})
+TEMPERATURES = values("--temperatures", -60.0, 60.0, "K", {"K": 1.0, "C": 1.0})
+SPEEDS = values("--speeds", 5.0, 100.0, "m/s", A.SPEED_UNITS)
+HUB_HEIGHTS = values("--ige-hub-height", 0.5, 50.0, "m", {"m": 1.0, "ft": 0.3048})
 
 
 def cmd_ceiling(args) -> int:
@@ -39,16 +48,16 @@ def cmd_ceiling(args) -> int:
     from mbs.performance.ceiling import hover_ceilings
 
     grounds = tuple(g for g in ("oge", "ige") if g in args.grounds.split(","))
-    if args.aircraft is not None and "ige" in grounds:
+    if args.aircraft is not None and "ige" in grounds and args.ige_hub_height is None:
         from mbs.cli import warn
         from mbs.performance.ceiling import HUB_ABOVE_SKIDS, IGE_SKID_CLEARANCE
 
         warn(f"in ground effect the main-rotor hub is taken {IGE_SKID_CLEARANCE + HUB_ABOVE_SKIDS:g} m above the "
-             "ground (the Bo105's hub over its skids, the skids 1 m up): for this aircraft the IGE ceiling is the "
-             "one at that hub height")
+             "ground (the Bo105's hub over its skids, the skids 1 m up): give --ige-hub-height for this aircraft's")
     res = hover_ceilings(ALTITUDES(args.altitudes), _masses(args), TEMPERATURES(args.temperatures), grounds,
                          workers=args.workers, progress=Progress("performance ceiling", not args.quiet),
-                         aircraft=args.aircraft)
+                         aircraft=args.aircraft,
+                         hub_height=None if args.ige_hub_height is None else float(HUB_HEIGHTS(args.ige_hub_height)[0]))
     rows = [{**c.__dict__} for c in res]
     lines = ["hover ceiling (pressure altitude; power required from the trims, available from the engine model):"]
     for c in res:
@@ -128,17 +137,21 @@ def register(sub, bench) -> None:
                        ("speed", "the largest level speed")):
         q = kinds.add_parser(kind, help=text)
         q.add_argument("--altitudes", default="0:4000:5" if kind == "ceiling" else "0,2000",
-                       type=A.checked_by(ALTITUDES), help="pressure altitudes in m: A,B,... or LO:HI:N (default %(default)s)")
+                       type=A.checked_by(ALTITUDES), help="pressure altitudes in m (or ft, km: 0:10000ft:6): A,B,... or "
+                       "LO:HI:N (default %(default)s)")
         A.add_aircraft(q)
         q.add_argument("--masses", default=None, type=A.checked_by(MASSES),
-                       help="masses in kg (default: the aircraft file's)")
+                       help="masses in kg (or lb: 1370lb) (default: the aircraft file's)")
         q.add_argument("--temperatures", default="0,20" if kind == "ceiling" else "0", type=A.checked_by(TEMPERATURES),
                        help="ISA temperature offsets in K (default %(default)s)")
         if kind == "ceiling":
+            q.add_argument("--ige-hub-height", type=A.checked_by(HUB_HEIGHTS),
+                           default=None, metavar="H", help="in ground effect: the main-rotor hub's height above the "
+                           "ground, m or ft (default the Bo105's 3.8 m: skids 1 m up)")
             q.add_argument("--grounds", default="oge,ige", choices=("oge", "ige", "oge,ige"), metavar="oge|ige|oge,ige",
                            help="out of and/or in ground effect (default both)")
         else:
-            q.add_argument("--speeds", default="50:80:4", type=A.checked_by(SPEEDS), help="speeds in m/s (default %(default)s)")
+            q.add_argument("--speeds", default="50:80:4", type=A.checked_by(SPEEDS), help="speeds in m/s (or kt: 80kt:140kt:4) (default %(default)s)")
         q.add_argument("--workers", type=A.non_negative_int, default=None,
                        help="Dask workers (default: the machine's cores; 0: a plain loop)")
         q.add_argument("--out", type=A.output_folder, default=None, help="write the table (JSON) and a chart here")
