@@ -58,15 +58,15 @@ SCENE_CONFIGS = {
 DRIVE_TRAIN_CONFIGS = {
     "engine-failure": (Config(speed=0.0, trim="hover", drive_train="rigid", engines=True, failure_time=1.0, **FULL),
                        "as hover, the rotor speed a state: main and tail rotors and the transmission on one drive "
-                       "train driven by the two turboshafts and their governor; both engines fail at 1 s (the "
-                       "run-time engine<k>_failure_time; one for one engine inoperative), pilot inputs held or "
-                       "from --inputs"),
+                       "train driven by the aircraft's engines and their governor (the Bo105's two turboshafts); "
+                       "every engine fails at 1 s (the run-time engine<k>_failure_time; one for one engine "
+                       "inoperative), pilot inputs held or from --inputs; started from its governed trim"),
     "engine-failure-cruise": (Config(speed=50.0, drive_train="rigid", engines=True, failure_time=1.0, **FULL),
                               "as engine-failure, at 50 m/s"),
     "hover-engines": (Config(speed=0.0, trim="hover", drive_train="rigid", engines=True, atmosphere="isa",
                              wind=(0.0, 0.0, 0.0), turbulence="dryden", turbulence_intensity=0.0, gust=True, **FULL),
-                      "as hover, the rotor speed a state on the drive train with the two turboshafts and their "
-                      "governor, in the ISA (altitude, temperature offset), a steady wind, Dryden turbulence (calm "
+                      "as hover, the rotor speed a state on the drive train with the aircraft's engines and their "
+                      "governor (the Bo105's two turboshafts), in the ISA (altitude, temperature offset), a steady wind, Dryden turbulence (calm "
                       "by default: turbulence_intensity 0) and a discrete gust (none by default): the FMU's scene "
                       "for engine failures and turbulence"),
     "autorotation": (Config(speed=30.0, drive_train="rigid", **FULL),
