@@ -152,8 +152,9 @@ def rotor_period(info, omega: float, gear_ratio: float | None = None) -> RotorPe
     blades = _tail_blades(info)
     gear = checks.periodic_gear(gear_ratio, 1 if teetering else max(1, len(blades)))
     if not gear.exact:
-        raise ValueError(f"{gear.text()}: this analysis needs a gear ratio that repeats sooner; round the aircraft "
-                         f"file's tail_rotor.gear_ratio (e.g. to {gear.used:.6g})")
+        raise ValueError(f"{gear.text()}: this analysis needs a tail-rotor speed that repeats sooner; give the "
+                         f"aircraft file's tail rotor a gear ratio of e.g. {gear.used:.6g} (gear_ratio, or its omega or "
+                         "tip_speed to match)")
     if teetering:
         half = Fraction(2 * gear_ratio).limit_denominator(1000).denominator
         flip = tuple(info.state_names.index(n) for n in TEETER_STATES) if half != gear.revs else ()

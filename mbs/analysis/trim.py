@@ -330,7 +330,7 @@ def _unbalanced(lay: TrimLayout, r) -> str:
         return ""
     return (f"; at the last iterate {BALANCE[lay.residual_names[k]]} stays unbalanced (scaled residual of "
             f"{lay.residual_names[k]} {r[k]:.2g}): check what makes it (a surface at its stall or in the wake's edge, "
-            "a fuselage moment the rotor cannot hold; the warnings below are at the last iterate)")
+            "a fuselage moment the rotor cannot hold; the warnings of the last iterate say more)")
 
 
 def _scene_speed(system, lay: TrimLayout) -> float:

@@ -51,7 +51,7 @@ def last_iterate(res, d) -> list[str]:
 
 def power(res, d, air: dict | None = None) -> list[str]:
     """The engines' power beyond what they make available (their take-off ratings lapsed to the
-    trim's air, within the gearbox limit): an aircraft with turboshaft ratings only."""
+    trim's air, within the gearbox limit): an aircraft with rated engines (turboshaft or piston) only."""
     from mbs.environment.atmosphere import density_altitude
     from mbs.performance.available import power_available
 
