@@ -107,6 +107,7 @@ def _computed(scene, system, ident, what, log, progress, backend):
         "own state instead")
     if governed(scene):
         entry, path = _governed_entry(scene, ident, what, progress), store.default_file()
+        took = entry.pop("wall_s")
     else:
         res = trim(scene, speed=ident["speed"], method=ident["method"], steps_per_rev=ident["steps_per_rev"],
                    backend=backend or "compiled", system=system, progress=progress)
@@ -115,13 +116,13 @@ def _computed(scene, system, ident, what, log, progress, backend):
                              f"{ident['speed']:g}' shows the iterations; --start scene starts from the scene's own "
                              "state (with a transient)")
         entry, path = entry_of(res, scene, ident["parameters"]), store.default_file()
+        took = res.wall_s + res.setup_s
     try:
         name = store.write(path, entry)
     except (OSError, ValueError) as exc:
         warn(f"the trim could not be stored in {path} ({getattr(exc, 'strerror', None) or exc}): the next run trims "
              "again; set XDG_DATA_HOME to a writable folder")
         return None, store.key(entry), entry
-    took = entry.pop("wall_s", None) if governed(scene) else res.wall_s + res.setup_s
     log(f"heli simulate: trimmed in {took:.1f} s; stored in {path} (later runs start from it)")
     return path, name, entry
 
