@@ -557,7 +557,8 @@ def test_a_diameter_tip_speeds_and_minutes_of_arc_as_a_flight_manual_prints_them
     """A new user's R22 and AH-1: '25 ft 2 in' diameters, tail-rotor speeds printed as tip speeds
     and a precone of 1 deg 11 min had to be converted by hand. A diameter gives the radius, a main
     rotor's tip speed its speed, a tail rotor's its gear ratio, each listed as converted with its
-    source; arcmin is an angle (and 'min' for one says so); a diameter with a radius is refused."""
+    source; arcmin is an angle (and 'min' for one says so); a diameter beside a radius, a tip speed
+    beside a rotor speed (a flight manual prints both) are taken when they agree within 0.5 %."""
     from mbs.aircraft import units
 
     d = aircraft.load("bo105").data
@@ -579,9 +580,13 @@ def test_a_diameter_tip_speeds_and_minutes_of_arc_as_a_flight_manual_prints_them
     assert listed["main_rotor.omega"][0].startswith("main_rotor.tip_speed") and "main_rotor.radius 4.91 m" in \
         listed["main_rotor.omega"][0]
     assert listed["tail_rotor.gear_ratio"][0].startswith("tail_rotor.tip_speed")
-    raw["main_rotor"]["radius"] = {"value": 4.91, "unit": "m", "source": "S1"}
-    both = aircraft.check(write(raw, tmp_path / "both.toml"))
-    assert both.problems == ["main_rotor.diameter: replaces main_rotor.radius; leave radius out"]
+    raw["main_rotor"]["radius"] = {"value": 4.91, "unit": "m", "source": "S1"}  # both as printed, agreeing
+    raw["main_rotor"]["omega"] = {"value": 424, "unit": "rpm", "source": "POH"}  # 44.40 rad/s against 44.4
+    assert aircraft.check(write(raw, tmp_path / "both.toml")).ok
+    raw["main_rotor"]["radius"]["value"] = 5.0
+    radius, omega = aircraft.check(write(raw, tmp_path / "differ.toml")).problems  # the tip speed over it too
+    assert radius.startswith("main_rotor.diameter: gives main_rotor.radius = 4.91, against the file's 5 (-1.8 %)")
+    assert omega.startswith("main_rotor.tip_speed: gives main_rotor.omega = 43.6")
     assert units.convert(71.0, "arcmin", "rad") == pytest.approx(math.radians(1 + 11 / 60), rel=1e-15)
     with pytest.raises(units.UnitError, match="minutes of arc are arcmin"):
         units.convert(71.0, "min", "rad")

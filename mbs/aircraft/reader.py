@@ -114,11 +114,29 @@ def _stabilator_sign(out: Reading) -> None:
                                                     f"{low_meta['unit']} (trailing edge up positive)"}
 
 
+BOTH_AS_PRINTED = {("main_rotor", "diameter", "radius"), ("tail_rotor", "diameter", "radius"),
+                   ("main_rotor", "tip_speed", "omega"), ("tail_rotor", "tip_speed", "gear_ratio")}
+"""Entries a flight manual prints beside the one they replace: both may be given if they agree."""
+AGREE = 0.005
+"""Two such entries agree within this share."""
+
+
+def _agree(out: Reading, section: str, printed: str, key: str, implied: float) -> None:
+    """``section.printed``, given beside ``section.key``, implies ``implied`` for it: a problem
+    unless the two agree within :data:`AGREE`."""
+    value = out.values[section][key]
+    if abs(implied - value) > AGREE * abs(value):
+        out.problems.append(f"{section}.{printed}: gives {section}.{key} = {implied:.6g}, against the file's "
+                            f"{value:.6g} ({100 * (implied / value - 1):+.2g} %): give one of the two, or correct one")
+
+
 def _diameters(out: Reading) -> None:
     """A rotor's diameter as published: its radius is half of it (listed as converted)."""
     for section in ROTORS:
         v = out.values.get(section, {})
-        if v.get("diameter") and "radius" not in v:
+        if v.get("diameter") and "radius" in v:
+            _agree(out, section, "diameter", "radius", v["diameter"] / 2)
+        elif v.get("diameter"):
             meta = out.meta[section]["diameter"]
             out.put(section, "radius", v["diameter"] / 2, {**meta, "how": f"half the diameter {meta['value']} "
                                                                           f"{meta['unit']} ({section}.diameter)"})
@@ -128,6 +146,10 @@ def _tip_speeds(out: Reading) -> None:
     """A rotor's tip speed as published: the main rotor's speed, or the tail rotor's gear ratio
     (listed as converted)."""
     mr, tr = out.values.get("main_rotor", {}), out.values.get("tail_rotor", {})
+    if mr.get("tip_speed") and mr.get("radius") and "omega" in mr:
+        _agree(out, "main_rotor", "tip_speed", "omega", mr["tip_speed"] / mr["radius"])
+    if tr.get("tip_speed") and tr.get("radius") and mr.get("omega") and "gear_ratio" in tr:
+        _agree(out, "tail_rotor", "tip_speed", "gear_ratio", tr["tip_speed"] / tr["radius"] / mr["omega"])
     if mr.get("tip_speed") and mr.get("radius") and "omega" not in mr:
         meta = out.meta["main_rotor"]["tip_speed"]
         out.put("main_rotor", "omega", mr["tip_speed"] / mr["radius"],
@@ -705,7 +727,9 @@ def _missing(out: Reading, raw: dict) -> None:
         idle: dict[tuple, list[str]] = {}  # (entry, value) -> the given entries that need it
         for key, spec in entries.items():
             applies = _applies(spec, out.values.get(section, {}), entries)
-            if key in replaced and key in given:
+            if key in replaced and key in given and (section, replaced[key], key) in BOTH_AS_PRINTED:
+                pass  # a flight manual prints both: they are checked against each other
+            elif key in replaced and key in given:
                 computed = ", which is computed from it" if key in FROM_TABLES.get(section, {}) else ""
                 out.problems.append(f"{section}.{replaced[key]}: replaces {section}.{key}{computed}; leave {key} out")
             elif key not in given and spec.default is None and applies and key not in replaced:
