@@ -459,3 +459,23 @@ def test_a_published_rating_is_a_bound_not_a_value(tmp_path):
         csv = tmp_path / "b.csv"
         csv.write_text(CSV_HEAD + CSV_ROWS.replace("TOL", text))
         assert load(csv).series[0].tolerance.bound == bound, text
+
+
+def test_a_torque_gauge_s_percent_is_an_output_to_validate(tmp_path):
+    """A flight test prints torque in % of its gauge: with [engine] torque_reference (the gauge's
+    100 %, referred to the main-rotor shaft) the output engine.torque_fraction takes it; the
+    engines' torque is engine.power over the rotor speed."""
+    from mbs import aircraft, scenes
+    from mbs.analysis.trim import periodic_solution
+    from aircraft_files import entries, write
+
+    raw = entries("bo105")
+    raw["engine"]["torque_reference"] = {"value": 5000.0, "unit": "N m", "source": "test"}
+    path = write(raw, tmp_path / "gauge.toml")
+    trim = periodic_solution(scenes.get("forward-flight", aircraft.load(path)), 30.0)
+    o = trim.output_means
+    assert o["engine.torque"] == pytest.approx(o["engine.power"] / 44.4, rel=1e-12)
+    assert o["engine.torque_fraction"] == pytest.approx(o["engine.torque"] / (2 * 5000.0), rel=1e-12)  # two engines
+    v = load(toml('[[trim]]\nquantity = "engine.torque_fraction"\nunit = "%"\nspeed = [58.3]\nvalue = [97.0]\n'
+                  'source = "P1"\n', tmp_path))
+    assert v.series[0].unit == "%"

@@ -498,6 +498,9 @@ ENTRIES: dict[str, dict[str, Entry]] = {
         "transmission_efficiency": num("-", "main gearbox and tail-rotor drive together: engine power = rotors' "
                                        "shaft power / efficiency + accessory power", 0.5, 1.0, open_low=True),
         "accessory_power": num("W", "hydraulic pumps, generators, cooling fans driven by the gearbox", 0.0),
+        "torque_reference": num("N m", "the torque a cockpit's torque gauge shows as 100 %, referred to the main-rotor "
+                                "shaft (each engine's gauge of a twin: its engine's share); with it the output "
+                                "engine.torque_fraction (0: none)", 0.0, default=0.0),
         "model": choice("the engines' dynamics: none (the power the rotors need, as it comes), turboshaft (gas "
                         "generator, fuel-flow lag, power limits and a rotor-speed governor, for scenes whose rotor "
                         "speed is a state) or piston (the same dynamics, the power lag the engine's own, with a "

@@ -113,10 +113,20 @@ def _power(m: Model, d) -> list[str]:
     if m.bodies["main_hub"].parent == WORLD:  # a rotor on a test stand: no engine
         return names
     engine = Engine.of(d)
-    m.add_output("engine.power", lambda s: engine.power(*[p(s) for p in powers]), "W",
+    total = lambda s: engine.power(*[p(s) for p in powers])  # noqa: E731
+    m.add_output("engine.power", total, "W",
                  f"engine power: the rotors' shaft power over the transmission efficiency {engine.efficiency:g}, "
                  f"plus {engine.accessory_power:g} W accessory power")
-    return names + ["engine.power"]
+    m.add_output("engine.torque", lambda s: total(s) / s.p["omega"], "N m",
+                 "the engines' torque referred to the main-rotor shaft: engine power over the rotor speed")
+    out = ["engine.power", "engine.torque"]
+    reference, count = d["engine"].get("torque_reference", 0.0), d["engine"].get("count", 1)
+    if reference:
+        m.add_output("engine.torque_fraction", lambda s: total(s) / s.p["omega"] / (count * reference), "1",
+                     f"each engine's torque over the gauge's 100 % ({reference:g} N m referred to the main-rotor "
+                     f"shaft), the {count} engine(s) sharing the load")
+        out.append("engine.torque_fraction")
+    return names + out
 
 
 def _output(m: Model, state, name: str):
