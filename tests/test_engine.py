@@ -36,7 +36,7 @@ def test_engines_are_refused_where_they_cannot_work():
     with pytest.raises(ValueError, match=r"no \[drive_train\] section"):
         build(Config(drive_train="rigid", engines=True), lynx)
     no_engines = type(BO105)({**BO105, "engine": {**BO105["engine"], "model": "none"}})
-    with pytest.raises(ValueError, match="no turboshaft model"):
+    with pytest.raises(ValueError, match="has no engine model"):
         build(Config(drive_train="rigid", engines=True), no_engines)
 
 
