@@ -49,9 +49,7 @@ def _fin_against_the_tail_rotor(values: dict, d) -> list[str]:
     if thrust is None or "fuselage.u" not in values or _speed(values) < FORWARD:
         return []
     fin = d["vertical_fin"]
-    air = -np.array([values["fuselage.u"], values.get("fuselage.v", 0.0), values["fuselage.w"]])
-    air[1] += values.get("fin.sidewash", 0.0)
-    w_c, w_n = turn(air[0], air[1], fin["incidence"])
+    w_c, w_n = _section_air(values, d, "vertical_fin")
     f_c, f_n = section_force(w_c, w_n, airfoil(fin), d["environment"]["rho"], fin["area"], flat_plate=True)
     side = float(turn(float(f_c), float(f_n), -fin["incidence"])[1])  # N, to starboard
     anti_torque = 1.0 if d["main_rotor"]["rotation"] == "counter-clockwise" else -1.0  # the tail rotor's push
@@ -189,11 +187,12 @@ def _speed(values: dict) -> float | None:
     return float(np.hypot(np.hypot(values["fuselage.u"], values.get("fuselage.v", 0.0)), values.get("fuselage.w", 0.0)))
 
 
-def _estimated_flow(values: dict, d, section: str) -> tuple:
-    """Angle of attack (rad) and speed (m/s) of the air at a fixed surface from the trim's body
-    velocity and the wake at it (rates zero in a trim); (None, None) without the velocity."""
+def _section_air(values: dict, d, section: str) -> tuple:
+    """The air (m/s) at a fixed surface in its section axes, ``(w_c, w_n)`` after its incidence,
+    from the trim's body velocity and the wake at it (rates zero in a trim); None without the
+    velocity."""
     if "fuselage.u" not in values or "fuselage.w" not in values:
-        return None, None
+        return None
     air = -np.array([values["fuselage.u"], values.get("fuselage.v", 0.0), values["fuselage.w"]])
     if section == "horizontal_tail":
         air[2] += values.get("horizontal_tail.downwash", 0.0)
@@ -202,5 +201,14 @@ def _estimated_flow(values: dict, d, section: str) -> tuple:
         air[1] += values.get("fin.sidewash", 0.0)
         w_c, w_n = air[0], air[1]
     inc = d[section]["incidence"]
-    w_c, w_n = np.cos(inc) * w_c + np.sin(inc) * w_n, -np.sin(inc) * w_c + np.cos(inc) * w_n
+    return np.cos(inc) * w_c + np.sin(inc) * w_n, -np.sin(inc) * w_c + np.cos(inc) * w_n
+
+
+def _estimated_flow(values: dict, d, section: str) -> tuple:
+    """Angle of attack (rad) and speed (m/s) of the air at a fixed surface
+    (:func:`_section_air`); (None, None) without the velocity."""
+    air = _section_air(values, d, section)
+    if air is None:
+        return None, None
+    w_c, w_n = air
     return 0.5 * np.arctan2(-2 * w_n * w_c, w_c**2 - w_n**2), float(np.hypot(w_c, w_n))
