@@ -61,6 +61,7 @@ CASES = [
     ("performance ceiling --altitudes 0:70000ft:3", ["--altitudes", "70000ft (2.134e+04 m) is outside"]),
     ("performance speed --speeds 10:20:x", ["--speeds", "must be LO:HI:N"]),
     ("performance ceiling --grounds none", ["--grounds", "invalid choice: 'none'"]),
+    ("performance ceiling --grounds oge --ige-hub-height 3", ["--ige-hub-height 3", "--grounds oge has none"]),
     ("performance speed --masses -3", ["--masses", "-3 kg is outside the masses a sweep takes, 100 to 100000 kg"]),
     ("performance ceiling --temperatures 100", ["--temperatures", "outside the temperatures a sweep takes, -60 to 60 K"]),
     ("simulate structural --out /dev/null/x", ["--out", "'/dev/null/x'", "/dev/null is a file, not a folder"]),

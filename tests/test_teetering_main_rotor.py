@@ -138,3 +138,11 @@ def test_coning_hinges_cone_the_blades_until_the_lift_s_moment_is_balanced(tmp_p
         assert beta > cone + 0.008, k
     for k in (5.0e5, 2.0e6):
         assert moments[k] == pytest.approx(moments[0.0], rel=0.01), moments
+
+
+def test_a_coning_spring_without_coning_hinges_is_refused(tmp_path):
+    """coning_stiffness on a hub with no coning hinges would do nothing without a word."""
+    problems = aircraft.check(_teetering(tmp_path, "spring.toml",
+                                         coning_stiffness='{ value = 1e5, unit = "N m/rad", source = "test" }')).problems
+    assert any(p.startswith("main_rotor.coning_stiffness: 100000 N m/rad does nothing without coning hinges")
+               for p in problems), problems

@@ -172,6 +172,9 @@ def _main_hub_type(v: dict) -> list[str]:
     if mr["flap_hinge_offset"] != 0.0:
         out.append(f"main_rotor.flap_hinge_offset: {mr['flap_hinge_offset']:g} m on a teetering hub, whose blades "
                    "start at the teeter hinge on the axis: give 0 (their height below it is undersling)")
+    if mr.get("coning_stiffness") and not mr.get("coning_hinge_offset"):
+        out.append(f"main_rotor.coning_stiffness: {mr['coning_stiffness']:g} N m/rad does nothing without coning hinges "
+                   "(coning_hinge_offset 0): give the hinges' offset, or leave it out")
     if 0.0 < mr.get("coning_hinge_offset", 0.0) < 0.01 * mr["radius"]:
         out.append(f"main_rotor.coning_hinge_offset: {mr['coning_hinge_offset']:g} m is within 1 % of the radius "
                    "of the teeter hinge, which then moves the blades as the coning hinges do: give the hinges' "

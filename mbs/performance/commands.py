@@ -48,6 +48,9 @@ def cmd_ceiling(args) -> int:
     from mbs.performance.ceiling import hover_ceilings
 
     grounds = tuple(g for g in ("oge", "ige") if g in args.grounds.split(","))
+    if args.ige_hub_height is not None and "ige" not in grounds:
+        raise ValueError(f"--ige-hub-height {args.ige_hub_height}: sets the hover in ground effect, and --grounds "
+                         f"{args.grounds} has none: give --grounds ige or oge,ige, or leave it out")
     if args.aircraft is not None and "ige" in grounds and args.ige_hub_height is None:
         from mbs.cli import warn
         from mbs.performance.ceiling import HUB_ABOVE_SKIDS, IGE_SKID_CLEARANCE
