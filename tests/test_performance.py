@@ -63,6 +63,12 @@ def test_a_piston_engine_holds_its_derated_rating_to_its_critical_altitude(tmp_p
     engine["lapse_temperature"] = {"value": 1.0, "unit": "-", "source": "x"}
     bad = aircraft.check(write(raw, tmp_path / "both.toml"))
     assert "engine.lapse_temperature: applies only when engine.model = 'turboshaft'; leave it out" in bad.problems
+    del engine["lapse_temperature"]
+    engine["count"]["value"] = 2  # two engines: the rating is needed again
+    twin = aircraft.check(write(raw, tmp_path / "twin.toml"))
+    assert [p for p in twin.problems if p.startswith("engine.")] == [
+        "engine.oei_power: missing (an engine's one-engine-inoperative rating (the power the remaining engine may give "
+        "when another has failed), sea level, ISA (not needed with one engine), in W)"]
 
 
 def test_the_ceiling_is_the_margins_last_zero():

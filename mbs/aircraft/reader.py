@@ -733,20 +733,34 @@ def _missing(out: Reading, raw: dict) -> None:
                 computed = ", which is computed from it" if key in FROM_TABLES.get(section, {}) else ""
                 out.problems.append(f"{section}.{replaced[key]}: replaces {section}.{key}{computed}; leave {key} out")
             elif key not in given and spec.default is None and applies and key not in replaced:
-                if (section, key) == ("horizontal_tail", "incidence") and "airspeed" in raw.get("stabilator", {}):
-                    out.put(section, key, 0.0, {"unit": "rad", "source": "", "note": "", "origin": "default",
-                                                "value": 0.0})  # the schedule's, not used
-                    continue
-                if (section, key) == ("engine", "oei_power") and out.values.get("engine", {}).get("count") == 1 \
-                        and "takeoff_power" in out.values["engine"]:
-                    out.put(section, key, out.values["engine"]["takeoff_power"],
-                            {"unit": "W", "source": "", "note": "one engine: no other to fail", "origin": "default",
-                             "value": out.values["engine"]["takeoff_power"]})  # never in force with one engine
+                stand_in = STAND_INS[spec.optional_when](raw, out.values) if spec.optional_when else None
+                if stand_in is not None:
+                    out.put(section, key, stand_in[0], {"unit": spec.unit, "source": "", "note": stand_in[1],
+                                                        "origin": "default", "value": stand_in[0]})
                     continue
                 out.problems.append(f"{section}.{key}: missing ({spec.text}, in {spec.unit})")
             elif key in given and not applies:
                 idle.setdefault(spec.only_if, []).append(key)
         out.problems.extend(_idle(section, other, wanted, keys) for (other, wanted), keys in idle.items())
+
+
+def _stabilator_sets_it(raw: dict, values: dict):
+    """A horizontal tail whose incidence the stabilator's schedule sets: the fixed one unused."""
+    return (0.0, "unused: the stabilator's schedule sets the incidence") if "airspeed" in raw.get("stabilator", {}) \
+        else None
+
+
+def _one_engine(raw: dict, values: dict):
+    """One engine: no other to fail, so its one-engine-inoperative rating is never in force."""
+    engine = values.get("engine", {})
+    if engine.get("count") == 1 and "takeoff_power" in engine:
+        return engine["takeoff_power"], "one engine: no other to fail"
+    return None
+
+
+# Entry.optional_when rules: (raw file, values read so far) -> (stand-in value, note), or None
+# where the entry is required after all.
+STAND_INS = {"stabilator schedule": _stabilator_sets_it, "one engine": _one_engine}
 
 
 def _idle(section: str, other: str, wanted, keys: list[str]) -> str:

@@ -40,6 +40,7 @@ class Entry:
     replaces: str = ""  # the entries (space-separated) of the section this one gives instead (a table instead of numbers)
     axis: str = ""  # a position from the CG along these body axes ("x", "z", "xyz"): it may be given as stations
     radial: bool = False  # a table along the span: its first column r/R, or radial stations in a length unit
+    optional_when: str = ""  # a rule of mbs.aircraft.reader.STAND_INS under which the entry may be left out
 
 
 def num(unit, text, low=-math.inf, high=math.inf, **kw) -> Entry:
@@ -140,11 +141,12 @@ def _controls(prefix: str, what: str) -> dict[str, Entry]:
             f"{prefix}_max": angle(f"largest {what} the control reaches", 60)}
 
 
-def _surface(what: str, arg: str = "alpha", flow: str = "downwash") -> dict[str, Entry]:
+def _surface(what: str, arg: str = "alpha", flow: str = "downwash", optional_when: str = "") -> dict[str, Entry]:
     lift = ("positive to starboard for either sense of rotation: a counter-clockwise rotor's fin, lifting to starboard "
             "to unload its tail rotor, has positive incidence or a negative zero-lift angle, a clockwise rotor's "
             "the other signs" if flow == "sidewash" else "leading edge up positive")
-    return {"area": positive("m^2", f"{what} area"), "incidence": angle(f"{what} incidence ({lift})", 30),
+    return {"area": positive("m^2", f"{what} area"), "incidence": angle(f"{what} incidence ({lift})", 30,
+                                                                         optional_when=optional_when),
             "x": num("m", f"{what} aerodynamic centre, x (forward) from the CG", axis="x"),
             "z": num("m", f"{what} aerodynamic centre, z (down) from the CG", axis="z"),
             "chord": positive("m", f"{what} chord (display only)"), **_airfoil(what, cd2_default=0.0),
@@ -245,7 +247,8 @@ def _turboshaft() -> dict[str, Entry]:
         "takeoff_power": positive("W", "each engine's take-off power rating at sea level, ISA", only_if=ts),
         "max_continuous_power": positive("W", "each engine's maximum continuous power at sea level, ISA", only_if=ts),
         "oei_power": positive("W", "an engine's one-engine-inoperative rating (the power the remaining engine may "
-                              "give when another has failed), sea level, ISA (not needed with one engine)", only_if=ts),
+                              "give when another has failed), sea level, ISA (not needed with one engine)", only_if=ts,
+                              optional_when="one engine"),
         "transmission_power": positive("W", "main gearbox limit on the engines' power together", only_if=ts),
         "lapse_temperature": num("-", "power available at altitude: rating times delta / theta^lapse_temperature "
                                  "(delta, theta: ambient pressure and temperature over sea level ISA)", 0.0, 4.0,
@@ -474,7 +477,7 @@ ENTRIES: dict[str, dict[str, Entry]] = {
                            only_if=("model", "polynomials")),
         **_fuselage_tables(),
     },
-    "horizontal_tail": _surface("horizontal tail"),
+    "horizontal_tail": _surface("horizontal tail", optional_when="stabilator schedule"),
     "vertical_fin": _surface("fin", "beta", "sidewash"),
     "wing": _wing(),
     "stabilator": _stabilator(),
