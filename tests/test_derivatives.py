@@ -157,3 +157,30 @@ def test_a_complex_pair_named_as_a_subsidence_is_explained_in_the_table():
     assert lines[2] == "  (a complex pair damped at 90 % of critical or more is named as a subsidence: it dies out " \
                        "within one swing)"
     assert len(mode_lines([FlightMode(complex(-3.0, 0.0), {}, "roll subsidence")])) == 2
+
+
+R22_60KT = np.array([  # a new user's Robinson R22 at 60 kt (teetering rotor): its A in Padfield's order
+    [-0.0505765, -0.0363662, 2.84279, -9.7807, 0.000197777, -0.264717, -0.000390072, 0.0524987],
+    [-0.0570486, -0.805017, 30.7878, 0.717767, -0.0120929, 0.259896, 0.149445, 0.385093],
+    [0.0186492, 0.00144741, -1.19555, 0.00545466, 0.000141225, 0.332414, 0.000544331, -0.0345808],
+    [0, 0, 0.999883, 0, 0, 0, -1.41266e-07, 0.0152782],
+    [0.00253752, -0.00268341, -0.263789, -0.0113896, -0.13634, -2.77368, 9.77952, -30.522],
+    [0.00351662, -0.0151352, -1.01414, -0.00143975, -0.124138, -1.67076, 0.0123419, 0.320402],
+    [0, 0, 0.00112272, 1.42029e-07, 0, 1, 4.27023e-10, -0.0734765],
+    [-0.0410637, -0.114115, 0.399284, -0.000318787, 0.0678443, -0.077814, -0.000365801, -1.32861]])
+
+
+def test_of_two_lateral_oscillations_the_dutch_roll_is_the_sideslip_and_yaw_one():
+    """Two new users' R22 at 60 kt named its lightly damped 5 s sideslip-yaw oscillation the
+    lateral phugoid (yaw 0.165 of it, under a quarter) and a well-damped pair with 0.39 of pitch
+    and heave in it the Dutch roll (yaw 0.28). The Dutch roll is the one with the largest v + r
+    share; the other is named after its axes."""
+    from mbs.analysis.flight_modes import flight_modes
+
+    modes = {m.name: m for m in flight_modes(R22_60KT)}
+    assert sorted(modes) == ["Dutch roll", "phugoid", "pitch subsidence", "roll subsidence", "yaw-pitch oscillation"]
+    dutch, other = modes["Dutch roll"], modes["yaw-pitch oscillation"]
+    assert dutch.eigenvalue == pytest.approx(-0.0604 + 1.2136j, abs=2e-3) and 0.04 < dutch.damping_ratio < 0.06
+    assert other.eigenvalue == pytest.approx(-1.268 + 1.253j, abs=2e-3)
+    share = lambda m, *k: sum(m.participation[s] for s in k)  # noqa: E731
+    assert share(dutch, "v", "r") > share(other, "v", "r") and dutch.participation["r"] < 0.25

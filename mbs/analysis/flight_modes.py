@@ -10,7 +10,10 @@ it, lateral otherwise, and is named as in Padfield (Helicopter Flight Dynamics, 
   subsidence" (``u``), "divergence" instead of "subsidence" when the eigenvalue is positive;
 * lateral: oscillatory "Dutch roll" (with a quarter or more in ``r``), else "lateral
   phugoid" (the sway-roll oscillation of the hover); real: "roll subsidence" (``p``), "yaw
-  subsidence" (``r``), "spiral" (``φ, v``).
+  subsidence" (``r``), "spiral" (``φ, v``). Of two or more lateral oscillations (a light,
+  strongly coupled aircraft has them) the Dutch roll is the one with the largest sideslip and
+  yaw share (``v + r``); another is the lateral phugoid when ``r`` holds less than a quarter of
+  it, else named after its two largest axes ("yaw-pitch oscillation").
 
 A complex pair damped at 90 % of critical or more (coupled subsidences, e.g. roll and pitch
 through the rotor's cross-coupling in hover) is named as a real mode after the axis with the
@@ -71,11 +74,7 @@ def mode_name(lam: complex, share: dict[str, float]) -> str:
     group = lambda *keys: sum(share[k] for k in keys)  # noqa: E731
     oscillatory = abs(lam.imag) > 1e-9 * max(abs(lam), 1e-300)
     if oscillatory and -lam.real >= OVERDAMPED * abs(lam):
-        weights = {"heave": share["w"], "pitch": group("q", "theta"), "speed": share["u"], "roll": share["p"],
-                   "yaw": share["r"]}
-        first, second = sorted(weights, key=weights.get, reverse=True)[:2]
-        joined = f"{first}-{second}" if weights[second] >= 0.5 * weights[first] else first
-        return f"{joined} {'divergence' if lam.real > 0 else 'subsidence'}"
+        return f"{_axes(share)} {'divergence' if lam.real > 0 else 'subsidence'}"
     if group(*LONGITUDINAL) >= 0.5:
         if oscillatory:
             return "short period" if group("w", "q") > group("u", "theta") else "phugoid"
@@ -85,6 +84,25 @@ def mode_name(lam: complex, share: dict[str, float]) -> str:
     if group("phi", "v") > max(share["p"], share["r"]):
         return "spiral"
     return _real(lam, {"roll": share["p"], "yaw": share["r"]})
+
+
+def _axes(share: dict[str, float]) -> str:
+    """The axis with the largest share, joined by the next when that holds at least half as much."""
+    weights = {"heave": share["w"], "pitch": share["q"] + share["theta"], "speed": share["u"], "roll": share["p"],
+               "yaw": share["r"]}
+    first, second = sorted(weights, key=weights.get, reverse=True)[:2]
+    return f"{first}-{second}" if weights[second] >= 0.5 * weights[first] else first
+
+
+def _one_dutch_roll(modes: list[FlightMode]) -> None:
+    """Name one Dutch roll among two or more lateral oscillations (module docstring)."""
+    lateral = [m for m in modes if m.name in ("Dutch roll", "lateral phugoid")]
+    if len(lateral) < 2:
+        return
+    dutch = max(lateral, key=lambda m: m.participation["v"] + m.participation["r"])
+    for m in lateral:
+        m.name = "Dutch roll" if m is dutch else (
+            "lateral phugoid" if m.participation["r"] < 0.25 else f"{_axes(m.participation)} oscillation")
 
 
 def _real(lam: complex, weights: dict[str, float]) -> str:
@@ -99,4 +117,5 @@ def flight_modes(a: np.ndarray, states=STATES) -> list[FlightMode]:
     for i in np.flatnonzero(lam.imag >= 0):
         share = {s: float(w) for s, w in zip(states, p[:, i])}
         out.append(FlightMode(complex(lam[i]), share, mode_name(complex(lam[i]), share)))
+    _one_dutch_roll(out)
     return sorted(out, key=lambda m: m.eigenvalue.real, reverse=True)
