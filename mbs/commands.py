@@ -422,13 +422,15 @@ def cmd_floquet(args) -> int:
 
 def _floquet_lines(res) -> list[str]:
     """The human-readable report of :func:`mbs.analysis.floquet.floquet`."""
+    from mbs.analysis.flight_modes import zeta_text
+
     return [f"{res.scene}{_of(res)} at {res.speed:g} m/s: Floquet analysis over {res.period_revs} main-rotor revolutions "
             f"(monodromy over {res.interval_revs}; periodic solution in {res.trim.iterations} Newton iterations; "
             f"analysis {res.wall_s:.2f} s); rotor-mode frequencies in the {res.frame} frame",
             *gear_lines(res.trim),
             f"  {'mode':30s} {'Re λ 1/s':>10s} {'Im λ rad/s':>11s} {'Hz':>8s} {'/rev':>7s} {'ζ':>7s} {'|μ|':>9s}",
             *[f"  {m.name:30s} {m.exponent.real:+10.4f} {m.exponent.imag:11.4f} {m.frequency_hz:8.4f} "
-              f"{m.per_rev:7.4f} {m.damping_ratio:+7.3f} {abs(m.multiplier):9.3e}" for m in res.modes],
+              f"{m.per_rev:7.4f} {zeta_text(m.damping_ratio)} {abs(m.multiplier):9.3e}" for m in res.modes],
             f"{'stable' if res.stable else 'UNSTABLE'}: largest |multiplier| "
             f"{max(abs(m.multiplier) for m in res.modes):.6f} over the period"]
 
@@ -545,13 +547,13 @@ def _derivative_lines(res) -> list[str]:
 def mode_lines(modes) -> list[str]:
     """The table of flight modes (:class:`mbs.analysis.flight_modes.FlightMode`), with a note when
     a complex pair is named as a subsidence."""
-    from mbs.analysis.flight_modes import OVERDAMPED
+    from mbs.analysis.flight_modes import OVERDAMPED, zeta_text
 
     lines = [f"  {'mode':22s} {'Re λ 1/s':>10s} {'Im λ rad/s':>11s} {'ζ':>7s} {'period s':>9s}"]
     for m in modes:
         period = f"{m.period_s:9.2f}" if m.period_s else " " * 9
         lines.append(f"  {m.name:22s} {m.eigenvalue.real:+10.4f} {m.eigenvalue.imag:11.4f} "
-                     f"{m.damping_ratio:+7.3f} {period}")
+                     f"{zeta_text(m.damping_ratio)} {period}")
     if any(m.eigenvalue.imag and m.name.endswith(("subsidence", "divergence")) for m in modes):
         lines.append(f"  (a complex pair damped at {100 * OVERDAMPED:g} % of critical or more is named as a subsidence: "
                      "it dies out within one swing)")

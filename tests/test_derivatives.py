@@ -184,3 +184,16 @@ def test_of_two_lateral_oscillations_the_dutch_roll_is_the_sideslip_and_yaw_one(
     assert other.eigenvalue == pytest.approx(-1.268 + 1.253j, abs=2e-3)
     share = lambda m, *k: sum(m.participation[s] for s in k)  # noqa: E731
     assert share(dutch, "v", "r") > share(other, "v", "r") and dutch.participation["r"] < 0.25
+
+
+def test_a_neutral_root_has_no_damping_ratio():
+    """A new user's Floquet table printed the neutral heading root (+0.0000, multiplier 1.000) with
+    ζ −1.000, its sign that of round-off: it reads as a strong instability. A root below 1e-6 1/s
+    prints "neutral", is NaN in the mode, empty in the CSV and null in the JSON."""
+    from mbs.analysis.flight_modes import FlightMode, damping_ratio
+    from mbs.commands import mode_lines
+
+    assert np.isnan(damping_ratio(complex(3e-10, 0.0))) and damping_ratio(complex(-2e-6, 0.0)) == 1.0
+    neutral = FlightMode(complex(3e-10, 0.0), {}, "yaw subsidence")
+    assert "neutral" in mode_lines([neutral])[1] and neutral.summary()["damping_ratio"] is None
+    assert json.loads(json.dumps(neutral.summary()))["damping_ratio"] is None

@@ -92,7 +92,8 @@ def test_hover_chart_and_table_in_the_fixed_frame(tmp_path, capsys):
     assert len(rows) == len(res["modes"])
     for row, m in zip(rows, res["modes"]):
         assert row["mode"] == m["name"]
-        assert [float(row[k]) for k in ("real_per_s", "imag_rad_s", "frequency_hz", "per_rev", "damping_ratio")] \
+        assert [float(row[k]) if row[k] else None for k in ("real_per_s", "imag_rad_s", "frequency_hz", "per_rev",
+                                                            "damping_ratio")] \
             == [*m["exponent"], m["frequency_hz"], m["per_rev"], m["damping_ratio"]]
         assert float(row["multiplier_modulus"]) == pytest.approx(np.hypot(*m["multiplier"]), rel=1e-15)
     lag = {m["name"]: m["per_rev"] for m in res["modes"] if m["name"].endswith(" lag")}

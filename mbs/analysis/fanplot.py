@@ -231,7 +231,8 @@ def _mode_row(m, name: str) -> dict:
     """The CSV fields of one mode: rad/s, 1/s, Hz, per rev."""
     unstable = abs(m.multiplier) > 1 + UNSTABLE
     return {"omega_rad_s": m.omega, "mode": name, "real_per_s": m.exponent.real, "imag_rad_s": m.exponent.imag,
-            "frequency_hz": m.frequency_hz, "per_rev": m.per_rev, "damping_ratio": m.damping_ratio,
+            "frequency_hz": m.frequency_hz, "per_rev": m.per_rev,
+            "damping_ratio": "" if np.isnan(m.damping_ratio) else m.damping_ratio,
             "multiplier_modulus": abs(m.multiplier), "status": "unstable" if unstable else "ok"}
 
 

@@ -29,6 +29,17 @@ import numpy as np
 STATES = ("u", "w", "q", "theta", "v", "p", "phi", "r")
 LONGITUDINAL = ("u", "w", "q", "theta")
 OVERDAMPED = 0.9  # damping ratio from which a complex pair is named as a subsidence
+NEUTRAL = 1e-6  # 1/s: an eigenvalue this small is a neutral root (the heading's), its damping ratio undefined
+
+
+def damping_ratio(lam: complex) -> float:
+    """``-Re λ / |λ|``; NaN for a neutral root (``|λ| < NEUTRAL``), whose sign is round-off."""
+    return float(-lam.real / abs(lam)) if abs(lam) >= NEUTRAL else float("nan")
+
+
+def zeta_text(zeta: float) -> str:
+    """A damping ratio for a table, 7 characters; "neutral" for an undefined one."""
+    return "neutral" if np.isnan(zeta) else f"{zeta:+7.3f}"
 
 
 @dataclass
@@ -42,7 +53,7 @@ class FlightMode:
 
     @property
     def damping_ratio(self) -> float:
-        return float(-self.eigenvalue.real / max(abs(self.eigenvalue), 1e-300))
+        return damping_ratio(self.eigenvalue)
 
     @property
     def period_s(self) -> float | None:
@@ -56,7 +67,7 @@ class FlightMode:
 
     def summary(self) -> dict:
         return {"name": self.name, "eigenvalue": [self.eigenvalue.real, self.eigenvalue.imag],
-                "damping_ratio": self.damping_ratio, "period_s": self.period_s,
+                "damping_ratio": None if np.isnan(self.damping_ratio) else self.damping_ratio, "period_s": self.period_s,
                 "time_to_half_s": self.time_to_half_s, "participation": self.participation}
 
 

@@ -68,7 +68,9 @@ class FloquetMode:
 
     @property
     def damping_ratio(self) -> float:
-        return float(-self.exponent.real / max(abs(self.exponent), 1e-300))
+        from mbs.analysis.flight_modes import damping_ratio
+
+        return damping_ratio(self.exponent)
 
     @property
     def group(self) -> str:
@@ -85,7 +87,8 @@ class FloquetMode:
     def summary(self) -> dict:
         return {"name": self.name, "exponent": [self.exponent.real, self.exponent.imag],
                 "multiplier": [self.multiplier.real, self.multiplier.imag], "damping_per_s": self.damping,
-                "damping_ratio": self.damping_ratio, "frequency_hz": self.frequency_hz, "per_rev": self.per_rev,
+                "damping_ratio": None if np.isnan(self.damping_ratio) else self.damping_ratio,
+                "frequency_hz": self.frequency_hz, "per_rev": self.per_rev,
                 "participation": self.participation}
 
 

@@ -29,9 +29,11 @@ UNSTABLE_SHADE = {"color": "tab:red", "alpha": 0.08, "lw": 0}
 
 
 def rows(res: Floquet) -> list[dict]:
-    """The table: one dict per mode with the fields of :data:`CSV_COLUMNS` (SI units)."""
+    """The table: one dict per mode with the fields of :data:`CSV_COLUMNS` (SI units; a neutral
+    root's damping ratio, undefined, left empty)."""
     return [{"mode": m.name, "group": m.group, "real_per_s": m.exponent.real, "imag_rad_s": m.exponent.imag,
-             "frequency_hz": m.frequency_hz, "per_rev": m.per_rev, "damping_ratio": m.damping_ratio,
+             "frequency_hz": m.frequency_hz, "per_rev": m.per_rev,
+             "damping_ratio": "" if np.isnan(m.damping_ratio) else m.damping_ratio,
              "multiplier_modulus": abs(m.multiplier)} for m in res.modes]
 
 
