@@ -163,3 +163,16 @@ def test_performance_sweeps_take_the_units_a_flight_manual_prints():
     assert HUB_HEIGHTS("10ft") == pytest.approx([3.048])
     with pytest.raises(ValueError, match="outside the altitudes a sweep takes"):
         ALTITUDES("70000ft")
+
+
+def test_a_sweep_without_its_zero_says_which_way_it_lies_and_what_to_extend():
+    """A new user's ceiling sweep printed only "not within the swept altitudes": the ceiling was
+    above the top altitude. The line now gives the side, the margin at that end and the option."""
+    from mbs.performance.commands import _no_crossing
+
+    above = _no_crossing([0.0, 1000.0, 3000.0], [90e3, 60e3, 12.5e3], "m", "altitude", "--altitudes")
+    assert above == "above the highest altitude swept, 3000 m (margin +12.5 kW there): extend --altitudes"
+    below = _no_crossing([20.0, 40.0], [-3e3, float("nan")], "m/s", "speed", "--speeds")
+    assert below == "below the lowest speed swept, 20 m/s (margin -3.0 kW there): extend --speeds or lighten the " \
+                    "aircraft"
+    assert _no_crossing([0.0], [float("nan")], "m", "altitude", "--altitudes") == "no trim converged"

@@ -65,7 +65,7 @@ def cmd_ceiling(args) -> int:
     lines = ["hover ceiling (pressure altitude; power required from the trims, available from the engine model):"]
     for c in res:
         where = (f"{c.ceiling:7.0f} m ({c.ceiling / FT:6.0f} ft)" if c.ceiling is not None else
-                 "not within the swept altitudes")
+                 _no_crossing(c.altitudes, c.margins, "m", "altitude", "--altitudes"))
         lines.append(f"  {c.ground.upper()} {c.mass:6.0f} kg ISA{c.offset:+.0f}: {where}"
                      + (f" ({c.failed} trims failed)" if c.failed else ""))
     files = _write(args.out, "ceiling", rows, lambda path: _plot_ceiling(res, path)) if args.out else {}
@@ -84,12 +84,28 @@ def cmd_speed(args) -> int:
     lines = ["largest level speed (power required from the trims, available from the engine model):"]
     for c in res:
         where = f"{c.speed:5.1f} m/s ({c.speed / 0.514444:5.1f} kt)" if c.speed is not None else \
-            "not within the swept speeds"
+            _no_crossing(c.speeds, c.margins, "m/s", "speed", "--speeds")
         lines.append(f"  {c.altitude:6.0f} m {c.mass:6.0f} kg ISA{c.offset:+.0f}: {where}"
                      + (f" ({c.failed} trims failed)" if c.failed else ""))
     files = _write(args.out, "speed", rows, None) if args.out else {}
     emit({"level_speeds": rows, "files": files}, args.json, lines + [f"wrote {p}" for p in files.values()])
     return 0
+
+
+def _no_crossing(x, margins, unit: str, what: str, option: str) -> str:
+    """Why a sweep has no zero of its power margin (W) at the swept ``x``: where it stays positive
+    or negative, with the margin at the nearest end and what to extend."""
+    ok = [(float(a), float(m)) for a, m in zip(x, margins) if m is not None and np.isfinite(m)]
+    if not ok:
+        return "no trim converged"
+    (first, m_first), (last, m_last) = ok[0], ok[-1]
+    if m_last > 0:
+        return (f"above the highest {what} swept, {last:g} {unit} (margin {m_last / 1e3:+.1f} kW there): "
+                f"extend {option}")
+    if m_first <= 0:
+        return (f"below the lowest {what} swept, {first:g} {unit} (margin {m_first / 1e3:+.1f} kW there): "
+                f"extend {option} or lighten the aircraft")
+    return f"not within the swept {what}s"
 
 
 def _masses(args) -> np.ndarray:
