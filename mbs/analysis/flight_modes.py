@@ -67,7 +67,8 @@ class FlightMode:
 
     def summary(self) -> dict:
         return {"name": self.name, "eigenvalue": [self.eigenvalue.real, self.eigenvalue.imag],
-                "damping_ratio": None if np.isnan(self.damping_ratio) else self.damping_ratio, "period_s": self.period_s,
+                "damping_ratio": None if np.isnan(self.damping_ratio) else self.damping_ratio,
+                "period_s": self.period_s,
                 "time_to_half_s": self.time_to_half_s, "participation": self.participation}
 
 

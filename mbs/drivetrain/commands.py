@@ -102,7 +102,8 @@ def register(sub, bench) -> None:
     A.add_scene(p, nargs="?", default="autorotation", what="scene (default autorotation)")
     A.add_aircraft(p)
     p.add_argument("--speeds", default="20,30,40", type=A.checked_by(speed_list), metavar="V1,V2,...",
-                   help="forward speeds in m/s, 5 to 90 (a steady autorotation), or with a unit: 50kt,70kt (default 20,30,40)")
+                   help="forward speeds in m/s, 5 to 90 (a steady autorotation), or with a unit: 50kt,70kt "
+                        "(default 20,30,40)")
     p.add_argument("--rotor-speed", default=None, metavar="OMEGA",
                    help="the rotor speed held: rad/s, rpm (400rpm) or a percentage of the nominal (90%%); "
                         "default the nominal speed")
