@@ -355,3 +355,30 @@ def test_a_tail_rotor_overlapping_the_main_disc_in_plan_view_is_warned_and_one_u
     report = aircraft.check(write(with_tail_rotor(entries("bo105"), hub_x=(-3.0, "m")), tmp_path / "under.toml"))
     assert any(p.startswith("tail_rotor.hub_x: -3 m puts the tail-rotor hub under the main rotor's disc")
                for p in report.problems), report.problems
+
+
+def test_a_number_printed_in_parts_is_read_as_printed(tmp_path):
+    """A new user's R22 flight manual prints the rotor diameter as 25 ft 2 in and the tail precone as
+    1 deg 11 min; both had to be converted by hand. A list of parts with a unit each is read
+    as their sum and listed as printed; text in parts, parts of two signs and a list without a
+    unit per part are refused saying how to write them."""
+    from aircraft_files import entries, write
+
+    raw = entries("bo105")
+    raw["main_rotor"].pop("radius")
+    raw["main_rotor"]["diameter"] = {"value": [32, 2.5], "unit": "ft, in", "source": "POH"}
+    raw["tail_rotor"]["precone"] = {"value": [1, 11], "unit": "deg, arcmin", "source": "POH"}
+    report = aircraft.check(write(raw, tmp_path / "parts.toml"))
+    assert report.ok, report.problems
+    d = aircraft.load(tmp_path / "parts.toml").data
+    assert d["main_rotor"]["radius"] == pytest.approx((32 * 0.3048 + 2.5 * 0.0254) / 2, rel=1e-15)
+    assert d["tail_rotor"]["precone"] == pytest.approx(np.radians(1 + 11 / 60), rel=1e-15)
+    listed = "\n".join(f"{row[0]} {row[3]}" for row in report.converted)
+    assert "main_rotor.diameter from 32 ft 2.5 in" in listed and "tail_rotor.precone from 1 deg 11 arcmin" in listed
+    assert "main_rotor.radius half the diameter 32 ft 2.5 in (main_rotor.diameter)" in listed
+    hint = 'value = [25, 2], unit = "ft, in"'
+    for value, unit, words in (("25 ft 2 in", "ft", hint), ([25, 2], "ft", hint), ([1, -11], "deg, arcmin", "one sign"),
+                               ([25, 2, 1], "ft, in", hint)):
+        raw["main_rotor"]["diameter"] = {"value": value, "unit": unit, "source": "POH"}
+        problems = aircraft.check(write(raw, tmp_path / "bad.toml")).problems
+        assert any(p.startswith("main_rotor.diameter: ") and words in p for p in problems), (value, problems)

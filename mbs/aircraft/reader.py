@@ -12,7 +12,8 @@ Rules, in the order they are checked (each problem is one line, ``section.key: w
    four control gains, as reports print ``offset + K (k1 x1 + ... + k4 x4)``.
 4. ``unit`` is given for every number and is of the entry's kind (a length for a radius, an
    angle for a twist): it is converted to SI (``ft``, ``lb``, ``slug ft^2``, ``deg``,
-   ``rpm`` ...).
+   ``rpm`` ...). A number printed in parts is a list of them with a unit each: 25 ft 2 in is
+   ``value = [25, 2], unit = "ft, in"``.
 5. The value has the entry's kind (number, whole number, one of the choices, a vector of
    its length, a table of its columns, airfoil segments with their C81 files) and lies
    within its bounds.
@@ -27,6 +28,7 @@ from __future__ import annotations
 import difflib
 import math
 import sys
+import re
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -108,10 +110,10 @@ def _stabilator_sign(out: Reading) -> None:
         low, high = st["incidence_min"], st["incidence_max"]
         st["incidence_min"], st["incidence_max"] = -high, -low
         low_meta, high_meta = meta["incidence_min"], meta["incidence_max"]
-        meta["incidence_min"] = {**high_meta, "how": f"minus incidence_max as printed, {high_meta['value']} "
-                                                     f"{high_meta['unit']} (trailing edge up positive)"}
-        meta["incidence_max"] = {**low_meta, "how": f"minus incidence_min as printed, {low_meta['value']} "
-                                                    f"{low_meta['unit']} (trailing edge up positive)"}
+        meta["incidence_min"] = {**high_meta, "how": f"minus incidence_max as printed, {printed(high_meta)} "
+                                                     "(trailing edge up positive)"}
+        meta["incidence_max"] = {**low_meta, "how": f"minus incidence_min as printed, {printed(low_meta)} "
+                                                    "(trailing edge up positive)"}
 
 
 BOTH_AS_PRINTED = {("main_rotor", "diameter", "radius"), ("tail_rotor", "diameter", "radius"),
@@ -138,8 +140,8 @@ def _diameters(out: Reading) -> None:
             _agree(out, section, "diameter", "radius", v["diameter"] / 2)
         elif v.get("diameter"):
             meta = out.meta[section]["diameter"]
-            out.put(section, "radius", v["diameter"] / 2, {**meta, "how": f"half the diameter {meta['value']} "
-                                                                          f"{meta['unit']} ({section}.diameter)"})
+            out.put(section, "radius", v["diameter"] / 2,
+                    {**meta, "how": f"half the diameter {printed(meta)} ({section}.diameter)"})
 
 
 def _tip_speeds(out: Reading) -> None:
@@ -153,12 +155,12 @@ def _tip_speeds(out: Reading) -> None:
     if mr.get("tip_speed") and mr.get("radius") and "omega" not in mr:
         meta = out.meta["main_rotor"]["tip_speed"]
         out.put("main_rotor", "omega", mr["tip_speed"] / mr["radius"],
-                {**meta, "how": f"main_rotor.tip_speed {meta['value']} {meta['unit']} over main_rotor.radius "
+                {**meta, "how": f"main_rotor.tip_speed {printed(meta)} over main_rotor.radius "
                                 f"{mr['radius']:.6g} m"})
     if tr.get("tip_speed") and tr.get("radius") and mr.get("omega") and "gear_ratio" not in tr:
         meta = out.meta["tail_rotor"]["tip_speed"]
         out.put("tail_rotor", "gear_ratio", tr["tip_speed"] / tr["radius"] / mr["omega"],
-                {**meta, "how": f"tail_rotor.tip_speed {meta['value']} {meta['unit']} over tail_rotor.radius "
+                {**meta, "how": f"tail_rotor.tip_speed {printed(meta)} over tail_rotor.radius "
                                 f"{tr['radius']:.6g} m and main_rotor.omega {mr['omega']:.6g} rad/s"})
 
 
@@ -288,7 +290,7 @@ def _radius_columns(out: Reading) -> None:
         out.values[section][key] = [[*row[:k], row[k] * radius, *row[k + 1:]] for row in rows]
         meta = out.meta[section][key]
         meta["how"] = (f"{meta.get('how', '') + '; ' if meta.get('how') else ''}column {k + 1} times "
-                       f"{section}.radius {radius:.6g} m; from {meta['value']} {meta['unit']}")
+                       f"{section}.radius {radius:.6g} m; from {printed(meta)}")
 
 
 def _radial_length(spec: Entry, unit) -> float | None:
@@ -344,13 +346,13 @@ def _radial_stations(out: Reading) -> None:
         if isinstance(value, list):
             out.values[section][key] = _over_radius(value, radius)
             meta["how"] = (f"r/R from the radial stations in {meta['unit'].split(',')[0].strip()} over "
-                           f"{section}.radius {radius:.6g} m; from {meta['value']} {meta['unit']}")
+                           f"{section}.radius {radius:.6g} m; from {printed(meta)}")
             continue
         try:
             out.values[section][key] = _bounded(value * radius, ENTRIES[section][key])
         except ValueError as exc:
-            out.problems.append(f"{section}.{key}: {meta['value']} {meta['unit']} is {exc}")
-        meta["how"] = f"times {section}.radius {radius:.6g} m: from {meta['value']} {meta['unit']}"
+            out.problems.append(f"{section}.{key}: {printed(meta)} is {exc}")
+        meta["how"] = f"times {section}.radius {radius:.6g} m: from {printed(meta)}"
 
 
 def _times_main_rotor(out: Reading, section: str, key: str) -> None:
@@ -361,7 +363,7 @@ def _times_main_rotor(out: Reading, section: str, key: str) -> None:
     meta, area = out.meta[section][key], ROTOR_REFERENCES[(section, key)] != "R"
     factor, what = (math.pi * radius**2, "the main rotor's disc area") if area else (radius, "main_rotor.radius")
     out.values[section][key] = out.values[section][key] * factor
-    meta["how"] = f"times {what} {factor:.6g} m{'^2' if area else ''}: from {meta['value']} {meta['unit']}"
+    meta["how"] = f"times {what} {factor:.6g} m{'^2' if area else ''}: from {printed(meta)}"
 
 
 def _is_disc(text: str) -> bool:
@@ -586,6 +588,8 @@ def convert(value, unit: str | None, spec: Entry):
     if kind in ("series", "curve", "lookup"):
         from mbs.aircraft import airframe_data
         return airframe_data.READERS[kind](value, unit, spec)
+    if kind == "number" and (isinstance(value, list) or "," in str(unit) or _in_parts(value)):
+        return _bounded(_compound(value, str(unit), spec.unit), spec)
     factor = units.factor_to(str(unit), spec.unit)
     if kind == "vector":
         if not (isinstance(value, list) and len(value) == spec.length):
@@ -597,6 +601,35 @@ def convert(value, unit: str | None, spec: Entry):
             raise ValueError(f"{value!r} must be a whole number")
         number = int(number)
     return _bounded(number, spec)
+
+
+def printed(meta: dict) -> str:
+    """An entry's value with its unit as the file gives it: ``25 ft 2 in`` for a number given in
+    parts (:func:`_compound`), else ``<value> <unit>``."""
+    value, unit = meta.get("value", ""), str(meta.get("unit", ""))
+    parts = [u.strip() for u in unit.split(",")]
+    if isinstance(value, list) and len(parts) == len(value) > 1 and all(isinstance(v, (int, float)) for v in value):
+        return " ".join(f"{v:g} {u}" for v, u in zip(value, parts))
+    return f"{value} {unit}".strip()
+
+
+def _in_parts(value) -> bool:
+    """Text holding two numbers or more ("25 ft 2 in"): a number printed in parts."""
+    return isinstance(value, str) and len(re.findall(r"\d+(?:\.\d*)?", value)) >= 2
+
+
+def _compound(value, unit: str, want: str) -> float:
+    """A number printed in parts (25 ft 2 in, 1 deg 11 min) given as ``value = [25, 2]`` with
+    ``unit = "ft, in"``: the sum of its parts in ``want``; ValueError saying how to write it."""
+    parts = [u.strip() for u in unit.split(",")]
+    if not isinstance(value, list) or len(value) != len(parts) or len(parts) < 2:
+        raise ValueError(f"{value!r} in {unit!r}: give a number, or one printed in parts as a list of the parts with "
+                         "a unit each (25 ft 2 in: value = [25, 2], unit = \"ft, in\"; 1 deg 11 min: value = [1, 11], "
+                         "unit = \"deg, arcmin\")")
+    numbers = [_number(v) for v in value]
+    if len({math.copysign(1.0, x) for x in numbers if x}) > 1:
+        raise ValueError(f"{value!r}: the parts of a number must have one sign (-1 deg 11 min: [-1, -11])")
+    return sum(x * units.factor_to(u, want) for x, u in zip(numbers, parts))
 
 
 def _text(value, spec: Entry) -> str:

@@ -10,6 +10,7 @@ from pathlib import Path
 from mbs.aircraft import airframe_data, checks, derived, mass, performance
 from mbs.aircraft._aircraft import AircraftError, Data, _text, evaluate, resolve
 from mbs.aircraft.schema import DERIVED, FROM_TABLES
+from mbs.aircraft.reader import printed
 
 TEMPLATE_SOURCE = "TEMPLATE"
 OVERRIDE_TOLERANCE = 0.01  # relative difference of an override from its derived value that is worth a warning
@@ -91,7 +92,7 @@ def converted_rows(data: Data) -> list[tuple]:
             if plain and "how" not in meta:
                 continue
             unit = {"travel": "m, rad or -", "mixing": "rad, rad per position"}.get(kind, spec.unit)
-            how = meta.get("how") or f"from {meta.get('value', '')} {written}".strip() + _how_read(written, spec)
+            how = meta.get("how") or f"from {printed(meta)}" + _how_read(written, spec)
             rows.append((f"{section}.{key}", data[section][key], unit, how, meta.get("source", "")))
     return rows + _inertia_conversion(data)
 
