@@ -261,6 +261,29 @@ def test_a_new_aircraft_from_the_template_loads_and_warns_until_filled_in(tmp_pa
     assert "still carry the template's Bo105 values" in capsys.readouterr().out
     text = path.read_text()  # the CG's stations are offered once, in [aircraft]
     assert text.count("cg_station = ") == 1 and "reference_station" not in text
+    # the Bo105's inertias are its whole aircraft's: the template says so, where it read them as the
+    # airframe's and added the rotors (Ixx +62 %)
+    assert craft.data["aircraft"]["inertia"] == "whole-aircraft" and '\ninertia = { value = "whole-aircraft"' in text
+
+
+def test_inertias_read_as_the_airframes_by_default_are_warned_of(tmp_path):
+    """A new user's CH-53D, its report's inertias written without aircraft.inertia, had the rotors
+    added to them (Ixx +59 %) with no word. Left out, the reading is warned of with what the
+    rotors add; given either way, it is not."""
+    from mbs.aircraft import mass
+
+    raw = entries("bo105")
+    del raw["aircraft"]["inertia"]
+    report = aircraft.check(write(raw, tmp_path / "default.toml"))
+    d = aircraft.load(tmp_path / "default.toml").data
+    added = np.diag(mass.whole_aircraft(d).inertia) / np.array([d["aircraft"][k] for k in ("Ixx", "Iyy", "Izz")]) - 1
+    words = [w for w in report.warnings if w.startswith("aircraft.inertia: not given")]
+    assert len(words) == 1 and f"Ixx {100 * added[0]:+.0f} %" in words[0] and added[0] > 0.5, words
+    assert 'give inertia = "whole-aircraft"' in words[0]
+    for reading in ("airframe", "whole-aircraft"):
+        raw["aircraft"]["inertia"] = {"value": reading, "unit": "-", "source": "report"}
+        warnings = aircraft.check(write(raw, tmp_path / f"{reading}.toml")).warnings
+        assert not any(w.startswith("aircraft.inertia: not given") for w in warnings), reading
 
 
 def test_the_templates_optional_blocks_load_when_uncommented(tmp_path, capsys):

@@ -79,6 +79,30 @@ def inertia_warnings(v: dict) -> list[str]:
             "motion is as published); check the sources"]
 
 
+ROTOR_INERTIA_SHARE = 0.10
+"""Share of an airframe moment that the rotors add, above which an inertia read as the airframe's
+by default is warned of."""
+
+
+def default_inertia_warnings(v) -> list[str]:
+    """Inertias read as the airframe's alone only because ``aircraft.inertia`` was left out, to
+    which the rotors add more than :data:`ROTOR_INERTIA_SHARE`: most reports print the whole
+    aircraft's, and then the rotors would be counted twice."""
+    if getattr(v, "meta", {}).get("aircraft", {}).get("inertia", {}).get("origin") != "default":
+        return []
+    from mbs.aircraft import mass
+
+    given = np.diag(mass.published_inertia(v))
+    whole = np.diag(mass.whole_aircraft(v).inertia)
+    added = (whole - given) / given
+    if added.max() <= ROTOR_INERTIA_SHARE:
+        return []
+    axes = ", ".join(f"I{a} {100 * x:+.0f} %" for a, x in zip(("xx", "yy", "zz"), added) if x > ROTOR_INERTIA_SHARE)
+    return [f"aircraft.inertia: not given, so Ixx, Iyy, Izz are read as the airframe's alone and the rotors are added "
+            f"({axes} on the whole aircraft): if the source prints the whole aircraft's inertias (most reports do), "
+            "give inertia = \"whole-aircraft\"; if they are the airframe's, give inertia = \"airframe\""]
+
+
 def lag_damper_figures(v: dict) -> tuple[float, float, float] | None:
     """``(arm, c, c_zeta)`` of a ``[lag_damper]``: its moment arm about the lag hinge at zero lag (m),
     its force curve's slope at rest (N s/m, the natural spline through the rows) and the rotational

@@ -142,7 +142,7 @@ def _warnings(data: Data, rows: list[tuple]) -> list[str]:
     if template:
         out.append(f"{len(template)} entries still carry the template's Bo105 values (source {TEMPLATE_SOURCE}), "
                    f"e.g. {', '.join(template[:3])}: replace them with your aircraft's data and sources")
-    out += checks.inertia_warnings(data)
+    out += checks.inertia_warnings(data) + checks.default_inertia_warnings(data)
     damper = checks.lag_damper_figures(data)
     if damper and data["main_rotor"].get("lag_damping", 0.0) > 0:
         out.append(f"main_rotor.lag_damping: {data['main_rotor']['lag_damping']:g} N m s/rad on the lag hinge as well as "

@@ -41,6 +41,9 @@ EXAMPLES = {"airfoils": [[0.0, "root_airfoil.c81"], [0.85, "tip_airfoil.c81"]],
 OLDER_FORMS = {("fuselage_aero", "reference_station"), ("fuselage_aero", "cg_station")}
 """Entries still read but not offered: ``reference_point`` given as a station, with
 ``aircraft.cg_station``, says the same once."""
+AS_WRITTEN = {("aircraft", "inertia")}
+"""Entries with a default that the template writes as the Bo105's, since the values beside them
+depend on it: its Ixx, Iyy, Izz are the whole aircraft's."""
 NEEDED_BY = {"elastic_blade": "the elastic-rotor scene's blades (elastic, 8 segments)",
              "swashplate": "the swashplate scenes, forward-flight-swashplate and forward-flight-actuators",
              "drive_train": "the scenes whose rotor speed is a state (engine-failure, engine-failure-cruise, "
@@ -68,7 +71,8 @@ def template(name: str, source: str = "TEMPLATE") -> str:
                 line += f"  # only with {spec.only_if[0]} = " + " or ".join(f'"{w}"' for w in wanted)
             shown = {"airfoils": "none: the analytic section", "table": "none"}.get(spec.kind, spec.default)
             lines += [f"# {spec.text} ({spec.unit}" + (f"; default {shown})" if spec.default is not None else ")"),
-                      ("# " if _commented(spec, values, entries) else "") + line]
+                      ("# " if _commented(spec, values, entries) and (section, key) not in AS_WRITTEN else "")
+                      + line]
         lines += _derived_comment(section)
         out += [f"# {line}" for line in lines] if section in COMMENTED else lines  # uncommented: one '# ' less
         out.append("")

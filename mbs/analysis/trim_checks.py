@@ -29,12 +29,12 @@ def warnings(res, d, pilot: dict | None = None, air: dict | None = None) -> list
     (m) and ``temperature_offset`` (K) when it flew in the ISA."""
     if not res.converged:
         return last_iterate(res, d)
-    from mbs.aircraft.checks import inertia_warnings
+    from mbs.aircraft.checks import default_inertia_warnings, inertia_warnings
     from mbs.models.helicopter.airframe_warnings import trim_warnings
 
     return [*control_stops(res.controls, d), *pilot_stops(pilot or {}, d), *attitude(res, d), *flapping(res),
             *trim_warnings(res, d),
-            *power(res, d, air), *inertia_warnings(d)]
+            *power(res, d, air), *inertia_warnings(d), *default_inertia_warnings(d)]
 
 
 def last_iterate(res, d) -> list[str]:
