@@ -582,7 +582,12 @@ def test_a_diameter_tip_speeds_and_minutes_of_arc_as_a_flight_manual_prints_them
     assert listed["tail_rotor.gear_ratio"][0].startswith("tail_rotor.tip_speed")
     raw["main_rotor"]["radius"] = {"value": 4.91, "unit": "m", "source": "S1"}  # both as printed, agreeing
     raw["main_rotor"]["omega"] = {"value": 424, "unit": "rpm", "source": "POH"}  # 44.40 rad/s against 44.4
-    assert aircraft.check(write(raw, tmp_path / "both.toml")).ok
+    both = aircraft.check(write(raw, tmp_path / "both.toml"))
+    assert both.ok  # and each printed check says what it gave and which value the model flies
+    listed = {e: how for e, _, _, how, _ in both.converted}
+    assert listed["main_rotor.diameter"].endswith("ft, checked against main_rotor.radius: it gives 4.91 against 4.91 "
+                                                  "(+0 %); the model flies main_rotor.radius")
+    assert "checked against main_rotor.omega" in listed["main_rotor.tip_speed"]
     raw["main_rotor"]["radius"]["value"] = 5.0
     radius, omega = aircraft.check(write(raw, tmp_path / "differ.toml")).problems  # the tip speed over it too
     assert radius.startswith("main_rotor.diameter: gives main_rotor.radius = 4.91, against the file's 5 (-1.8 %)")

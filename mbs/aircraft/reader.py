@@ -123,13 +123,17 @@ AGREE = 0.005
 """Two such entries agree within this share."""
 
 
-def _agree(out: Reading, section: str, printed: str, key: str, implied: float) -> None:
-    """``section.printed``, given beside ``section.key``, implies ``implied`` for it: a problem
-    unless the two agree within :data:`AGREE`."""
+def _agree(out: Reading, section: str, given: str, key: str, implied: float) -> None:
+    """``section.given``, given beside ``section.key``, implies ``implied`` for it: a problem
+    unless the two agree within :data:`AGREE`; when they do, ``given`` is listed as the check it is."""
     value = out.values[section][key]
     if abs(implied - value) > AGREE * abs(value):
-        out.problems.append(f"{section}.{printed}: gives {section}.{key} = {implied:.6g}, against the file's "
+        out.problems.append(f"{section}.{given}: gives {section}.{key} = {implied:.6g}, against the file's "
                             f"{value:.6g} ({100 * (implied / value - 1):+.2g} %): give one of the two, or correct one")
+        return
+    meta, off = out.meta[section][given], round(100 * (implied / value - 1), 3) + 0.0  # no "-0"
+    meta["how"] = (f"{printed(meta)}, checked against {section}.{key}: it gives {implied:.6g} against {value:.6g} "
+                   f"({off:+.2g} %); the model flies {section}.{key}")
 
 
 def _diameters(out: Reading) -> None:
