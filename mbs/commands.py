@@ -541,7 +541,28 @@ def _derivative_lines(res) -> list[str]:
     if res.B_pilot is not None:
         lines += matrix_lines("B per pilot position (SI: m, rad or fraction of travel)", res.B_pilot, res.states,
                               ["lever", "lon stick", "lat stick", "pedals"])
+        lines += pilot_derivative_lines(res)
     return lines + mode_lines(res.modes) + [f"  warning: {w}" for w in res.warnings]
+
+
+def pilot_derivative_lines(res) -> list[str]:
+    """The control derivatives per pilot control in the aircraft file's units of each control (per
+    inch of stick, per % of lever), as reports print them; none without the file's units."""
+    from mbs.aircraft import units
+    from mbs.aircraft.rigging import PILOT
+
+    if not res.pilot_file_units:
+        return []
+    per = {p: units.parse(u).factor for p, u in res.pilot_file_units.items()}
+    from mbs.analysis.derivatives import FORCES
+
+    labels = dict(zip(PILOT, ("lever", "lon stick", "lat stick", "pedals")))
+    head = [f"{labels[p]} (/{res.pilot_file_units[p]})" for p in PILOT]
+    out = ["  control derivatives per pilot control in the file's units (X, Y, Z in m/s^2, L, M, N in rad/s^2):",
+           "  " + " " * 4 + "".join(f"{h:>16s}" for h in head)]
+    for f in FORCES:
+        out.append(f"  {f:4s}" + "".join(f"{res.pilot[f'{f}_{p}'] * per[p]:+16.4g}" for p in PILOT))
+    return out
 
 
 def mode_lines(modes) -> list[str]:

@@ -192,6 +192,37 @@ def test_controls_compare_in_the_published_conventions_and_pilot_positions_in_si
     assert derivative_value(der, "M_theta1s") == (-3.0, "1/s^2")
 
 
+def test_control_derivatives_per_inch_of_stick_compare_as_a_report_prints_them(tmp_path, capsys):
+    """A new user's CH-53D report prints its control derivatives per inch of control, which could
+    not be validated. A derivative per a pilot control is named after it (Z_collective_lever),
+    in the SI unit of its travel's kind (per m: 1/s^2); given per inch in a blade angle's name it
+    is refused naming the pilot controls' names, and without a rigging saying one is needed.
+    ``heli derivatives`` prints them per the file's unit of each control."""
+    from mbs.analysis.derivatives import pilot_unit
+    from mbs.commands import pilot_derivative_lines
+    from mbs.validate.quantities import converter, derivative_value
+
+    assert [pilot_unit("Z", "m"), pilot_unit("L", "m"), pilot_unit("Z", "-"), pilot_unit("N", "rad")] == \
+        ["1/s^2", "rad/(s^2 m)", "m/s^2", "1/s^2"]
+    der = SimpleNamespace(table={}, pilot={"Z_collective_lever": -131.0}, pilot_units={"Z_collective_lever": "1/s^2"})
+    value, unit = derivative_value(der, "Z_collective_lever")
+    assert converter(unit, "(ft/sec^2)/in", "x")(value) == pytest.approx(-131.0 * 0.0254 / 0.3048, rel=1e-12)
+    forces = {f"{f}_{p}": 1.0 for f in "XYZLMN" for p in ("collective_lever", "longitudinal_stick", "lateral_stick",
+                                                          "pedals")}
+    res = SimpleNamespace(pilot={**forces, "Z_collective_lever": -131.0},
+                          pilot_file_units={"collective_lever": "in", "longitudinal_stick": "cm",
+                                            "lateral_stick": "cm", "pedals": "%"})
+    lines = pilot_derivative_lines(res)
+    assert "lever (/in)" in lines[1] and "pedals (/%)" in lines[1]
+    z = lines[2 + 2].split()
+    assert z[0] == "Z" and float(z[1]) == pytest.approx(-131.0 * 0.0254, rel=1e-3) and float(z[4]) == 0.01
+    text = TRIM.replace("[[trim]]", "[[derivative]]").replace("collective", "Z_θ0").replace('unit = "deg"',
+                                                                                          'unit = "(ft/sec^2)/in"')
+    code, err = run_main(["validate", str(toml(text, tmp_path)), "--no-charts", "--quiet"], capsys)
+    assert_one_line_error(code, err, ["derivative Z_θ0: unit '(ft/sec^2)/in'", "Z_collective_lever, Z_longitudinal_stick",
+                                      "needs the aircraft file's [controls] rigging"])
+
+
 def test_a_report_aircraft_validates_in_its_own_pilot_controls():
     """The UH-60A written from its reports (stick rigging, A1/B1 cyclic) against G2 Table 4 at
     1 kt as printed, stick inches: every row within the loose tolerances the file states, the

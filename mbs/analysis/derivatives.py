@@ -76,6 +76,8 @@ class Derivatives:
     nfwd: int = 0
     published: dict[str, float] = field(default_factory=dict)  # control derivatives per published control angle
     pilot: dict[str, float] = field(default_factory=dict)  # control derivatives per pilot position (SI)
+    pilot_units: dict[str, str] = field(default_factory=dict)  # their SI units ("1/s^2" per m of lever ...)
+    pilot_file_units: dict[str, str] = field(default_factory=dict)  # each pilot control's unit in the file ("in")
     B_pilot: np.ndarray | None = None  # (8, 4): B per pilot position, PILOT order
     warnings: list[str] = field(default_factory=list)
 
@@ -93,6 +95,7 @@ class Derivatives:
                 "eigenvalues": [m.summary() for m in self.modes],
                 "rotor_periodicity_residual": self.held.residual, "wall_s": self.wall_s, "nfwd": self.nfwd,
                 "control_derivatives_published": self.published, "control_derivatives_pilot": self.pilot,
+                "control_derivatives_pilot_units": self.pilot_units,
                 "B_pilot": None if self.B_pilot is None else self.B_pilot.tolist(),
                 "period": self.trim.period_summary() if hasattr(self.trim, "period_summary") else None,
                 "warnings": self.warnings,
@@ -148,6 +151,17 @@ def _unit(force: str, by: str) -> str:
     simple = {("m/s^2", "m/s"): "1/s", ("rad/s^2", "rad/s"): "1/s", ("m/s^2", "rad/s"): "m/(s rad)",
               ("rad/s^2", "m/s"): "rad/(m s)", ("m/s^2", "rad"): "m/(s^2 rad)", ("rad/s^2", "rad"): "1/s^2"}
     return simple[(num, den)]
+
+
+def pilot_unit(force: str, position: str) -> str:
+    """SI unit of the derivative of ``force`` (X..N) per a pilot control's position in ``position``
+    (m, rad, or "-" for a fraction of its travel)."""
+    num = "m/s^2" if force in "XYZ" else "rad/s^2"
+    if position == "rad":
+        return _unit(force, "control")
+    if position == "-":
+        return num
+    return "1/s^2" if force in "XYZ" else "rad/(s^2 m)"
 
 
 def reference_condition(sol, system) -> np.ndarray:
@@ -239,9 +253,11 @@ def in_pilot_controls(res: Derivatives, d) -> None:
     g = rig.matrix()
     res.B_pilot = res.B[:, cols] @ g
     dmean = np.array([[res.table[f"{f}_{CONTROL_SYMBOLS[c]}"] for c in rigging.BLADE] for f in FORCES]) @ g
+    res.pilot_file_units = {p: d.meta["controls"][p]["unit"] for p in rigging.PILOT} if hasattr(d, "meta") else {}
     for i, f in enumerate(FORCES):
-        for j, p in enumerate(rigging.PILOT):
+        for j, (p, si) in enumerate(zip(rigging.PILOT, rig.units)):
             res.pilot[f"{f}_{p}"] = float(dmean[i, j])
+            res.pilot_units[f"{f}_{p}"] = pilot_unit(f, si)
 
 
 def _flies_free(model) -> bool:

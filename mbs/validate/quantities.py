@@ -91,6 +91,8 @@ def derivative_value(derivatives, quantity: str) -> tuple[float, str]:
 
         return float(derivatives.A[at]), entry_unit(STATES[at[0]], STATES[at[1]])
     name = canonical(quantity)
+    if name in getattr(derivatives, "pilot", {}):
+        return derivatives.pilot[name], derivatives.pilot_units[name]
     if name not in derivatives.table:
         raise ValidationError(f"derivative {quantity!r} is not one of the model's: {', '.join(derivatives.table)}")
     return getattr(derivatives, "published", {}).get(name, derivatives.table[name]), derivatives.units[name]
@@ -133,8 +135,17 @@ def model_units(info, aircraft=None) -> dict[str, dict[str, str]]:
             **{o["name"]: o["unit"] for o in info.outputs if not o["name"].endswith(".azimuth")}}
     deriv = {f"{f}_{v}": _unit(f, v) for f in FORCES for v in VELOCITIES}
     deriv.update({f"{f}_{CONTROL_SYMBOLS.get(c, c)}": _unit(f, "control") for f in FORCES for c in controls})
-    trim.update(_pilot_units(aircraft))
+    pilot = _pilot_units(aircraft)
+    trim.update(pilot)
+    deriv.update(_pilot_derivative_units(pilot))
     return {"trim": trim, "derivative": deriv}
+
+
+def _pilot_derivative_units(pilot: dict[str, str]) -> dict[str, str]:
+    """The control derivatives per pilot control (``Z_collective_lever``) and their SI units."""
+    from mbs.analysis.derivatives import FORCES, pilot_unit
+
+    return {f"{f}_{p}": pilot_unit(f, si) for p, si in pilot.items() for f in FORCES}
 
 
 def _pilot_units(aircraft) -> dict[str, str]:
@@ -173,9 +184,22 @@ def _nearest(quantity: str, known, kind: str) -> str:
     near = ([plain[key]] if key in plain else [synonym] if synonym in known
             else [plain[m] for m in difflib.get_close_matches(key, list(plain), n=2, cutoff=0.75)])
     said = f" (did you mean {' or '.join(map(repr, near))}?)" if near else ""
-    if kind == "trim" and any(w in quantity.lower() for w in PILOT_WORDS):
+    if any(w in quantity.lower() for w in PILOT_WORDS):
         said += " (pilot controls need the aircraft file's [controls] rigging)"
     return said
+
+
+def _per_pilot_control(series, unit: str, known: dict) -> str:
+    """The hint for a blade-angle control derivative given per a length or a fraction (per inch of
+    stick, per % of lever): such derivatives are the pilot controls'."""
+    if series.kind != "derivative" or unit not in ("m/(s^2 rad)", "1/s^2"):
+        return ""
+    force = canonical(series.quantity).split("_")[0]
+    names = [f"{force}_{p}" for p in ("collective_lever", "longitudinal_stick", "lateral_stick", "pedals")]
+    if names[0] in known["derivative"]:
+        return f"; a derivative per a pilot control's travel is named after the control: {', '.join(names)}"
+    return (f"; a derivative per a pilot control's travel ({', '.join(names)}) needs the aircraft file's [controls] "
+            "rigging")
 
 
 def check(validation, info, aircraft=None) -> None:
@@ -188,4 +212,7 @@ def check(validation, info, aircraft=None) -> None:
             raise ValidationError(f"{validation.path}: {s.kind} {s.quantity!r} is not one of the model's {s.kind} "
                                   f"quantities{_nearest(s.quantity, known[s.kind], s.kind)}: "
                                   f"{', '.join(known[s.kind])}{' and A[row,column]' if s.kind == 'derivative' else ''}")
-        converter(unit, s.unit, f"{validation.path}: {s.kind} {s.quantity}")
+        try:
+            converter(unit, s.unit, f"{validation.path}: {s.kind} {s.quantity}")
+        except ValidationError as exc:
+            raise ValidationError(f"{exc}{_per_pilot_control(s, unit, known)}") from None
