@@ -244,3 +244,26 @@ def test_a_fin_that_loads_the_tail_rotor_in_cruise_is_named():
     (line,) = [w for w in airframe_warnings(cruise, turned) if w.startswith("fin:")]
     assert line.startswith("fin: its side force,") and "to port, pushes the tail the way the counter-clockwise" in line
     assert not [w for w in airframe_warnings({**cruise, "fuselage.u": 10.0}, turned) if w.startswith("fin:")]
+
+
+def test_a_stabiliser_to_one_side_lifts_where_it_is(tmp_path):
+    """A new user's CH-53D has its horizontal stabiliser on the starboard side only, and
+    horizontal_tail.y was refused: the surfaces take a y (default the centre line), the model's
+    surface and the drawn one sit there, and a wing, whose panels are placed by its span, has none."""
+    from aircraft_files import entries, write
+    from mbs.models.helicopter.aero import tail_surface
+    from mbs.models.helicopter.config import Config
+    from mbs.models.helicopter.tree import _fuselage_shape
+
+    raw = entries("bo105")
+    raw["horizontal_tail"]["y"] = {"value": 1.5, "unit": "ft", "source": "report"}
+    path = write(raw, tmp_path / "side.toml")
+    assert aircraft.check(path).ok
+    d = aircraft.load(path).data
+    surface = tail_surface(d, Config(), "horizontal_tail", "horizontal tail", (0, 0, -1), None)
+    assert list(surface.point) == [d["horizontal_tail"]["x"], pytest.approx(0.4572, rel=1e-12), d["horizontal_tail"]["z"]]
+    assert _fuselage_shape(d)["parts"][2]["offset"][1] == pytest.approx(0.4572, rel=1e-12)
+    assert aircraft.load().data["horizontal_tail"]["y"] == 0.0
+    raw["wing"] = {k: {"value": v, "unit": u, "source": "x"} for k, (v, u) in {
+        "area": (2.0, "m^2"), "incidence": (0.0, "deg"), "x": (0.0, "m"), "z": (0.0, "m"), "y": (1.0, "m")}.items()}
+    assert any(p.startswith("wing.y: unknown entry") for p in aircraft.check(write(raw, tmp_path / "w.toml")).problems)

@@ -148,6 +148,8 @@ def _surface(what: str, arg: str = "alpha", flow: str = "downwash", optional_whe
     return {"area": positive("m^2", f"{what} area"), "incidence": angle(f"{what} incidence ({lift})", 30,
                                                                          optional_when=optional_when),
             "x": num("m", f"{what} aerodynamic centre, x (forward) from the CG", axis="x"),
+            "y": num("m", f"{what} aerodynamic centre, y (starboard) from the CG: a surface to one side (a "
+                     "stabiliser on the starboard side only); 0 on the centre line", axis="y", default=0.0),
             "z": num("m", f"{what} aerodynamic centre, z (down) from the CG", axis="z"),
             "chord": positive("m", f"{what} chord (display only)"), **_airfoil(what, cd2_default=0.0),
             "lift_slope": positive("1/rad", f"{what} lift-curve slope of the whole surface (3-D, with its aspect "
@@ -170,7 +172,7 @@ def _wing() -> dict[str, Entry]:
     """A wing (an attack helicopter's stub wing, a compound's): a tail surface's entries without
     interference tables, in one panel on the centre line or two at a quarter of its span out."""
     keep = {k: e for k, e in _surface("wing").items() if not k.startswith("interference") and k not in (
-        "q_ratio", "downwash", "chord")}
+        "q_ratio", "downwash", "chord", "y")}
     return {**keep, "span": num("m", "wing span tip to tip: two panels of half the area each, a quarter of the span "
                                 "to port and to starboard of the centre line (their lift rolls the aircraft); 0: one "
                                 "panel on the centre line", 0.0, default=0.0)}

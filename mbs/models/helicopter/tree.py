@@ -52,9 +52,9 @@ def _fuselage_shape(d) -> dict:
         {"kind": "box", "size": g["cabin"], "offset": [g["cabin_x"], 0, 0], "color": "#c8ccd2"},
         {"kind": "cylinder", "radius": g["boom_radius"], "length": boom_len, "axis": [1, 0, 0],
          "offset": [boom_start - boom_len / 2, 0, ht["z"]], "color": "#c8ccd2"},
-        {"kind": "box", "size": [ht["chord"], ht["area"] / ht["chord"], t], "offset": [ht["x"], 0, ht["z"]],
+        {"kind": "box", "size": [ht["chord"], ht["area"] / ht["chord"], t], "offset": [ht["x"], ht["y"], ht["z"]],
          "color": "#9aa3ad"},
-        {"kind": "box", "size": [fin["chord"], t, fin_height], "offset": [fin["x"], 0, fin["z"] - fin_height / 2],
+        {"kind": "box", "size": [fin["chord"], t, fin_height], "offset": [fin["x"], fin["y"], fin["z"] - fin_height / 2],
          "color": "#9aa3ad"},
     ]}
 
