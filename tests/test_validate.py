@@ -510,3 +510,26 @@ def test_a_torque_gauge_s_percent_is_an_output_to_validate(tmp_path):
     v = load(toml('[[trim]]\nquantity = "engine.torque_fraction"\nunit = "%"\nspeed = [58.3]\nvalue = [97.0]\n'
                   'source = "P1"\n', tmp_path))
     assert v.series[0].unit == "%"
+
+
+def test_a_per_point_altitude_in_validation_is_the_series_and_a_verdict_needs_a_tolerance(tmp_path):
+    """A new user's Gazelle flight test gave [validation] one altitude per speed, as it gives one
+    mass per speed, and was told "altitude has 2 values for 1 points" (the eigenvalues' default
+    was read from it). It is each series' now; with [[eigenvalues]] it must be one number. A
+    run whose series give no tolerance said "all within tolerance": it says nothing was checked."""
+    from mbs.validate.report import verdict_lines
+
+    head = HEAD.replace("[validation]\n", '[validation]\nspeed = [0, 40]\naltitude = { value = [300, 320], unit = "m" }\n')
+    path = tmp_path / "alt.toml"
+    path.write_text(head + TRIM.replace("speed = [0, 40]\n", ""))
+    (s,) = load(path).series
+    assert list(s.altitude) == [300.0, 320.0]
+    path.write_text(head + TRIM.replace("speed = [0, 40]\n", "") + '[[eigenvalues]]\nspeed = 0\nvalue = [[-1, 0]]\n'
+                    'source = "P1"\n')
+    with pytest.raises(ValidationError, match=r"altitude as a list \(one per point\) gives the \[\[eigenvalues\]\] none"):
+        load(path)
+    counts = {"trim": {"rows": 2, "within": 0, "checked": 0, "no_model_value": 0}, "derivative": {"rows": 0, "checked": 0}}
+    res = SimpleNamespace(counts=lambda: counts, pairs=[], all_within=True)
+    assert verdict_lines(res)[-1] == "nothing checked: no series gives a tolerance, so its values are shown, not judged"
+    counts["trim"].update(checked=2, within=2)
+    assert verdict_lines(res)[-1] == "all within tolerance"

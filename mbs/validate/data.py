@@ -214,7 +214,7 @@ def from_dict(raw: dict, path: Path) -> Validation:
         for k, entry in enumerate(raw.get(kind, [])):
             where = entry.pop("_where", None) or f"[[{kind}]] {k + 1}"  # a CSV file's rows say their lines
             out.series.append(series(entry, kind, f"{path}: {where}", default_speed, factor, defaults))
-    altitude = _condition(defaults.get("altitude"), "altitude", 1, f"{path}: [validation]")
+    altitude = _eigen_altitude(defaults.get("altitude"), path) if raw.get("eigenvalues") else None
     for k, entry in enumerate(raw.get("eigenvalues", [])):
         out.eigenvalues.append(eigen_set(entry, f"{path}: [[eigenvalues]] {k + 1}", factor,
                                          None if altitude is None else float(altitude[0])))
@@ -247,6 +247,16 @@ CONDITIONS = {"mass": ("kg", 1.0, 1e5), "altitude": ("m", *isa.ALTITUDE_RANGE), 
               "cg_x": ("m", -CG_SHIFT_LIMIT, CG_SHIFT_LIMIT)}
 """A point's flight condition: its SI unit and bounds (the ISA's altitudes, as ``--altitude``; the
 CG within 1 m of the file's, the model's ``cg_x``)."""
+
+
+def _eigen_altitude(raw, path: Path) -> np.ndarray | None:
+    """``[validation]``'s altitude as the eigenvalue sets' default: one number (a list is one per
+    default speed, for the trims and derivatives)."""
+    if isinstance(raw, dict) and isinstance(raw.get("value"), list):
+        raise ValidationError(f"{path}: [validation]: altitude as a list (one per point) gives the [[eigenvalues]] "
+                              "none: give one number here (theirs) and the lists on the [[trim]] and [[derivative]] "
+                              "series")
+    return _condition(raw, "altitude", 1, f"{path}: [validation]")
 
 
 def _condition(raw, key: str, n: int, where: str) -> np.ndarray | None:

@@ -103,7 +103,10 @@ def verdict_lines(res) -> list[str]:
         e = c["eigenvalues"]
         out.append(f"eigenvalues: {e['within']} of {e['pairs']} within tolerance, {e['same_stability']} of the same "
                    "stability")
-    out.append("all within tolerance" if res.all_within else "NOT all within tolerance")
+    if not res.pairs and not any(c[kind]["checked"] for kind in ("trim", "derivative")):
+        out.append("nothing checked: no series gives a tolerance, so its values are shown, not judged")
+    else:
+        out.append("all within tolerance" if res.all_within else "NOT all within tolerance")
     return out
 
 
