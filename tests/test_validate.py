@@ -121,15 +121,18 @@ def test_the_report_lists_each_warning_of_the_model_with_its_speeds(tmp_path):
         p.trim.warnings = ["the same everywhere", f"horizontal tail: angle of attack -{40 + k}.5 deg at its stall"]
     points[0].trim.warnings.append("collective = 1.000 deg is at its stop")
     points[1].derivatives.warnings = ["teetering main rotor: ..."]
+    for p in points:  # of the aircraft file, which every trim carries: said once (a new user's Gazelle)
+        p.trim.warnings.append("aircraft.inertia: not given, so ...")
     res = Result(v, model, [(s, compare.rows(s, model)) for s in v.series])
     lines = [x for x in report.lines(res) if x.startswith("  warning")]
-    assert lines == ["  warning at 6 points, 0 to 120 kt: the same everywhere",
+    assert lines == ["  warning of the aircraft file: aircraft.inertia: not given, so ...",
+                     "  warning at 6 points, 0 to 120 kt: the same everywhere",
                      "  warning at 6 points, 0 to 120 kt (the figures at 0 kt): horizontal tail: angle of attack "
                      "-40.5 deg at its stall",
                      "  warning at 0 kt: collective = 1.000 deg is at its stop",
                      "  warning at 40 kt: teetering main rotor: ..."], lines
     listed = report.summary(res)["warnings"]
-    assert {"texts": ["collective = 1.000 deg is at its stop"], "speeds_m_s": [0.0]} in listed and len(listed) == 4
+    assert {"texts": ["collective = 1.000 deg is at its stop"], "speeds_m_s": [0.0]} in listed and len(listed) == 5
 
 
 def test_sources_of_one_quantity_share_a_chart_panel(tmp_path):

@@ -128,12 +128,20 @@ def warnings(res) -> dict[str, tuple[list[str], list[float]]]:
     return out
 
 
+FILE_WARNINGS = ("aircraft.inertia:",)
+"""Warnings the trims carry of the aircraft file itself (its inertias): said once, not per point."""
+
+
 def warning_lines(res) -> list[str]:
     """One line per kind of warning, at the speeds (in the data's unit) of the points that gave it;
     where its figures differ from point to point, those of the slowest."""
-    v, out = res.validation, []
+    v = res.validation
     factor = speed_factor(v.speed_unit, "[validation] speed_unit")
-    for texts, speeds in warnings(res).values():
+    found = warnings(res).values()
+    out = [f"  warning of the aircraft file: {texts[0]}" for texts, _ in found if texts[0].startswith(FILE_WARNINGS)]
+    for texts, speeds in found:
+        if texts[0].startswith(FILE_WARNINGS):
+            continue
         shown = [x / factor for x in speeds]
         distinct = sorted(set(round(x, 9) for x in shown))  # points of several conditions at one speed: once
         at = (", ".join(f"{x:.4g}" for x in distinct) + (f" ({len(shown)} points)" if len(shown) > len(distinct) else "")
