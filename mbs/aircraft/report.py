@@ -211,8 +211,10 @@ def figures(data: Data) -> list[tuple]:
         ("hover power estimate, total", hov.power, "W"),
         ("fuselage drag area at zero angles", airframe_data.drag_area(data), "m^2"),
         ("fuselage drag area per disc area", airframe_data.drag_area(data) / (math.pi * mr["radius"] ** 2), "-"),
-        ("hover tail-rotor thrust", hov.tail.thrust, "N"),
-        *([("hover tail-rotor duct thrust", hov.tail.duct_thrust, "N")] if hov.tail.duct_thrust else []),
+        *([("hover tail-rotor thrust", hov.tail.thrust, "N")] if not hov.tail.duct_thrust else [
+            ("hover tail-rotor thrust, fan and duct together", hov.tail.thrust + hov.tail.duct_thrust, "N"),
+            ("hover tail-rotor thrust, the fan's blades", hov.tail.thrust, "N"),
+            ("hover tail-rotor duct thrust", hov.tail.duct_thrust, "N")]),
         ("main-rotor mass (hub and blades)", main_mass, "kg"), ("tail-rotor mass", tail_mass, "kg"),
         ("airframe mass", data["aircraft"]["mass"] - main_mass - tail_mass, "kg"),
         *_inertia_figures(data), *_damper_figures(data),

@@ -28,7 +28,19 @@ def airframe_warnings(values: dict, d) -> list[str]:
     """Warnings (one line each) about the airframe at a trim: ``values`` the period means of its
     outputs and states by name (SI), ``d`` the aircraft data."""
     return (_wake(values) + _edge(values, d) + _stall(values, d) + _stops(values, d) + _table_range(values, d)
-            + _fin_against_the_tail_rotor(values, d))
+            + _fin_against_the_tail_rotor(values, d) + _duct_in_cross_flow(values, d))
+
+
+def _duct_in_cross_flow(values: dict, d) -> list[str]:
+    """A fan in a duct whose cross-flow (the flight speed) exceeds the flow through it: the duct
+    model is axial momentum theory (docs/tail-rotor.md), past what it covers."""
+    speed, inflow = _speed(values), values.get("tail_rotor.inflow")
+    if not d["tail_rotor"].get("duct_exit_ratio") or speed is None or inflow is None or speed <= abs(inflow):
+        return []
+    return [f"tail rotor: its fan in a duct meets {speed:.3g} m/s of cross-flow, more than the {abs(inflow):.3g} m/s "
+            "through it; the duct model is axial (the duct keeps its hover share of the thrust, "
+            f"{values.get('tail_rotor.duct_thrust', float('nan')):.4g} N here, with no momentum drag or shielding of "
+            "the blades in cross-flow), so the tail's thrust, power and control power here are not validated"]
 
 
 FIN_LOAD = 0.25
