@@ -550,12 +550,11 @@ def pilot_derivative_lines(res) -> list[str]:
     inch of stick, per % of lever), as reports print them; none without the file's units."""
     from mbs.aircraft import units
     from mbs.aircraft.rigging import PILOT
+    from mbs.analysis.derivatives import FORCES
 
     if not res.pilot_file_units:
         return []
     per = {p: units.parse(u).factor for p, u in res.pilot_file_units.items()}
-    from mbs.analysis.derivatives import FORCES
-
     labels = dict(zip(PILOT, ("lever", "lon stick", "lat stick", "pedals")))
     head = [f"{labels[p]} (/{res.pilot_file_units[p]})" for p in PILOT]
     out = ["  control derivatives per pilot control in the file's units (X, Y, Z in m/s^2, L, M, N in rad/s^2):",

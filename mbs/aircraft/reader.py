@@ -27,8 +27,8 @@ from __future__ import annotations
 
 import difflib
 import math
-import sys
 import re
+import sys
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 

@@ -128,8 +128,8 @@ def tail_surface(d, cfg, section: str, name: str, normal, wake: str | None) -> L
     sec, rho = d[section], d["environment"]["rho"]
     schedule = stabilator_schedule(d) if section == "horizontal_tail" else None
     interference = interference_tables(d, section) if cfg.tail_wake else None
-    args = (name, "fuselage", (sec["x"], sec["y"], sec["z"]), (1, 0, 0), normal, sec["incidence"], sec["area"], airfoil(sec),
-            rho, None if interference else wake)
+    args = (name, "fuselage", (sec["x"], sec["y"], sec["z"]), (1, 0, 0), normal, sec["incidence"], sec["area"],
+            airfoil(sec), rho, None if interference else wake)
     if schedule is None and interference is None:
         return LiftingSurface(*args)
     return TailSurface(*args, schedule=schedule, interference=interference)
