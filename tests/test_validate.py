@@ -536,3 +536,13 @@ def test_a_per_point_altitude_in_validation_is_the_series_and_a_verdict_needs_a_
     assert verdict_lines(res)[-1] == "nothing checked: no series gives a tolerance, so its values are shown, not judged"
     counts["trim"].update(checked=2, within=2)
     assert verdict_lines(res)[-1] == "all within tolerance"
+
+
+def test_a_series_whose_source_is_not_in_sources_is_refused(tmp_path, capsys):
+    """A new user's TOML file cited P9 with only P1 in [sources] and was taken without a word,
+    where the CSV form refuses it. A source must begin with a key of [sources]."""
+    path = toml('[sources]\nP1 = "a report"\n' + TRIM.replace('source = "P1"', 'source = "P9 Fig. 2"'), tmp_path)
+    code, err = run_main(["validate", str(path), "--no-charts", "--quiet"], capsys)
+    assert_one_line_error(code, err, ["source(s) 'P9 Fig. 2' do not begin with a key of [sources] (P1)"])
+    path.write_text(HEAD + '[sources]\nP1 = "a report"\n' + TRIM.replace('source = "P1"', 'source = "P1 Fig. 2; H"'))
+    assert load(path).series[0].source == "P1 Fig. 2; H"

@@ -22,6 +22,7 @@ The CSV form (:mod:`mbs.validate.csvdata`) carries the same information, one poi
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -219,6 +220,7 @@ def from_dict(raw: dict, path: Path) -> Validation:
         out.eigenvalues.append(eigen_set(entry, f"{path}: [[eigenvalues]] {k + 1}", factor,
                                          None if altitude is None else float(altitude[0])))
     _condition_problems(out, path, [k for k in ("mass", "cg_station", "cg_x") if k in defaults])
+    _sources_named(out, path)
     if "eigenvalue_tolerance" in raw:
         out.eigen_tolerance = eigen_tolerance(raw["eigenvalue_tolerance"], f"{path}: [eigenvalue_tolerance]")
     unknown = set(raw) - {"validation", "conventions", "sources", "eigenvalue_tolerance", "eigenvalues", *KINDS}
@@ -247,6 +249,18 @@ CONDITIONS = {"mass": ("kg", 1.0, 1e5), "altitude": ("m", *isa.ALTITUDE_RANGE), 
               "cg_x": ("m", -CG_SHIFT_LIMIT, CG_SHIFT_LIMIT)}
 """A point's flight condition: its SI unit and bounds (the ISA's altitudes, as ``--altitude``; the
 CG within 1 m of the file's, the model's ``cg_x``)."""
+
+
+def _sources_named(v: "Validation", path: Path) -> None:
+    """With ``[sources]``, every series' and eigenvalue set's source begins with one of its keys
+    ("P1 Fig. 4.10(a); H": P1)."""
+    if not v.sources:
+        return
+    used = [x.source for x in [*v.series, *v.eigenvalues]]
+    unknown = sorted({u for u in used if re.split(r"[\s;,]+", u.strip())[0] not in v.sources})
+    if unknown:
+        raise ValidationError(f"{path}: source(s) {', '.join(map(repr, unknown))} do not begin with a key of "
+                              f"[sources] ({', '.join(v.sources)}): add it to [sources], or correct the series")
 
 
 def _eigen_altitude(raw, path: Path) -> np.ndarray | None:
