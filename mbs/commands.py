@@ -670,8 +670,8 @@ def _aero(p) -> None:
     from mbs.models.helicopter import AERO_SWITCHES
 
     p.add_argument("--aero", metavar="SWITCHES", default=None,
-                   help="aerodynamics switches that are on (the helicopter scenes, of any aircraft), the others off: comma-separated "
-                        f"{', '.join(AERO_SWITCHES)}; or full (every switch the scene models, the default) or "
+                   help="aerodynamics switches that are on (the helicopter scenes, of any aircraft), the others off: "
+                        f"comma-separated {', '.join(AERO_SWITCHES)}; or full (every switch the scene models, the default) or "
                         "none (the paper's model: uniform inflow, free-stream airframe)")
 
 
