@@ -350,6 +350,9 @@ def _trim_lines(res) -> list[str]:
              *[f"  iteration {k + 1}: max |scaled residual| {it.residual:.3e}, step {it.step:g}"
                for k, it in enumerate(res.history)],
              f"  final:       max |scaled residual| {np.abs(res.residual).max():.3e}",
+             *([] if res.converged else [f"  NOT A TRIM: the values below are the "
+                                         f"{'last Newton iterate' if res.iterations else 'starting estimate'}, "
+                                         "balancing nothing (the reason is on the last line)"]),
              *[f"  {k:20s} {v:+.6f} rad ({np.degrees(v):+.4f} deg)" for k, v in
                [*res.controls.items(), ("roll", res.roll), ("pitch", res.pitch),
                 *([("sideslip", res.sideslip)] if res.flight.bank is not None else [])]]]

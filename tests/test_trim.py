@@ -119,6 +119,8 @@ def test_heli_trim_exits_non_zero_when_not_converged(capsys):
     assert main(["trim", "forward-flight", "--speed", "50", "--iterations", "1", "--quiet"]) == 1
     out = capsys.readouterr().out
     assert "NOT CONVERGED: no convergence in 1 iterations" in out
+    # the controls printed are labelled as the last iterate, not a trim (a new user's Bell 206 read them as one)
+    assert out.index("NOT A TRIM: the values below are the last Newton iterate") < out.index("  collective ")
 
 
 def test_a_trim_failing_against_a_control_stop_names_the_stop(tmp_path, capsys):
