@@ -2,6 +2,7 @@
 shaft, no lag hinge, a Bell or Robinson rotor) as reports print it: the yoke on its teeter hinge
 with the hub spring ``flap_stiffness``, the blades on it at their precone on their pitch bearings."""
 import json
+import math
 
 import pytest
 
@@ -39,7 +40,8 @@ def test_the_check_takes_a_teetering_rotor_without_lag_entries_and_names_what_it
     assert report.ok, report.problems
     figures = {n: v for n, v, _ in report.figures}
     assert "lag frequency" not in figures
-    assert figures["teeter frequency"] == pytest.approx((1 + 40000.0 / (2 * 231.7 * 44.4**2)) ** 0.5, rel=1e-3)
+    cone = math.cos(math.radians(2 * PRECONE_DEG))  # the blades' points above the hinge plane (no undersling)
+    assert figures["teeter frequency"] == pytest.approx((cone + 40000.0 / (2 * 231.7 * 44.4**2)) ** 0.5, rel=1e-12)
     for lines, words in (({"n_blades": '{ value = 3, unit = "-", source = "test" }'},
                           "a teetering main rotor has 2 blades, not 3"),
                          ({"flap_hinge_offset": '{ value = 0.1, unit = "m", source = "test" }'},
@@ -146,3 +148,28 @@ def test_a_coning_spring_without_coning_hinges_is_refused(tmp_path):
                                          coning_stiffness='{ value = 1e5, unit = "N m/rad", source = "test" }')).problems
     assert any(p.startswith("main_rotor.coning_stiffness: 100000 N m/rad does nothing without coning hinges")
                for p in problems), problems
+
+
+def test_the_teeter_frequency_counts_the_blades_off_the_hinge_plane(tmp_path):
+    """A new user's Bell 206 printed 'teeter frequency 1 1/rev' whatever its undersling (20 in moved
+    its 80 kt flapping from -2.1 to -9.4 deg). The figure is the rigid seesaw's, (I_zz - I_xx)/I_yy
+    about the hinge plus the spring's: summed over two point masses per blade with the file's
+    blade mass, first moment and flap inertia, coned by the precone and hung the undersling below
+    the hinge, to 1e-12."""
+    import math
+
+    from mbs.aircraft.derived import flap_frequency
+
+    for undersling in (0.0, 0.0857, 0.508):
+        mr = aircraft.load(_teetering(tmp_path, f"u{undersling}.toml", undersling=f'{{ value = {undersling}, '
+                                      'unit = "m", source = "test" }')).data["main_rotor"]
+        m, mean = mr["blade_mass"], mr["first_moment"] / mr["blade_mass"]
+        spread = math.sqrt(mr["I_flap"] / m - mean**2)
+        b = math.radians(PRECONE_DEG)
+        points = [(m / 2, r * math.cos(b), r * math.sin(b) - undersling) for r in (mean - spread, mean + spread)]
+        about_span = sum(dm * z**2 for dm, _, z in points)
+        about_teeter = sum(dm * (x**2 + z**2) for dm, x, z in points)
+        nu2 = (sum(dm * x**2 for dm, x, _ in points) - about_span) / about_teeter \
+            + mr["flap_stiffness"] / (2 * about_teeter * mr["omega"] ** 2)
+        assert flap_frequency(mr) == pytest.approx(math.sqrt(nu2), rel=1e-12), undersling
+    assert flap_frequency(mr) < 0.99 * math.sqrt(1 + mr["flap_stiffness"] / (2 * mr["I_flap"] * mr["omega"] ** 2))

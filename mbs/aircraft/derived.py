@@ -63,11 +63,24 @@ def flap_frequency(mr: dict) -> float:
     ``ν² = 1 + e S / I + K / (I Ω²)`` (``e S / I = 1.5 e / (R − e)`` for the uniform blade)."""
     from mbs.aircraft.mass import is_uniform_blade
 
-    if mr.get("hub_type") == "teetering":  # both blades on one seesaw: twice a blade's inertia on the hub spring
-        return math.sqrt(1 + mr["flap_stiffness"] / (2 * mr["I_flap"] * mr["omega"] ** 2))
+    if mr.get("hub_type") == "teetering":
+        return teeter_frequency(mr)
     e, span = mr["flap_hinge_offset"], mr["radius"] - mr["flap_hinge_offset"]
     offset = 1.5 * e / span if is_uniform_blade(mr) else e * mr["first_moment"] / mr["I_flap"]
     return math.sqrt(1 + offset + mr["flap_stiffness"] / (mr["I_flap"] * mr["omega"] ** 2))
+
+
+def teeter_frequency(mr: dict) -> float:
+    """1/rev: teeter frequency of the two blades on one seesaw with its spring ``K``, their points at
+    ``z = r sin(precone) − undersling`` from the hinge: ``ν² = (c² I − Z) / (c² I + Z) + K / (2 (c² I
+    + Z) Ω²)``, ``Z = m u² − 2 u s S + s² I`` (per blade: mass ``m``, first moment ``S`` and
+    inertia ``I`` about the axis; ``s, c`` of the precone; the blades' thickness neglected): 1/rev
+    with the blades in the hinge's plane, less as their centre of mass lies off it."""
+    s, c, u = math.sin(mr["precone"]), math.cos(mr["precone"]), mr.get("undersling", 0.0)
+    inertia = mr["I_flap"]
+    off = mr["blade_mass"] * u**2 - 2 * u * s * mr["first_moment"] + s**2 * inertia
+    teeter = c**2 * inertia + off
+    return math.sqrt((c**2 * inertia - off) / teeter + mr["flap_stiffness"] / (2 * teeter * mr["omega"] ** 2))
 
 
 def tail_flap_frequency(tr: dict, omega: float, pitch: float = 0.0) -> float:
