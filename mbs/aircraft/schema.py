@@ -87,7 +87,8 @@ def _airfoil(what: str, cd2_default=None) -> dict[str, Entry]:
 def _rotor(what: str) -> dict[str, Entry]:
     return {
         "radius": positive("m", f"{what} radius"),
-        "diameter": num("m", f"{what} diameter as published; replaces radius, which is half of it (0: not given)",
+        "diameter": num("m", f"{what} diameter as published; gives radius, half of it; given beside radius, a check "
+                        "of it (within 0.5 %) (0: not given)",
                         0.0, math.inf, open_low=True, default=0.0, replaces="radius"),
         "chord": positive("m", f"{what} blade chord (constant)"),
         "twist": angle(f"{what} linear blade twist, tip minus axis: theta(r) = theta_root + twist r/R", 45),
@@ -319,8 +320,8 @@ ENTRIES: dict[str, dict[str, Entry]] = {
                           only_if=("hub_type", "teetering")),
         "rotation": choice("sense of rotation seen from above", "counter-clockwise", "clockwise"),
         "omega": positive("rad/s", "nominal main-rotor speed"),
-        "tip_speed": num("m/s", "nominal main-rotor tip speed as published; replaces omega, which is tip_speed / "
-                         "radius (0: not given)", 0.0, math.inf, open_low=True, default=0.0, replaces="omega"),
+        "tip_speed": num("m/s", "nominal main-rotor tip speed as published; gives omega, tip_speed / radius; given "
+                         "beside omega, a check of it (within 0.5 %) (0: not given)", 0.0, math.inf, open_low=True, default=0.0, replaces="omega"),
         "omega_min": positive("rad/s", "least rotor speed the omega parameter accepts", default="0.5 omega"),
         "omega_max": positive("rad/s", "largest rotor speed the omega parameter accepts", default="1.2 omega"),
         "hub_x": num("m", "hub position x (forward) from the CG", axis="x"),
@@ -374,8 +375,8 @@ ENTRIES: dict[str, dict[str, Entry]] = {
         "omega": num("rad/s", "nominal tail-rotor speed as published (rpm ...); replaces gear_ratio, which is "
                      "computed from it and main_rotor.omega (0: not given)", 0.0, math.inf, open_low=True,
                      default=0.0, replaces="gear_ratio"),
-        "tip_speed": num("m/s", "nominal tail-rotor tip speed as published; replaces gear_ratio, which is computed "
-                         "from it, the tail radius and main_rotor.omega (0: not given)", 0.0, math.inf, open_low=True,
+        "tip_speed": num("m/s", "nominal tail-rotor tip speed as published; gives gear_ratio, from it, the tail radius "
+                         "and main_rotor.omega; given beside gear_ratio, a check of it (within 0.5 %) (0: not given)", 0.0, math.inf, open_low=True,
                          default=0.0, replaces="gear_ratio"),
         "hub_x": num("m", "tail-rotor hub x (forward) from the CG", axis="x"),
         "hub_y": num("m", "tail-rotor hub y (starboard) from the CG", axis="y"),
