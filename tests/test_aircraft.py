@@ -399,6 +399,10 @@ def test_a_number_printed_in_parts_is_read_as_printed(tmp_path):
     listed = "\n".join(f"{row[0]} {row[3]}" for row in report.converted)
     assert "main_rotor.diameter from 32 ft 2.5 in" in listed and "tail_rotor.precone from 1 deg 11 arcmin" in listed
     assert "main_rotor.radius half the diameter 32 ft 2.5 in (main_rotor.diameter)" in listed
+    from mbs.aircraft.reader import printed  # a mixing row's units differ in kind: listed as a list, not in parts
+
+    assert printed({"value": [2.0, 0.5, 0, 0, 0], "unit": "deg, deg/in, deg/in, deg/in, deg/in"}) == \
+        "[2.0, 0.5, 0, 0, 0] deg, deg/in, deg/in, deg/in, deg/in"
     hint = 'value = [25, 2], unit = "ft, in"'
     for value, unit, words in (("25 ft 2 in", "ft", hint), ([25, 2], "ft", hint), ([1, -11], "deg, arcmin", "one sign"),
                                ([25, 2, 1], "ft, in", hint)):

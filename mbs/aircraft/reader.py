@@ -612,9 +612,18 @@ def printed(meta: dict) -> str:
     parts (:func:`_compound`), else ``<value> <unit>``."""
     value, unit = meta.get("value", ""), str(meta.get("unit", ""))
     parts = [u.strip() for u in unit.split(",")]
-    if isinstance(value, list) and len(parts) == len(value) > 1 and all(isinstance(v, (int, float)) for v in value):
+    if isinstance(value, list) and len(parts) == len(value) > 1 and all(isinstance(v, (int, float)) for v in value) \
+            and _one_dimension(parts):
         return " ".join(f"{v:g} {u}" for v, u in zip(value, parts))
     return f"{value} {unit}".strip()
+
+
+def _one_dimension(parts: list[str]) -> bool:
+    """Whether the units ``parts`` are all of one kind (ft and in; not deg and deg/in of a mixing row)."""
+    try:
+        return len({units.parse(u).dims for u in parts}) == 1
+    except units.UnitError:
+        return False
 
 
 def _in_parts(value) -> bool:
