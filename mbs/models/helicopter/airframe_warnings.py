@@ -35,7 +35,7 @@ def _duct_in_cross_flow(values: dict, d) -> list[str]:
     """A fan in a duct whose cross-flow (the flight speed) exceeds the flow through it: the duct
     model is axial momentum theory (docs/tail-rotor.md), past what it covers."""
     speed, inflow = _speed(values), values.get("tail_rotor.inflow")
-    if not d["tail_rotor"].get("duct_exit_ratio") or speed is None or inflow is None or speed <= abs(inflow):
+    if not d.get("tail_rotor", {}).get("duct_exit_ratio") or speed is None or inflow is None or speed <= abs(inflow):
         return []
     return [f"tail rotor: its fan in a duct meets {speed:.3g} m/s of cross-flow, more than the {abs(inflow):.3g} m/s "
             "through it; the duct model is axial (the duct keeps its hover share of the thrust, "
