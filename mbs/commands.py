@@ -543,9 +543,13 @@ def _derivative_lines(res) -> list[str]:
                      + ", ".join(f"{k} {v:+.4g}" for k, v in flipped.items()))
     if res.B_pilot is not None:
         lines += matrix_lines("B per pilot position (SI: m, rad or fraction of travel)", res.B_pilot, res.states,
-                              ["lever", "lon stick", "lat stick", "pedals"])
+                              list(PILOT_LABELS))
         lines += pilot_derivative_lines(res)
     return lines + mode_lines(res.modes) + [f"  warning: {w}" for w in res.warnings]
+
+
+PILOT_LABELS = ("lever", "lon stick", "lat stick", "pedals")
+"""Column heads of the pilot controls (:data:`mbs.aircraft.rigging.PILOT` order)."""
 
 
 def pilot_derivative_lines(res) -> list[str]:
@@ -558,7 +562,7 @@ def pilot_derivative_lines(res) -> list[str]:
     if not res.pilot_file_units:
         return []
     per = {p: units.parse(u).factor for p, u in res.pilot_file_units.items()}
-    labels = dict(zip(PILOT, ("lever", "lon stick", "lat stick", "pedals")))
+    labels = dict(zip(PILOT, PILOT_LABELS))
     head = [f"{labels[p]} (/{res.pilot_file_units[p]})" for p in PILOT]
     out = ["  control derivatives per pilot control in the file's units (X, Y, Z in m/s^2, L, M, N in rad/s^2):",
            "  " + " " * 4 + "".join(f"{h:>16s}" for h in head)]

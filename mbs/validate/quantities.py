@@ -194,8 +194,10 @@ def _per_pilot_control(series, unit: str, known: dict) -> str:
     stick, per % of lever): such derivatives are the pilot controls'."""
     if series.kind != "derivative" or unit not in ("m/(s^2 rad)", "1/s^2"):
         return ""
+    from mbs.aircraft.rigging import PILOT
+
     force = canonical(series.quantity).split("_")[0]
-    names = [f"{force}_{p}" for p in ("collective_lever", "longitudinal_stick", "lateral_stick", "pedals")]
+    names = [f"{force}_{p}" for p in PILOT]
     if names[0] in known["derivative"]:
         return f"; a derivative per a pilot control's travel is named after the control: {', '.join(names)}"
     return (f"; a derivative per a pilot control's travel ({', '.join(names)}) needs the aircraft file's [controls] "
