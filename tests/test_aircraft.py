@@ -264,6 +264,12 @@ def test_a_new_aircraft_from_the_template_loads_and_warns_until_filled_in(tmp_pa
     # the Bo105's inertias are its whole aircraft's: the template says so, where it read them as the
     # airframe's and added the rotors (Ixx +62 %)
     assert craft.data["aircraft"]["inertia"] == "whole-aircraft" and '\ninertia = { value = "whole-aircraft"' in text
+    # an entry needed once its switch is set says so, one with a default says it only applies: a
+    # Bell 206 trial read the engine's commented ratings as defaults
+    line = next(x for x in text.splitlines() if x.startswith("# takeoff_power = "))
+    assert line.endswith('# required with model = "turboshaft" or "piston"'), line
+    line = next(x for x in text.splitlines() if x.startswith("# flap_stiffness = "))
+    assert line.endswith('# only with hub_type = "flapping"'), line
 
 
 def test_inertias_read_as_the_airframes_by_default_are_warned_of(tmp_path):

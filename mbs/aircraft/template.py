@@ -68,7 +68,8 @@ def template(name: str, source: str = "TEMPLATE") -> str:
             line = f"{key} = {{ value = {_toml(value)}, unit = \"{spec.unit}\", source = \"{source}\" }}"
             if spec.only_if:
                 wanted = spec.only_if[1] if isinstance(spec.only_if[1], tuple) else (spec.only_if[1],)
-                line += f"  # only with {spec.only_if[0]} = " + " or ".join(f'"{w}"' for w in wanted)
+                need = "only" if spec.default is not None else "required"
+                line += f"  # {need} with {spec.only_if[0]} = " + " or ".join(f'"{w}"' for w in wanted)
             shown = {"airfoils": "none: the analytic section", "table": "none"}.get(spec.kind, spec.default)
             lines += [f"# {spec.text} ({spec.unit}" + (f"; default {shown})" if spec.default is not None else ")"),
                       ("# " if _commented(spec, values, entries) and (section, key) not in AS_WRITTEN else "")
