@@ -64,6 +64,29 @@ def test_speeds_convert_and_merge(tmp_path):
     assert v.speeds("derivative") == []
 
 
+def test_speeds_as_advance_ratios_are_the_aircraft_files_tip_speed_times_mu(tmp_path):
+    """A Bell 206 trial's data were printed against the advance ratio: ``speed_unit = "mu"`` takes
+    them as V/(Omega R) of the aircraft file's rotor, and the report shows them as given."""
+    from mbs import aircraft
+    from mbs.validate import report
+    from mbs.validate.data import resolve_speed
+    from mbs.validate.runner import Result
+
+    path = toml(TRIM.replace("[0, 40]", "[0.1, 0.25]") + '[[eigenvalues]]\nspeed = 0.2\nvalue = [[-1.0, 0.0]]\n'
+                'source = "P1"\n', tmp_path)
+    path.write_text(path.read_text().replace('"kt"', '"mu"'))
+    d = aircraft.load().data
+    tip = d["main_rotor"]["omega"] * d["main_rotor"]["radius"]
+    v = resolve_speed(load(path), d)
+    assert v.speeds("trim") == pytest.approx([0.1 * tip, 0.25 * tip]) and 200 < tip < 230
+    assert v.eigenvalues[0].speed == pytest.approx(0.2 * tip) and v.series[0].shown_speed.tolist() == [0.1, 0.25]
+    model = fake_model(v.speeds("trim"))
+    for p in model.points.values():
+        p.trim.warnings = ["a warning"]
+    lines = report.lines(Result(v, model, [(s, compare.rows(s, model)) for s in v.series]))
+    assert "  warning at 0.1, 0.25 mu: a warning" in lines, lines
+
+
 def fake_point(speed: float, problem: str = "") -> Point:
     trim = SimpleNamespace(controls={"collective": math.radians(13.0), "tail_collective": 0.1}, pitch=0.05, roll=-0.02,
                            flapping={"beta0": 0.03}, output_means={"engine.power": 300e3},

@@ -16,7 +16,9 @@ mass, air and CG), ``uncertainty`` (the reading or measurement error, in ``unit`
 ``tolerance`` (``{ absolute = x }`` in ``unit`` or ``{ relative = x }``, a fraction; without it
 the series is shown, not checked),
 ``ours_factor`` (the model's value is multiplied by it before the comparison: a sign convention
-that differs, stated in ``note``) and ``note``. Speeds are in ``[validation] speed_unit``.
+that differs, stated in ``note``) and ``note``. Speeds are in ``[validation] speed_unit``
+(``mu``: the advance ratio V/(Omega R) of the aircraft file's rotor, turned into m/s by
+:func:`resolve_speed`).
 The CSV form (:mod:`mbs.validate.csvdata`) carries the same information, one point a row.
 """
 from __future__ import annotations
@@ -170,6 +172,7 @@ class Validation:
     series: list[Series] = field(default_factory=list)
     eigenvalues: list[EigenSet] = field(default_factory=list)
     eigen_tolerance: EigenTolerance | None = None
+    per_unit: float = 1.0  # m/s per speed unit (an advance ratio's: the aircraft's tip speed, once resolved)
 
     @property
     def name(self) -> str:
@@ -199,12 +202,12 @@ def from_dict(raw: dict, path: Path) -> Validation:
     """A :class:`Validation` from the parsed TOML ``raw`` of the file ``path``."""
     head = _table(raw, "validation", path)
     speed_unit = _text(head, "speed_unit", path, "[validation]", default="m/s")
-    factor = speed_factor(speed_unit, f"{path}: [validation] speed_unit")
+    factor = 1.0 if speed_unit in ADVANCE_RATIO else speed_factor(speed_unit, f"{path}: [validation] speed_unit")
     out = Validation(path, _text(head, "title", path, "[validation]", default=path.stem),
                      _text(head, "aircraft", path, "[validation]"), _text(head, "scene", path, "[validation]",
                                                                           default="forward-flight"),
                      speed_unit, _strings(raw.get("conventions", {}), path, "[conventions]"),
-                     _strings(raw.get("sources", {}), path, "[sources]"))
+                     _strings(raw.get("sources", {}), path, "[sources]"), per_unit=factor)
     unknown = set(head) - {"title", "aircraft", "scene", "speed_unit", "speed", *CONDITIONS}
     if unknown:
         raise ValidationError(f"{path}: [validation]: unknown key(s) {', '.join(sorted(unknown))}; the keys are "
@@ -232,6 +235,22 @@ def from_dict(raw: dict, path: Path) -> Validation:
     return out
 
 
+ADVANCE_RATIO = ("mu", "advance ratio")
+"""Speed units read as the advance ratio V/(Omega R), of the aircraft file's rotor speed and radius."""
+
+
+def resolve_speed(v: "Validation", d) -> "Validation":
+    """``v`` with speeds given as advance ratios (:data:`ADVANCE_RATIO`) in m/s: times the main
+    rotor's tip speed Omega R of the aircraft data ``d``."""
+    from dataclasses import replace
+
+    if v.speed_unit not in ADVANCE_RATIO:
+        return v
+    tip = d["main_rotor"]["omega"] * d["main_rotor"]["radius"]
+    return replace(v, per_unit=tip, series=[replace(s, speed=s.shown_speed * tip) for s in v.series],
+                   eigenvalues=[replace(e, speed=e.shown_speed * tip) for e in v.eigenvalues])
+
+
 def speed_factor(unit: str, where: str) -> float:
     """m/s per unit of the speed unit ``unit``; :class:`ValidationError` for a unit that is no speed."""
     try:
@@ -239,7 +258,8 @@ def speed_factor(unit: str, where: str) -> float:
     except units.UnitError as exc:
         raise ValidationError(f"{where}: {exc}") from None
     if u.dims != (1, 0, -1, 0):
-        raise ValidationError(f"{where}: {unit!r} is {u.describe()}, not a speed (kn, kt, m/s, km/h)")
+        raise ValidationError(f"{where}: {unit!r} is {u.describe()}, not a speed (kn, kt, m/s, km/h, or mu for the "
+                              "advance ratio)")
     return u.factor
 
 

@@ -7,7 +7,7 @@ import re
 
 import numpy as np
 
-from mbs.validate.data import EigenTolerance, speed_factor
+from mbs.validate.data import EigenTolerance
 
 MARK = {True: "ok", False: "OUT", None: ""}
 
@@ -35,7 +35,7 @@ def problem_lines(res) -> list[str]:
     from mbs.validate.data import condition_key
 
     v = res.validation
-    factor = speed_factor(v.speed_unit, "[validation] speed_unit")
+    factor = v.per_unit
     shown = {condition_key(*c): (r.speed, r.condition) for s, rows in res.blocks
              for c, r in zip(s.conditions(), rows)}
     out = []
@@ -136,7 +136,7 @@ def warning_lines(res) -> list[str]:
     """One line per kind of warning, at the speeds (in the data's unit) of the points that gave it;
     where its figures differ from point to point, those of the slowest."""
     v = res.validation
-    factor = speed_factor(v.speed_unit, "[validation] speed_unit")
+    factor = v.per_unit
     found = warnings(res).values()
     out = [f"  warning of the aircraft file: {texts[0]}" for texts, _ in found if texts[0].startswith(FILE_WARNINGS)]
     for texts, speeds in found:

@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from mbs.validate import compare, eigen, quantities
-from mbs.validate.data import EigenTolerance, Validation, resolve_cg
+from mbs.validate.data import EigenTolerance, Validation, resolve_cg, resolve_speed
 from mbs.validate.ours import Model, run, scene_of
 
 
@@ -39,7 +39,8 @@ def validate(validation: Validation, aircraft=None, aero: str | None = None, met
     """Compare the model (the scene of ``validation``, built with ``aircraft`` or the file's) with
     the published data of ``validation``."""
     scene = scene_of(validation, aircraft, aero)
-    validation = resolve_cg(validation, scene.aircraft.data) if scene.aircraft is not None else validation
+    if scene.aircraft is not None:
+        validation = resolve_speed(resolve_cg(validation, scene.aircraft.data), scene.aircraft.data)
     model = run(scene, validation.conditions("trim"), validation.conditions("derivative", "eigenvalues"), method,
                 steps_per_rev, backend, progress, check=lambda info: quantities.check(validation, info, scene.aircraft))
     out = Result(validation, model)
