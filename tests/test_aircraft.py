@@ -415,3 +415,11 @@ def test_a_number_printed_in_parts_is_read_as_printed(tmp_path):
         raw["main_rotor"]["diameter"] = {"value": value, "unit": unit, "source": "POH"}
         problems = aircraft.check(write(raw, tmp_path / "bad.toml")).problems
         assert any(p.startswith("main_rotor.diameter: ") and words in p for p in problems), (value, problems)
+
+
+def test_a_figure_of_zero_prints_without_a_sign():
+    """A Bell 412 trial's check printed 'whole-aircraft Ixz (about the CG) -0 kg m^2' for an Ixz
+    left out (its sign times zero)."""
+    from mbs.aircraft.report import _fmt
+
+    assert _fmt(-0.0) == "0" and _fmt(-473.08) == "-473.08" and _fmt(3) == "3"

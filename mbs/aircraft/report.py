@@ -278,4 +278,4 @@ def _brief(v) -> str:
 
 
 def _fmt(v) -> str:
-    return f"{v:.6g}" if isinstance(v, float) else str(v)
+    return f"{v + 0.0:.6g}" if isinstance(v, float) else str(v)  # + 0.0: no "-0" of a sign times zero
