@@ -87,6 +87,21 @@ def test_speeds_as_advance_ratios_are_the_aircraft_files_tip_speed_times_mu(tmp_
     assert "  warning at 0.1, 0.25 mu: a warning" in lines, lines
 
 
+def test_a_source_no_series_cites_is_said(tmp_path):
+    """A Bell 412 trial's [sources] listed S2, which no series used, without a word."""
+    from mbs.validate import report
+    from mbs.validate.runner import Result
+
+    v = load(toml(TRIM.replace('"P1"', '"P1 Fig. 3; P3"') + '[sources]\nP1 = "a report"\nP2 = "a web page"\n'
+                  'P3 = "a book"\n', tmp_path))
+    model = fake_model(v.speeds("trim"))
+    res = Result(v, model, [(s, compare.rows(s, model)) for s in v.series])
+    lines = report.lines(res)
+    assert "  source P1: a report" in lines and "  source P3: a book" in lines
+    assert "  source P2: a web page (cited by no series)" in lines
+    assert report.summary(res)["uncited_sources"] == ["P2"]
+
+
 def fake_point(speed: float, problem: str = "") -> Point:
     trim = SimpleNamespace(controls={"collective": math.radians(13.0), "tail_collective": 0.1}, pitch=0.05, roll=-0.02,
                            flapping={"beta0": 0.03}, output_means={"engine.power": 300e3},

@@ -181,6 +181,11 @@ class Validation:
     def of_kind(self, kind: str) -> list[Series]:
         return [s for s in self.series if s.kind == kind]
 
+    def cited_sources(self) -> set[str]:
+        """The keys of ``[sources]`` that a series' or eigenvalue set's source names (anywhere in it)."""
+        words = {w for x in [*self.series, *self.eigenvalues] for w in re.split(r"[\s;,()]+", x.source)}
+        return set(self.sources) & words
+
     def speeds(self, *kinds: str) -> list[float]:
         """The distinct speeds (m/s, ascending) of the series of ``kinds`` (and of the
         eigenvalues when ``"eigenvalues"`` is one of them)."""

@@ -15,11 +15,12 @@ MARK = {True: "ok", False: "OUT", None: ""}
 def lines(res) -> list[str]:
     """The human-readable report of :func:`mbs.validate.runner.validate`."""
     v = res.validation
+    cited = v.cited_sources()
     out = [f"{v.title}", f"  data: {v.path}", f"  model: {res.model.aircraft or 'default aircraft'}, scene {v.scene}; "
            f"{_count(len(res.model.points), 'flight condition')} in {res.model.wall_s:.1f} s",
            *[f"  convention, {k}: {t}" for k, t in v.conventions.items()],
            *([f"  model's controls: {res.model.controls}"] if res.model.controls else []),
-           *[f"  source {k}: {t}" for k, t in v.sources.items()]]
+           *[f"  source {k}: {t}" + ("" if k in cited else " (cited by no series)") for k, t in v.sources.items()]]
     out += problem_lines(res)
     out += warning_lines(res)
     for s, rows in res.blocks:
@@ -172,6 +173,7 @@ def summary(res) -> dict:
     v = res.validation
     return {"title": v.title, "data": str(v.path), "aircraft": res.model.aircraft, "scene": v.scene,
             "speed_unit": v.speed_unit, "conventions": v.conventions, "sources": v.sources,
+            "uncited_sources": sorted(set(v.sources) - v.cited_sources()),
             "series": [{"kind": s.kind, "quantity": s.quantity, "unit": s.unit, "source": s.source, "note": s.note,
                         "ours_factor": s.ours_factor,
                         "tolerance": None if s.tolerance is None else vars(s.tolerance)} for s in v.series],
