@@ -197,3 +197,29 @@ def test_a_neutral_root_has_no_damping_ratio():
     neutral = FlightMode(complex(3e-10, 0.0), {}, "yaw subsidence")
     assert "neutral" in mode_lines([neutral])[1] and neutral.summary()["damping_ratio"] is None
     assert json.loads(json.dumps(neutral.summary()))["damping_ratio"] is None
+
+
+XCELL_HOVER = np.array([  # a new user's X-Cell 60 (8.2 kg) in hover: its A in Padfield's order
+    [-0.028873, -0.000162025, 0.190967, -9.80625, 0.000311455, 0.0752532, 0.000643837, 0.00130747],
+    [-0.00204137, -0.615651, -0.00479859, 0.0108351, 0.0115863, 0.00776745, -0.850843, -0.121266],
+    [0.423051, -0.102224, -8.29766, -0.112588, -0.0126007, -0.80095, 0.00159017, -0.0509568],
+    [0, 0, 0.996228, -1.1631e-26, 0, 0, 1.587e-07, -0.0867712],
+    [-0.000321254, 0.00506075, 0.0722037, 0.00158886, -0.0561499, -0.190368, 9.7693, 0.0296729],
+    [0.070639, 0.0540361, 1.6449, -0.00304482, -0.893069, -15.4354, -0.211245, 0.633094],
+    [0, 0, -9.59938e-05, -1.587e-07, 0, 1, -1.89679e-11, -0.00110211],
+    [-0.000556131, -0.0871562, 0.0536462, -0.0009663, 0.829698, -0.262569, 0.000277056, -1.07049]])
+
+
+def test_two_real_modes_led_by_one_axis_have_two_names():
+    """A new user's X-Cell 60 in hover printed 'yaw subsidence' twice and no heave mode: the heave
+    couples to the yaw through the torque. The one with the larger yaw share keeps the name, the
+    other is named after its two largest axes."""
+    from mbs.analysis.flight_modes import flight_modes
+
+    modes = flight_modes(XCELL_HOVER)
+    names = [m.name for m in modes]
+    assert len(set(names)) == len(names) and "yaw subsidence" in names and "yaw-heave subsidence" in names, names
+    yaw, coupled = (next(m for m in modes if m.name == n) for n in ("yaw subsidence", "yaw-heave subsidence"))
+    assert yaw.participation["r"] > coupled.participation["r"] and coupled.participation["w"] > 0.15
+    assert {m.name for m in flight_modes(R22_60KT)} == {"Dutch roll", "phugoid", "pitch subsidence", "roll subsidence",
+                                                         "yaw-pitch oscillation"}  # one of each: unchanged

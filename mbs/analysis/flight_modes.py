@@ -18,7 +18,9 @@ it, lateral otherwise, and is named as in Padfield (Helicopter Flight Dynamics, 
 A complex pair damped at 90 % of critical or more (coupled subsidences, e.g. roll and pitch
 through the rotor's cross-coupling in hover) is named as a real mode after the axis with the
 largest share of either group, joined by the next axis when that holds at least half as much
-("roll-pitch subsidence").
+("roll-pitch subsidence"). Of two real modes of one name (a small helicopter's hover has two
+led by yaw: the heave couples to it through the torque), the one with the larger share of that
+axis keeps the name, the other is named after its two largest axes ("yaw-heave subsidence").
 """
 from __future__ import annotations
 
@@ -28,6 +30,8 @@ import numpy as np
 
 STATES = ("u", "w", "q", "theta", "v", "p", "phi", "r")
 LONGITUDINAL = ("u", "w", "q", "theta")
+AXES = {"heave": ("w",), "pitch": ("q", "theta"), "speed": ("u",), "roll": ("p",), "yaw": ("r",)}
+"""The states of each axis a mode is named after."""
 OVERDAMPED = 0.9  # damping ratio from which a complex pair is named as a subsidence
 NEUTRAL = 1e-6  # 1/s: an eigenvalue this small is a neutral root (the heading's), its damping ratio undefined
 
@@ -98,12 +102,12 @@ def mode_name(lam: complex, share: dict[str, float]) -> str:
     return _real(lam, {"roll": share["p"], "yaw": share["r"]})
 
 
-def _axes(share: dict[str, float]) -> str:
-    """The axis with the largest share, joined by the next when that holds at least half as much."""
-    weights = {"heave": share["w"], "pitch": share["q"] + share["theta"], "speed": share["u"], "roll": share["p"],
-               "yaw": share["r"]}
+def _axes(share: dict[str, float], joined: bool = False) -> str:
+    """The axis with the largest share, joined by the next when that holds at least half as much
+    (always with ``joined``)."""
+    weights = {axis: sum(share[k] for k in keys) for axis, keys in AXES.items()}
     first, second = sorted(weights, key=weights.get, reverse=True)[:2]
-    return f"{first}-{second}" if weights[second] >= 0.5 * weights[first] else first
+    return f"{first}-{second}" if joined or weights[second] >= 0.5 * weights[first] else first
 
 
 def _one_dutch_roll(modes: list[FlightMode]) -> None:
@@ -115,6 +119,20 @@ def _one_dutch_roll(modes: list[FlightMode]) -> None:
     for m in lateral:
         m.name = "Dutch roll" if m is dutch else (
             "lateral phugoid" if m.participation["r"] < 0.25 else f"{_axes(m.participation)} oscillation")
+
+
+def _one_of_each_subsidence(modes: list[FlightMode]) -> None:
+    """Of two or more real modes of one name, the one with the largest share of its axis keeps it;
+    the others are named after their two largest axes (module docstring)."""
+    for name in {m.name for m in modes if m.name.endswith(("subsidence", "divergence"))}:
+        same = [m for m in modes if m.name == name]
+        axis = AXES.get(name.split()[0])
+        if len(same) < 2 or axis is None:
+            continue
+        keeper = max(same, key=lambda m: sum(m.participation[k] for k in axis))
+        for m in same:
+            if m is not keeper:
+                m.name = f"{_axes(m.participation, joined=True)} {name.split()[-1]}"
 
 
 def _real(lam: complex, weights: dict[str, float]) -> str:
@@ -130,4 +148,5 @@ def flight_modes(a: np.ndarray, states=STATES) -> list[FlightMode]:
         share = {s: float(w) for s, w in zip(states, p[:, i])}
         out.append(FlightMode(complex(lam[i]), share, mode_name(complex(lam[i]), share)))
     _one_dutch_roll(out)
+    _one_of_each_subsidence(out)
     return sorted(out, key=lambda m: m.eigenvalue.real, reverse=True)
