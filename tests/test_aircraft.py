@@ -423,3 +423,29 @@ def test_a_figure_of_zero_prints_without_a_sign():
     from mbs.aircraft.report import _fmt
 
     assert _fmt(-0.0) == "0" and _fmt(-473.08) == "-473.08" and _fmt(3) == "3"
+
+
+def test_a_small_helicopters_drag_area_and_the_templates_hub_and_accessories_are_checked_for_size(tmp_path):
+    """A new user's X-Cell 60 (8.2 kg, R 0.775 m): its published 0.1 m^2 drag area (0.053 of the
+    disc) was called no helicopter's, while the template's Bo105 hub drag (0.25 m^2, 2.5 times its
+    fuselage's) and accessory power (7.5 kW, six times its hover power) passed without a word."""
+    import copy
+
+    from mbs.aircraft.report import _drag_area_note
+
+    d = copy.deepcopy(aircraft.load().data)  # the loaded aircraft is shared: change a copy
+    f = 1.02  # m^2: the Bo105's drag area at zero angles
+    for radius, warned in ((1.9, False), (1.5, True), (2.0, True), (4.91, False)):  # shares 0.090, 0.14, 0.081, 0.013
+        d["main_rotor"]["radius"] = radius
+        words = _drag_area_note(d)
+        assert bool(words) == warned, (radius, words)
+        assert not words or f"{f / (math.pi * radius**2):.3g} of the main rotor's disc area" in words[0]
+    raw = entries("bo105")
+    raw["hub_drag"]["flat_plate_area"].update(value=1.5)
+    raw["engine"]["accessory_power"].update(value=400e3)
+    warnings = aircraft.check(write(raw, tmp_path / "big.toml")).warnings
+    assert any(w.startswith("hub_drag.flat_plate_area: 1.5 m^2, more than the fuselage's drag area at zero angles "
+                            "(1.02 m^2)") for w in warnings), warnings
+    assert any(w.startswith("engine.accessory_power: 4e+05 W, more than both rotors' hover power (3.622e+05 W)")
+               for w in warnings), warnings
+    assert not any(w.startswith(("hub_drag", "engine.accessory")) for w in aircraft.check("bo105").warnings)

@@ -152,6 +152,7 @@ def _warnings(data: Data, rows: list[tuple]) -> list[str]:
     tr = data["tail_rotor"]
     out += checks.main_rotor_notes(data["main_rotor"]) + checks.tail_rotor_notes(tr)
     out += checks.tail_clearance_note(data) + checks.surface_slope_notes(data) + _drag_area_note(data)
+    out += _hub_drag_note(data) + _accessory_note(data)
     out += checks.station_convention_notes(data) + checks.stabilator_notes(data) + checks.control_range_notes(data)
     gear = checks.periodic_gear(tr["gear_ratio"], checks.tail_blade_symmetry(tr))
     if not gear.exact:
@@ -162,20 +163,44 @@ def _warnings(data: Data, rows: list[tuple]) -> list[str]:
 DRAG_AREA_SHARE = 0.04
 """Fuselage drag area per main-rotor disc area beyond which the check warns: helicopters have
 about 0.008-0.02 (the shipped Bo105 0.0135, Puma 0.0082, Lynx 0.0135)."""
+SMALL = (2.0, 0.1)
+"""Below this main-rotor radius (m), the share beyond which the check warns: a small unmanned
+helicopter's fuselage is large for its rotor (Gavrilets et al.'s X-Cell 60: 0.1 m^2 frontal area
+on a 0.775 m rotor, 0.053), and ft^2 read as m^2 still lands past it (ten times)."""
 
 
 def _drag_area_note(data: Data) -> list[str]:
     """A fuselage whose drag at zero angles is no helicopter's: more than :data:`DRAG_AREA_SHARE`
-    of the disc area (a table in ft² read as m²: ten times), or not a drag."""
-    f = airframe_data.drag_area(data)
-    share = f / (math.pi * data["main_rotor"]["radius"] ** 2)
-    if 0.0 < share <= DRAG_AREA_SHARE:
+    of the disc area (:data:`SMALL` for a small rotor; a table in ft² read as m²: ten times), or
+    not a drag."""
+    f, radius = airframe_data.drag_area(data), data["main_rotor"]["radius"]
+    share = f / (math.pi * radius**2)
+    limit, who = (SMALL[1], "small unmanned helicopters up to about 0.06") if radius < SMALL[0] else (
+        DRAG_AREA_SHARE, "helicopters about 0.008-0.02")
+    if 0.0 < share <= limit:
         return []
     what = "is not a drag (it pushes forward)" if f <= 0 else (
-        f"is {share:.3g} of the main rotor's disc area, where helicopters have about 0.008-0.02 (above "
-        f"{DRAG_AREA_SHARE:g} this check warns)")
+        f"is {share:.3g} of the main rotor's disc area, where {who} (above {limit:g} this check warns)")
     return [f"fuselage_aero: the drag area at zero angle of attack and sideslip, {f:.4g} m^2, {what}: check the "
             "tables' or polynomials' unit (ft^2 or m^2, N at v_ref) and their sign"]
+
+
+def _hub_drag_note(data: Data) -> list[str]:
+    """A hub with more drag than the fuselage (the shipped aircraft's hubs: 0.2-0.4 of it)."""
+    hub, f = data["hub_drag"]["flat_plate_area"], airframe_data.drag_area(data)
+    if not 0.0 < f < hub:
+        return []
+    return [f"hub_drag.flat_plate_area: {hub:.4g} m^2, more than the fuselage's drag area at zero angles ({f:.4g} m^2), "
+            "where the hubs of the shipped aircraft have 0.2-0.4 of it: check the value (the template's is the Bo105's)"]
+
+
+def _accessory_note(data: Data) -> list[str]:
+    """Accessory power above the rotors' whole hover power."""
+    acc, hover = data["engine"]["accessory_power"], performance.hover(data).power
+    if acc <= hover:
+        return []
+    return [f"engine.accessory_power: {acc:.4g} W, more than both rotors' hover power ({hover:.4g} W): check the value "
+            "(the template's is the Bo105's)"]
 
 
 def _unused_with_tables(data: Data) -> list[str]:
@@ -208,7 +233,9 @@ def figures(data: Data) -> list[tuple]:
         ("hover induced velocity", hov.main.induced_velocity, "m/s"),
         ("hover power estimate, main rotor", hov.main.power, "W"),
         ("hover power estimate, tail rotor", hov.tail.power, "W"),
-        ("hover power estimate, total", hov.power, "W"),
+        ("hover power estimate, both rotors", hov.power, "W"),
+        ("hover power estimate, engines",
+         hov.power / data["engine"]["transmission_efficiency"] + data["engine"]["accessory_power"], "W"),
         ("fuselage drag area at zero angles", airframe_data.drag_area(data), "m^2"),
         ("fuselage drag area per disc area", airframe_data.drag_area(data) / (math.pi * mr["radius"] ** 2), "-"),
         *([("hover tail-rotor thrust", hov.tail.thrust, "N")] if not hov.tail.duct_thrust else [
