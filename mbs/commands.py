@@ -737,8 +737,8 @@ def wind_components(text: str) -> tuple[float, float, float]:
     return values
 
 
-def _quiet(p) -> None:
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+def _quiet(p, what: str = "no progress bar") -> None:
+    p.add_argument("--quiet", action="store_true", help=what)
 
 
 def register(sub, bench) -> None:
@@ -798,6 +798,7 @@ def register(sub, bench) -> None:
     _add_periodic_arguments(p)
     p.add_argument("--mat", metavar="FILE", default=None, type=A.matrix_file,
                    help="write A, B and the mode names to FILE (.mat for MATLAB, or .npz)")
+    _quiet(p, "no build messages")
     add_json(p)
     _aero(p)
     _air(p)

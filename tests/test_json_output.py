@@ -127,3 +127,20 @@ def test_a_command_that_prints_stays_pipe_clean(capsys, monkeypatch):
     captured = capsys.readouterr()
     assert json.loads(captured.out) == {"answer": 42}
     assert captured.err.splitlines() == ["a library's message", "a tool's log line", "the human-readable report"]
+
+
+def test_every_command_of_an_aircraft_takes_quiet():
+    """A new user's '--quiet' worked for trim, sweep and validate and was refused by derivatives:
+    each command that trims or runs an aircraft's model takes it."""
+    def commands(parser, path=("heli",)):
+        for action in parser._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                for name, sub in action.choices.items():
+                    yield from commands(sub, (*path, name))
+            elif action.dest == "aircraft" and path[1] not in ("bench", "aircraft", "fmu", "demo", "cosim", "fly",
+                                                                "scenes", "view"):
+                yield " ".join(path), parser
+
+    found = dict(commands(cli.parser()))
+    assert {"heli trim", "heli derivatives", "heli autorotation", "heli validate"} <= set(found), sorted(found)
+    assert [c for c, p in found.items() if not any(a.dest == "quiet" for a in p._actions)] == []

@@ -95,7 +95,7 @@ def _check(sc) -> None:
 
 
 def register(sub, bench) -> None:
-    from mbs.commands import _air, _steps_per_rev
+    from mbs.commands import _air, _quiet, _steps_per_rev
 
     p = sub.add_parser("autorotation", help="steady autorotation: periodic trims with the rotor speed a state, no "
                        "engine torque, the descent rate solved for")
@@ -109,5 +109,6 @@ def register(sub, bench) -> None:
                         "default the nominal speed")
     _steps_per_rev(p)
     _air(p)
+    _quiet(p, "no build messages")
     add_json(p)
     p.set_defaults(fn=cmd_autorotation)
