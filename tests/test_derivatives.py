@@ -223,3 +223,37 @@ def test_two_real_modes_led_by_one_axis_have_two_names():
     assert yaw.participation["r"] > coupled.participation["r"] and coupled.participation["w"] > 0.15
     assert {m.name for m in flight_modes(R22_60KT)} == {"Dutch roll", "phugoid", "pitch subsidence", "roll subsidence",
                                                          "yaw-pitch oscillation"}  # one of each: unchanged
+
+
+BELL412_140KT = np.array([  # a new user's Bell 412 at 140 kt (its tail the Bo105's): A in Padfield's order
+    [-0.0586773, -0.0190448, 9.86811, -9.7175, 0.00413204, -0.339454, -0.00705784, 0.490147],
+    [-0.00304554, -0.801159, 71.005, 1.26866, -0.0179433, -0.569351, 0.490981, 0.697776],
+    [0.00458116, 0.104575, -1.55483, -0.0287946, -0.00161988, 0.406873, 0.00054875, 0.0294109],
+    [0, 0, 0.998873, 2.16537e-26, 0, -2.1684e-19, -8.54184e-08, 0.0474648],
+    [0.00410938, -0.0177181, -0.354071, -0.0662605, -0.140537, -9.71989, 9.70777, -70.96],
+    [0.00690252, 0.0815507, -1.55487, -0.0142129, -0.130546, -3.18582, -0.0882283, 0.91955],
+    [0, 0, 0.00624681, 8.68979e-08, 0, 1, -5.17194e-09, -0.131461],
+    [-0.00740261, 0.00519479, 0.273209, 0.00085542, 0.0236421, -0.118148, 0.00345065, -1.02948]])
+
+
+def test_a_divergence_from_static_instability_in_angle_of_attack_is_explained():
+    """A new user's Bell 412 with the Bo105's tail had a heave divergence at 140 kt and M_w > 0,
+    with no word on why. Where Padfield's short-period condition Z_w M_q - M_w U_e > 0 fails and
+    a longitudinal mode grows, the derivatives say so with the figures; not where it holds."""
+    from types import SimpleNamespace
+
+    from mbs.analysis.derivatives import static_stability_warning
+    from mbs.analysis.flight_modes import flight_modes
+
+    a = BELL412_140KT
+    table = {"Z_w": a[1, 1], "M_q": a[2, 2], "M_w": a[2, 1]}
+    res = SimpleNamespace(table=table, reference={"U_e": 71.4064}, modes=flight_modes(a), units={"M_w": "rad/(m s)"})
+    (words,) = static_stability_warning(res)
+    margin = a[1, 1] * a[2, 2] - a[2, 1] * 71.4064
+    assert margin == pytest.approx(-6.22, abs=0.01)
+    assert f"M_w = +0.1046 rad/(m s), and Z_w M_q - M_w U_e = {margin:+.3g} 1/s^2 < 0" in words
+    assert "heave divergence +1.65 1/s" in words, words
+    stable = SimpleNamespace(**{**vars(res), "table": {**table, "M_w": -0.01}})
+    assert static_stability_warning(stable) == []  # the condition holds: no word, whatever grows
+    calm = SimpleNamespace(**{**vars(res), "modes": [m for m in res.modes if m.eigenvalue.real < 0]})
+    assert static_stability_warning(calm) == []  # nothing grows: no word

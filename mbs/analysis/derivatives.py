@@ -37,7 +37,7 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
-from mbs.analysis.flight_modes import STATES, FlightMode, flight_modes
+from mbs.analysis.flight_modes import LONGITUDINAL, STATES, FlightMode, flight_modes
 from mbs.analysis.held import HELD, HeldRotor, HeldSolution, HeldStepper
 from mbs.analysis.shooting import TrimLayout, euler_angles, quaternion
 
@@ -217,7 +217,25 @@ def derivatives(scene: str = "forward-flight", speed: float | None = None, metho
 
         of_the_file = set(inertia_warnings(sc.aircraft.data))  # said by the check and the trim already
         res.warnings += [*(w for w in sol.warnings if w not in of_the_file), *teetering_warning(sc.aircraft.data)]
+    res.warnings += static_stability_warning(res)
     return res
+
+
+def static_stability_warning(res: Derivatives) -> list[str]:
+    """A growing longitudinal mode where Padfield's short-period stability condition
+    ``Z_w M_q - M_w U_e > 0`` fails: the aircraft is statically unstable in angle of attack
+    (M_w > 0 beyond what the damping holds), which a new user should trace to its source."""
+    t, speed = res.table, res.reference.get("U_e", 0.0)
+    margin = t["Z_w"] * t["M_q"] - t["M_w"] * speed
+    growing = [m for m in res.modes if m.eigenvalue.real > 0 and sum(m.participation[k] for k in LONGITUDINAL) >= 0.5]
+    if margin >= 0 or not growing:
+        return []
+    modes = ", ".join(f"{m.name} {m.eigenvalue.real:+.3g}" + (f" ± {m.eigenvalue.imag:.3g}i" if m.eigenvalue.imag else "")
+                      + " 1/s" for m in growing)
+    return [f"statically unstable in angle of attack: M_w = {t['M_w']:+.4g} {res.units.get('M_w', '1/(m s)')}, and Z_w M_q - M_w U_e = "
+            f"{margin:+.3g} 1/s^2 < 0 (Padfield's short-period stability condition), which gives the {modes}: the "
+            "pitching moment with angle of attack of the fuselage (fuselage_aero M) and of the rotor outweighs the "
+            "horizontal tail's (its area, lift slope and arm); check them before trusting the longitudinal modes"]
 
 
 TEETERING = ("teetering main rotor: its quasi-static control and damping derivatives are not validated. On a UH-1H "
