@@ -267,3 +267,42 @@ def test_a_stabiliser_to_one_side_lifts_where_it_is(tmp_path):
     raw["wing"] = {k: {"value": v, "unit": u, "source": "x"} for k, (v, u) in {
         "area": (2.0, "m^2"), "incidence": (0.0, "deg"), "x": (0.0, "m"), "z": (0.0, "m"), "y": (1.0, "m")}.items()}
     assert any(p.startswith("wing.y: unknown entry") for p in aircraft.check(write(raw, tmp_path / "w.toml")).problems)
+
+
+def test_an_aircraft_without_a_horizontal_tail_leaves_the_section_out(tmp_path):
+    """A new user's Sikorsky S-51 had no horizontal tail and could not say so (area 0 refused, the
+    section required). Left out, the aircraft flies without one: the check says so, the model has
+    no such surface, output or drawn part, and its loads are the tail's of vanishing area; a
+    stabilator without the tail it schedules is refused."""
+    from aircraft_files import entries, write
+
+    raw = entries("bo105")
+    del raw["horizontal_tail"]
+    report = aircraft.check(write(raw, tmp_path / "none.toml"))
+    assert report.ok, report.problems
+    assert any(w.startswith("horizontal_tail: the file has no [horizontal_tail], so the aircraft flies without one")
+               for w in report.warnings), report.warnings
+    tiny = entries("bo105")
+    tiny["horizontal_tail"]["area"].update(value=1e-12)
+    reference = scenes.get("forward-flight").system("vm")
+    x, p = reference.x0(), reference.params()
+    rhs = {}
+    for name in ("none", "tiny"):
+        path = tmp_path / f"{name}.toml" if name == "none" else write(tiny, tmp_path / "tiny.toml")
+        scene = scenes.get("forward-flight").with_aircraft(aircraft.load(path))
+        rhs[name] = np.asarray(scene.system("vm").rhs(x, p=p))
+        model = scene.model()
+    assert np.abs(rhs["none"] - rhs["tiny"]).max() <= 1e-9 * np.abs(rhs["tiny"]).max()
+    assert np.abs(rhs["none"] - np.asarray(reference.rhs(x, p=p))).max() > 1e-3  # the Bo105's tail does carry load
+    bare = scenes.get("forward-flight").with_aircraft(aircraft.load(tmp_path / "none.toml")).model()
+    assert not any(f.name == "horizontal tail" for f in bare.forces) and any(f.name == "horizontal tail"
+                                                                            for f in model.forces)
+    assert "horizontal_tail.downwash" not in bare.outputs and "fin.sidewash" in bare.outputs
+    assert len(bare.bodies["fuselage"].shape["parts"]) == len(model.bodies["fuselage"].shape["parts"]) - 1
+    raw["stabilator"] = {"airspeed": {"value": [0, 50], "unit": "m/s", "source": "t"},
+                         "incidence": {"value": [0, 0.05], "unit": "rad", "source": "t"},
+                         "incidence_min": {"value": -0.2, "unit": "rad", "source": "t"},
+                         "incidence_max": {"value": 0.3, "unit": "rad", "source": "t"}}
+    refused = aircraft.check(write(raw, tmp_path / "stabilator.toml"))
+    assert any("stabilator: schedules a horizontal tail's incidence, and the file has no [horizontal_tail]" in w
+               for w in refused.problems), refused.problems

@@ -231,6 +231,11 @@ def _form_problems(fa: dict, key: str, form: str, moment: bool) -> list[str]:
     return [f"fuselage_aero.{key}: coefficients need fuselage_aero.{n}" for n in need if fa[n] <= 0]
 
 
+def has_horizontal_tail(values: dict) -> bool:
+    """Whether the file gives a ``[horizontal_tail]`` (left out: the aircraft has none)."""
+    return "area" in (values.get("horizontal_tail") or {})
+
+
 def has_stabilator(values: dict) -> bool:
     """Whether the file gives a ``[stabilator]`` (its defaults alone do not make one)."""
     return "airspeed" in (values.get("stabilator") or {})
@@ -250,6 +255,9 @@ def tail_problems(values: dict) -> list[str]:
         if any(q <= 0 for q in sec["q_ratio"]):
             out.append(f"{section}.q_ratio: dynamic-pressure ratios must be positive")
     st = values.get("stabilator") or {}
+    if has_stabilator(values) and not has_horizontal_tail(values):
+        out.append("stabilator: schedules a horizontal tail's incidence, and the file has no [horizontal_tail]: give "
+                   "its area, x, z, lift_slope, alpha_stall, cd0 and chord")
     if has_stabilator(values):
         if len(st["incidence"]) != len(st["airspeed"]):
             out.append(f"stabilator.incidence: {len(st['incidence'])} values for {len(st['airspeed'])} airspeeds")

@@ -330,6 +330,17 @@ def control_range_notes(d) -> list[str]:
     return out
 
 
+def no_horizontal_tail_note(d) -> list[str]:
+    """A file without ``[horizontal_tail]``: the aircraft flies without one (said, since a section
+    left out by mistake would fly the same)."""
+    from mbs.aircraft.airframe_data import has_horizontal_tail
+
+    if has_horizontal_tail(d):
+        return []
+    return ["horizontal_tail: the file has no [horizontal_tail], so the aircraft flies without one (as an S-51 or "
+            "an R-4 did): its pitch is held by the rotor and the fuselage alone; give the section if it has one"]
+
+
 def stabilator_notes(d) -> list[str]:
     """A horizontal tail's fixed incidence in a file whose stabilator schedule sets it, and a
     stabilator convention in a file without one: they change nothing."""

@@ -552,11 +552,11 @@ ENTRIES: dict[str, dict[str, Entry]] = {
 }
 
 OPTIONAL_SECTIONS = ("environment", "geometry", "elastic_blade", "swashplate", "stabilator", "controls",
-                     "conventions", "envelope", "lag_damper", "drive_train", "wing")
+                     "conventions", "envelope", "lag_damper", "drive_train", "wing", "horizontal_tail")
 """Sections a file may leave out: ISA, display sizes scaled from the rotor, no elastic blades, no
 swashplate mechanism (the blade pitch then only driven), no pilot-control rigging (the controls are
 the blade angles), the model's own conventions, no drive-train data (the rotors then only at
-constant speed), no wing."""
+constant speed), no wing, no horizontal tail (an S-51's; the check says so)."""
 
 SURFACES = ("horizontal_tail", "vertical_fin", "wing")
 """The fixed lifting surfaces an aircraft file may give (the wing optional)."""

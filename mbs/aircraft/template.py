@@ -49,6 +49,8 @@ NEEDED_BY = {"elastic_blade": "the elastic-rotor scene's blades (elastic, 8 segm
              "drive_train": "the scenes whose rotor speed is a state (engine-failure, engine-failure-cruise, "
                             "autorotation, hover-engines) and heli autorotation"}
 """What needs an optional section that the template writes commented out."""
+LEFT_OUT_IS_NONE = {"horizontal_tail": "one (an S-51)"}
+"""Optional sections whose absence is the aircraft's lack of the part, not defaults."""
 
 
 def template(name: str, source: str = "TEMPLATE") -> str:
@@ -98,6 +100,8 @@ def _optional(section: str) -> str:
     if section in COMMENTED:
         return ("  # optional: remove one '# ' from each line of the block and fill in the values marked "
                 "'...' (lines still commented then are defaults or do not apply)")
+    if section in LEFT_OUT_IS_NONE:
+        return f"  # optional: leave the section out for an aircraft without {LEFT_OUT_IS_NONE[section]}"
     return "  # optional: leave the section out for the defaults" if section in OPTIONAL_SECTIONS else ""
 
 

@@ -8,7 +8,7 @@ from mbs.aero import (Airfoil, Compressibility, Download, FuselageAero, Fuselage
                       RotorAero, RotorModel, WakeGeometry)
 from mbs.aero.empennage import TailSurface
 from mbs.aero.sections import TableSection, ZeroLiftShift
-from mbs.aircraft.airframe_data import fuselage_table, interference_tables, stabilator_schedule
+from mbs.aircraft.airframe_data import fuselage_table, has_horizontal_tail, interference_tables, stabilator_schedule
 from mbs.aero.tables import BladeAirfoils
 from mbs.models.modal_blade import rotor_pieces
 from mbs.models.helicopter import frames as fr
@@ -146,13 +146,14 @@ def wing_panels(d) -> list[tuple[float, float, float]]:
 
 
 def add_airframe_aero(m: Model, d, cfg) -> None:
-    fa, ht, fin, rho = d["fuselage_aero"], d["horizontal_tail"], d["vertical_fin"], d["environment"]["rho"]
+    fa, rho = d["fuselage_aero"], d["environment"]["rho"]
     wake = "main_rotor" if cfg.tail_wake else None
     if fa["model"] == "tables":
         m.add_force(FuselageTables("fuselage", fuselage_table(d), rho))
     else:
         m.add_force(FuselageAero("fuselage", {k: fa[k] for k in "XYZMN"}, fa["v_ref"], fa["angle_limit"], rho))
-    m.add_force(tail_surface(d, cfg, "horizontal_tail", "horizontal tail", (0, 0, -1), wake))
+    if has_horizontal_tail(d):
+        m.add_force(tail_surface(d, cfg, "horizontal_tail", "horizontal tail", (0, 0, -1), wake))
     m.add_force(tail_surface(d, cfg, "vertical_fin", "fin", (0, 1, 0), wake))
     for k, panel in enumerate(wing_panels(d)):
         m.add_force(LiftingSurface(f"wing{k + 1}" if len(wing_panels(d)) > 1 else "wing", "fuselage", panel,

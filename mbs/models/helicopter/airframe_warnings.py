@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from mbs.aero.empennage import CLAMP_SMOOTHING
+from mbs.aircraft.airframe_data import has_horizontal_tail
 
 WAKE_MARGIN = 0.02
 """A surface's wake may exceed the fully developed 2 v0 by this share before it is reported."""
@@ -113,8 +114,8 @@ fuselage: -179 deg of round-off at 1e-7 m/s)."""
 
 def _stall(values: dict, d) -> list[str]:
     out = []
-    surfaces = (("horizontal_tail", "horizontal_tail", "horizontal tail"), ("vertical_fin", "fin", "fin"),
-                *(("wing", key, what) for key, what in WINGS if f"{key}.alpha" in values))
+    surfaces = ((("horizontal_tail", "horizontal_tail", "horizontal tail"),) if has_horizontal_tail(d) else ()) + (
+        ("vertical_fin", "fin", "fin"), *(("wing", key, what) for key, what in WINGS if f"{key}.alpha" in values))
     for section, key, what in surfaces:
         alpha, speed = _estimated_flow(values, d, section) if section != "wing" else (None, _speed(values))
         alpha = values.get(f"{key}.alpha", alpha)

@@ -1,6 +1,7 @@
 """The helicopter's outputs: rotor azimuths, thrust, torque, power, inflow ratios, wake values."""
 from __future__ import annotations
 
+from mbs.aircraft.airframe_data import has_horizontal_tail
 from mbs.models.helicopter import frames as fr
 from mbs.models.helicopter.aero import INFLOW_TEXT, rotor_model
 from mbs.tree import Model
@@ -20,7 +21,7 @@ def add_outputs(m: Model, d, cfg) -> None:
         _add_rotor_outputs(m, d, cfg, "main_rotor", 1.0)
         if cfg.tail_rotor:
             _add_rotor_outputs(m, d, cfg, "tail_rotor", gear)
-    _add_airframe_outputs(m, cfg)
+    _add_airframe_outputs(m, d, cfg)
     if cfg.airframe_aero and cfg.fuselage == "free":
         _add_tail_outputs(m, d, cfg)
     if cfg.turbulence:
@@ -46,14 +47,16 @@ def _add_azimuth(m: Model, cfg, rotor: str, hub: str, ratio: float, sense: int, 
         m.add_output(f"{rotor}.azimuth", lambda s: sense * s.q(f"{hub}.azimuth"), "rad", text)
 
 
-def _add_airframe_outputs(m: Model, cfg) -> None:
+def _add_airframe_outputs(m: Model, d, cfg) -> None:
     """The main rotor's wake at the tail surfaces and the fuselage download, when modelled."""
+    tail = has_horizontal_tail(d)
     if cfg.tail_wake:
-        m.add_output("horizontal_tail.downwash", lambda s: s.signals["horizontal tail.wake"][2], "m/s",
-                     "main-rotor wake velocity at the horizontal tail along body z (positive down)")
+        if tail:
+            m.add_output("horizontal_tail.downwash", lambda s: s.signals["horizontal tail.wake"][2], "m/s",
+                         "main-rotor wake velocity at the horizontal tail along body z (positive down)")
         m.add_output("fin.sidewash", lambda s: s.signals["fin.wake"][1], "m/s",
                      "main-rotor wake velocity at the fin along body y (positive to starboard)")
-        for key, name in (("horizontal_tail", "horizontal tail"), ("fin", "fin")):
+        for key, name in (("horizontal_tail", "horizontal tail"), ("fin", "fin"))[0 if tail else 1:]:
             m.add_output(f"{key}.wake_immersion", lambda s, name=name: s.signals.get(f"{name}.immersion", 0), "1",
                          f"share of the main-rotor wake the {name} is in: 0 outside, 1 inside, between at the "
                          "wake's edge (smoothed over wake.width); 0 where interference tables replace the wake")
@@ -72,6 +75,8 @@ def _add_tail_outputs(m: Model, d, cfg) -> None:
         m.add_output("stabilator.incidence_unlimited", lambda s: s.signals["horizontal tail.incidence_raw"], "rad",
                      "stabilator incidence the schedule asks for before the stops")
     for section, name, key in (("horizontal_tail", "horizontal tail", "horizontal_tail"), ("vertical_fin", "fin", "fin")):
+        if not has_horizontal_tail(d) and section == "horizontal_tail":
+            continue
         special = (section == "horizontal_tail" and has_stabilator(d)) or (
             cfg.tail_wake and interference_tables(d, section) is not None)
         if special:

@@ -18,6 +18,7 @@ import casadi as ca
 import numpy as np
 
 from mbs.aircraft import mass as mass_props
+from mbs.aircraft.airframe_data import has_horizontal_tail
 from mbs.aircraft.mass import box_inertia  # noqa: F401 (re-exported)
 from mbs.drivetrain.train import transmission_mass
 from mbs.joints import DrivenHinge, Fixed, FreeJoint, Hinge, Serial
@@ -48,12 +49,13 @@ def _fuselage_shape(d) -> dict:
     boom_start = g["cabin_x"] - g["cabin"][0] / 2
     boom_len = boom_start - d["tail_rotor"]["hub_x"]
     fin_height, t = fin["area"] / fin["chord"], g["plate_thickness"]
+    tail = has_horizontal_tail(d)
     return {"parts": [
         {"kind": "box", "size": g["cabin"], "offset": [g["cabin_x"], 0, 0], "color": "#c8ccd2"},
         {"kind": "cylinder", "radius": g["boom_radius"], "length": boom_len, "axis": [1, 0, 0],
-         "offset": [boom_start - boom_len / 2, 0, ht["z"]], "color": "#c8ccd2"},
-        {"kind": "box", "size": [ht["chord"], ht["area"] / ht["chord"], t], "offset": [ht["x"], ht["y"], ht["z"]],
-         "color": "#9aa3ad"},
+         "offset": [boom_start - boom_len / 2, 0, ht["z"] if tail else fin["z"]], "color": "#c8ccd2"},
+        *([{"kind": "box", "size": [ht["chord"], ht["area"] / ht["chord"], t], "offset": [ht["x"], ht["y"], ht["z"]],
+            "color": "#9aa3ad"}] if tail else []),
         {"kind": "box", "size": [fin["chord"], t, fin_height], "offset": [fin["x"], fin["y"], fin["z"] - fin_height / 2],
          "color": "#9aa3ad"},
     ]}
