@@ -263,7 +263,7 @@ def speed_factor(unit: str, where: str) -> float:
     except units.UnitError as exc:
         raise ValidationError(f"{where}: {exc}") from None
     if u.dims != (1, 0, -1, 0):
-        raise ValidationError(f"{where}: {unit!r} is {u.describe()}, not a speed (kn, kt, m/s, km/h, or mu for the "
+        raise ValidationError(f"{where}: {unit!r} is {u.describe()}, not a speed (kn, kt, m/s, km/h, mph, or mu for the "
                               "advance ratio)")
     return u.factor
 
