@@ -60,11 +60,16 @@ def _ht(sym, x, p_over: dict):
     return np.asarray(sym["parts"](x, 0.013, p)[2]).ravel()
 
 
-def test_every_aerodynamic_load_scales_with_the_isa_density():
+@pytest.mark.parametrize("tail", ["fixed", "stabilator"])
+def test_every_aerodynamic_load_scales_with_the_isa_density(tail, tmp_path):
     """At equal temperature (so equal speed of sound) the generalized forces are linear in the
     density, and extrapolated to zero density they are those of the same tree without any
-    aerodynamics: no element keeps a load of its own density."""
+    aerodynamics: no element keeps a load of its own density. A stabilator (a scheduled tail
+    with interference tables) kept the file's density at altitude."""
+    from test_empennage import _file
+
     sc = scenes.get("forward-flight")
+    sc = sc if tail == "fixed" else sc.with_aircraft(_file(tmp_path, 0.0))
     sym, lay = _functions(sc, altitude=0.0)
     x = _x0(sym)
     rhos, hts = [], []

@@ -119,7 +119,7 @@ class TailSurface(LiftingSurface):
         cos_i, sin_i = ca.cos(incidence), ca.sin(incidence)
         w_c, w_n = cos_i * w_c + sin_i * w_n, -sin_i * w_c + cos_i * w_n
         state.signals[f"{self.name}.alpha"] = section_angle(self.airfoil, w_c, w_n)[0]
-        f_c, f_n = section_force(w_c, w_n, self.airfoil, self.rho, self.area, flat_plate=True)
+        f_c, f_n = section_force(w_c, w_n, self.airfoil, state.density(self.rho), self.area, flat_plate=True)
         f_c, f_n = cos_i * f_c - sin_i * f_n, sin_i * f_c + cos_i * f_n
         loads.add_force(self.body, f_c * ca.DM(self.c) + f_n * ca.DM(self.n), point=self.point, frame="body",
                         rotation=rot)
