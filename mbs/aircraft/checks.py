@@ -29,9 +29,33 @@ def problems(values: dict) -> list[str]:
 
     for check in (_inertia, _blades, _controls, _rotor_speed, _tail_hub, _duct, _airframe_mass, _tip_mach,
                   _airframe_inertia, _rigging, _lag_damper, _airfoils, _polars, _distributions, _surface_tables,
-                  table_problems, tail_problems):
+                  table_problems, tail_problems, _stabilizer_bar):
         out += check(values)
     return out
+
+
+def _stabilizer_bar(v: dict) -> list[str]:
+    """A stabilizer bar brought round by its paddles or its dampers, whose mixer passes the cyclic on."""
+    from mbs.models.helicopter.stabilizer_bar import cyclic_gain, has_stabilizer_bar
+
+    if not has_stabilizer_bar(v):
+        return []
+    bar = v["stabilizer_bar"]
+    if v["main_rotor"]["n_blades"] != 2:
+        return [f"stabilizer_bar: on a main rotor of {v['main_rotor']['n_blades']} blades; the model's mixer pitches "
+                "two blades, each from the bar's end 90 deg ahead of it (a Bell, Hiller or model helicopter's rotor)"]
+    if bar["paddle_area"] > 0 and bar["paddle_lift_slope"] == 0:
+        return ["stabilizer_bar.paddle_lift_slope: the paddles (paddle_area "
+                f"{bar['paddle_area']:g} m^2) need their lift-curve slope"]
+    if bar["paddle_area"] == 0 and bar["damping"] == 0:
+        return ["stabilizer_bar: neither paddles (paddle_area) nor dampers (damping): nothing brings the bar round "
+                "to the shaft; give the one it has"]
+    gain = cyclic_gain(bar, v["main_rotor"]["omega"], v["environment"]["rho"])
+    if gain <= 0:
+        return [f"stabilizer_bar.hiller_gain: the blades get {gain:.3g} rad of cyclic per rad of the swashplate's in "
+                "hover (bell_gain + hiller_gain x paddle_gain x the paddles' share of the damping): the cyclic must "
+                "reach them with a positive gain"]
+    return []
 
 
 def _inertia(v: dict) -> list[str]:

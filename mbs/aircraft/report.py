@@ -252,7 +252,18 @@ def figures(data: Data) -> list[tuple]:
         *([("tail-rotor flap frequency", derived.tail_flap_frequency(tr, mr["omega"]), "1/rev")]
           if tr["hub_type"] == "flapping" else []),
         ("main-rotor revolution", 2 * math.pi / mr["omega"], "s"),
+        *_bar_figures(data),
     ]
+
+
+def _bar_figures(data: Data) -> list[tuple]:
+    from mbs.models.helicopter.stabilizer_bar import cyclic_gain, has_stabilizer_bar, time_constant
+
+    if not has_stabilizer_bar(data):
+        return []
+    bar, omega, rho = data["stabilizer_bar"], data["main_rotor"]["omega"], data["environment"]["rho"]
+    return [("stabilizer bar time constant (hover)", time_constant(bar, omega, rho), "s"),
+            ("blade cyclic per swashplate cyclic (hover)", cyclic_gain(bar, omega, rho), "-")]
 
 
 def _damper_figures(data: Data) -> list[tuple]:

@@ -459,6 +459,25 @@ ENTRIES: dict[str, dict[str, Entry]] = {
         "stiffness": num("N/m", "the damper's stiffness along its line (an elastomeric damper), about its length at "
                          "zero flap, lag and pitch", 0.0, default=0.0),
     },
+    "stabilizer_bar": {
+        "mass": positive("kg", "stabilizer bar (flybar): its mass with paddles and weights"),
+        "inertia": positive("kg m^2", "its moment of inertia about its teeter hinge (the bar's, paddles' and tip "
+                            "weights')"),
+        "height": num("m", "its teeter hinge above the main rotor's hub, along the shaft", default=0.0),
+        "paddle_radius": positive("m", "distance from the rotor axis to each paddle's aerodynamic centre (or to the "
+                                  "bar's tips without paddles: display)"),
+        "paddle_area": num("m^2", "area of each of its two paddles (Hiller); 0: a Bell bar with dampers only", 0.0,
+                           default=0.0),
+        "paddle_lift_slope": num("1/rad", "the paddles' lift-curve slope (of the whole paddle, with its aspect ratio)",
+                                 0.0, 2 * math.pi + 1e-9, default=0.0),
+        "paddle_cd0": num("-", "the paddles' profile drag coefficient", 0.0, 1.0, default=0.01),
+        "damping": num("N m s/rad", "damping on its teeter hinge (a Bell bar's dampers)", 0.0, default=0.0),
+        "paddle_gain": num("-", "paddle pitch per swashplate cyclic at the paddle's azimuth (rad/rad)", default=1.0),
+        "hiller_gain": num("-", "the mixer: blade cyclic pitch per rad of the bar's teeter, at the blade 90 deg behind "
+                           "the bar's end (rad/rad)"),
+        "bell_gain": num("-", "the mixer: blade cyclic pitch per swashplate cyclic, the direct path (rad/rad; 0: the "
+                         "blades follow the bar alone)", default=0.0),
+    },
     "envelope": {
         "pitch_min": angle("least pitch attitude of the published flight envelope", 90),
         "pitch_max": angle("largest pitch attitude of the published flight envelope", 90),
@@ -552,11 +571,12 @@ ENTRIES: dict[str, dict[str, Entry]] = {
 }
 
 OPTIONAL_SECTIONS = ("environment", "geometry", "elastic_blade", "swashplate", "stabilator", "controls",
-                     "conventions", "envelope", "lag_damper", "drive_train", "wing", "horizontal_tail")
+                     "conventions", "envelope", "lag_damper", "drive_train", "wing", "horizontal_tail",
+                     "stabilizer_bar")
 """Sections a file may leave out: ISA, display sizes scaled from the rotor, no elastic blades, no
 swashplate mechanism (the blade pitch then only driven), no pilot-control rigging (the controls are
 the blade angles), the model's own conventions, no drive-train data (the rotors then only at
-constant speed), no wing, no horizontal tail (an S-51's; the check says so)."""
+constant speed), no wing, no horizontal tail (an S-51's; the check says so), no stabilizer bar."""
 
 SURFACES = ("horizontal_tail", "vertical_fin", "wing")
 """The fixed lifting surfaces an aircraft file may give (the wing optional)."""

@@ -30,7 +30,7 @@ HEADER = """\
 """
 
 COMMENTED = ("elastic_blade", "swashplate", "stabilator", "controls", "conventions", "envelope", "lag_damper",
-             "wing")
+             "wing", "stabilizer_bar")
 """Optional sections written commented out (their entries are required once the section is there)."""
 EXAMPLES = {"airfoils": [[0.0, "root_airfoil.c81"], [0.85, "tip_airfoil.c81"]],
             "chord_table": [[0.2, 0.27], [0.9, 0.27], [1.0, 0.2]],

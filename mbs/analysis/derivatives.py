@@ -216,7 +216,8 @@ def derivatives(scene: str = "forward-flight", speed: float | None = None, metho
         from mbs.aircraft.checks import inertia_warnings
 
         of_the_file = set(inertia_warnings(sc.aircraft.data))  # said by the check and the trim already
-        res.warnings += [*(w for w in sol.warnings if w not in of_the_file), *teetering_warning(sc.aircraft.data)]
+        res.warnings += [*(w for w in sol.warnings if w not in of_the_file), *teetering_warning(sc.aircraft.data),
+                         *stabilizer_bar_warning(sc.aircraft.data)]
     res.warnings += static_stability_warning(res)
     return res
 
@@ -246,6 +247,20 @@ TEETERING = ("teetering main rotor: its quasi-static control and damping derivat
              "not the hub, and has not been checked against a measurement: compare the modes with heli floquet, "
              "which is exact for the model")
 """The measured reason a teetering main rotor's derivatives carry a warning."""
+
+
+def stabilizer_bar_warning(d) -> list[str]:
+    """A stabilizer bar is slow (its time constant is the body's, not the rotor's): the quasi-static
+    rotor holds it in its periodic equilibrium, which is its response at zero frequency only."""
+    from mbs.models.helicopter.stabilizer_bar import has_stabilizer_bar, time_constant
+
+    if not has_stabilizer_bar(d):
+        return []
+    tau = time_constant(d["stabilizer_bar"], d["main_rotor"]["omega"], d["environment"]["rho"])
+    return [f"stabilizer bar: its time constant {tau:.3g} s is the body's, not the rotor's, and the quasi-static "
+            "rotor holds it in its periodic equilibrium, its response at zero frequency only: the damping and "
+            "control derivatives through it are its steady ones, and the modes here miss the bar's lag; heli floquet "
+            "carries the bar as states and gives the modes"]
 
 
 def teetering_warning(d) -> list[str]:

@@ -20,7 +20,8 @@ through the rotor's cross-coupling in hover) is named as a real mode after the a
 largest share of either group, joined by the next axis when that holds at least half as much
 ("roll-pitch subsidence"). Of two real modes of one name (a small helicopter's hover has two
 led by yaw: the heave couples to it through the torque), the one with the larger share of that
-axis keeps the name, the other is named after its two largest axes ("yaw-heave subsidence").
+axis keeps the name (of two spirals, the one with more roll angle and sideslip), the other is named
+after its two largest axes ("yaw-heave subsidence").
 """
 from __future__ import annotations
 
@@ -124,15 +125,16 @@ def _one_dutch_roll(modes: list[FlightMode]) -> None:
 def _one_of_each_subsidence(modes: list[FlightMode]) -> None:
     """Of two or more real modes of one name, the one with the largest share of its axis keeps it;
     the others are named after their two largest axes (module docstring)."""
-    for name in {m.name for m in modes if m.name.endswith(("subsidence", "divergence"))}:
+    for name in {m.name for m in modes if m.name.endswith(("subsidence", "divergence")) or m.name == "spiral"}:
         same = [m for m in modes if m.name == name]
-        axis = AXES.get(name.split()[0])
+        axis = ("phi", "v") if name == "spiral" else AXES.get(name.split()[0])
         if len(same) < 2 or axis is None:
             continue
         keeper = max(same, key=lambda m: sum(m.participation[k] for k in axis))
         for m in same:
             if m is not keeper:
-                m.name = f"{_axes(m.participation, joined=True)} {name.split()[-1]}"
+                kind = "divergence" if m.eigenvalue.real > 0 else "subsidence"
+                m.name = f"{_axes(m.participation, joined=True)} {kind}"
 
 
 def _real(lam: complex, weights: dict[str, float]) -> str:

@@ -38,7 +38,7 @@ import numpy as np
 from mbs.analysis.period import periodic_scene
 from mbs.analysis.shooting import TrimLayout, euler_angles, residual_scales
 
-GROUPS = ("body", "flap", "lag", "inflow", "tail rotor")
+GROUPS = ("body", "flap", "lag", "inflow", "tail rotor", "stabilizer bar")
 
 
 @dataclass
@@ -125,6 +125,8 @@ def group_of(name: str) -> str:
         return "tail rotor"
     if name.startswith("main_seesaw."):  # a teetering main rotor's flapping
         return "flap"
+    if name.startswith("stabilizer_bar."):
+        return "stabilizer bar"
     if ".inflow" in name:
         return "inflow"
     for key in ("flap", "lag", "torsion"):

@@ -24,7 +24,7 @@ from mbs.analysis.floquet import GROUPS, Floquet
 CSV_COLUMNS = ("mode", "group", "real_per_s", "imag_rad_s", "frequency_hz", "per_rev", "damping_ratio",
                "multiplier_modulus")
 GROUP_COLOURS = {"body": "tab:blue", "flap": "tab:orange", "lag": "tab:green", "inflow": "tab:purple",
-                 "tail rotor": "tab:brown"}
+                 "tail rotor": "tab:brown", "stabilizer bar": "tab:gray"}
 UNSTABLE_SHADE = {"color": "tab:red", "alpha": 0.08, "lw": 0}
 
 

@@ -213,10 +213,15 @@ def evaluators(sc, method: str = "rk4", backend: str = "compiled"):
 
 def trimmable(scene) -> bool:
     """A scene can be trimmed when it has controls and rotor aerodynamics (an inflow state) and its
-    rotors turn at a prescribed speed (a rotor speed that is a state: :mod:`mbs.analysis.rotor_speed_trim`)."""
+    rotors turn at a prescribed speed (a rotor speed that is a state: :mod:`mbs.analysis.rotor_speed_trim`;
+    a stabilizer bar's mixer makes the blades' pitch dependent coordinates of its teeter, not of the
+    hub's azimuth)."""
+    from mbs.joints import DrivenHinge
+
     model = scene.model()
+    hub = model.bodies.get("main_hub")
     return (any(p.control for p in model.parameters.values()) and any(n.endswith(".inflow") for n in model.states)
-            and not model.dependent)
+            and (hub is None or isinstance(hub.joint, DrivenHinge)))
 
 
 def _check_scene(name):

@@ -29,7 +29,26 @@ def airframe_warnings(values: dict, d) -> list[str]:
     """Warnings (one line each) about the airframe at a trim: ``values`` the period means of its
     outputs and states by name (SI), ``d`` the aircraft data."""
     return (_wake(values) + _edge(values, d) + _stall(values, d) + _stops(values, d) + _table_range(values, d)
-            + _fin_against_the_tail_rotor(values, d) + _duct_in_cross_flow(values, d))
+            + _fin_against_the_tail_rotor(values, d) + _duct_in_cross_flow(values, d) + _paddles_reversed(values, d))
+
+
+PADDLE_ADVANCE = 0.5
+"""The stabilizer bar's paddle advance ratio ``V / (Ω r)`` beyond which a trim warns: the retreating
+paddle's air comes at it from well aft of its leading edge (reverse flow from 1)."""
+
+
+def _paddles_reversed(values: dict, d) -> list[str]:
+    """A stabilizer bar's paddles at an advance ratio of their own past :data:`PADDLE_ADVANCE`."""
+    bar, speed = d.get("stabilizer_bar") or {}, _speed(values)
+    if not bar.get("paddle_area") or speed is None:
+        return []
+    mu = speed / (d["main_rotor"]["omega"] * bar["paddle_radius"])
+    if mu <= PADDLE_ADVANCE:
+        return []
+    return [f"stabilizer bar: its paddles' advance ratio V / (Omega r) = {mu:.2f} (at {bar['paddle_radius']:.3g} m from "
+            f"the axis, beyond {PADDLE_ADVANCE:g}): the retreating paddle's air comes from far aft of its leading edge"
+            + (" and from behind it (reverse flow), where its section is a flat plate's" if mu > 1 else "")
+            + ", and the bar's tilt follows the speed strongly: check the paddles' radius and the speed range"]
 
 
 def _duct_in_cross_flow(values: dict, d) -> list[str]:

@@ -41,6 +41,7 @@ def build(cfg: Config = Config(), aircraft=None, name: str | None = None) -> Mod
         add_tail_rotor(m, d, cfg, parent)
     if cfg.drive_train:
         _add_drive_train(m, d, cfg, parent)
+    _add_pitch_laws(m, d, cfg)
     if cfg.rotor_aero:
         add_rotor_aero(m, d, cfg, trim, parent)
     if cfg.airframe_aero and cfg.fuselage == "free":
@@ -69,11 +70,21 @@ def _add_drive_train(m: Model, d, cfg: Config, parent: str) -> None:
     from mbs.drivetrain import train
 
     train.add_drive_train(m, d, cfg, parent)
-    sense = fr.main_sense(d)
-    if cfg.pitch_hinge:
-        for k, psi0 in enumerate(fr.blade_azimuths(d["main_rotor"]["n_blades"])[:cfg.blade_count(
-                d["main_rotor"]["n_blades"])]):
-            m.add_dependent(f"blade{k + 1}.pitch", train.pitch_law(psi0, sense))
+
+
+def _add_pitch_laws(m: Model, d, cfg: Config) -> None:
+    """The blades' pitch as dependent coordinates: of the hub's azimuth with a drive train, and of
+    the stabilizer bar's teeter through its mixer (:mod:`mbs.models.helicopter.stabilizer_bar`)."""
+    from mbs.drivetrain import train
+    from mbs.models.helicopter import stabilizer_bar as sb
+
+    bar = sb.has_stabilizer_bar(d)
+    if not cfg.pitch_hinge or not (cfg.drive_train or (bar and cfg.rotors == "driven")):
+        return
+    sense, blades = fr.main_sense(d), d["main_rotor"]["n_blades"]
+    for k, psi0 in enumerate(fr.blade_azimuths(blades)[:cfg.blade_count(blades)]):
+        law = sb.mixer(d, psi0, sb.hub_azimuth(cfg, sense)) if bar else train.pitch_law(psi0, sense)
+        m.add_dependent(f"blade{k + 1}.pitch", law)
 
 
 def _add_drive(m: Model, d, cfg: Config, trim: TrimEstimate) -> None:
@@ -113,7 +124,8 @@ def air_ratios(cfg: Config):
 
 
 def _check_distributions(d, cfg: Config) -> None:
-    """The elastic and modal blades are uniform beams: refuse a mass distribution they would ignore."""
+    """The elastic and modal blades are uniform beams: refuse a mass distribution they would ignore,
+    and a stabilizer bar, whose mixer pitches rigid blades only."""
     from mbs.aircraft.mass import is_uniform_blade
 
     mr = d["main_rotor"]
@@ -124,6 +136,10 @@ def _check_distributions(d, cfg: Config) -> None:
         raise ValueError(f"main_rotor.precone: the {'segmented elastic' if cfg.blade_segments else 'modal'} blade "
                          "is a straight beam from the hub; it does not take a precone yet: fly rigid blades, or "
                          "leave precone out for this scene")
+    if "hiller_gain" in (d.get("stabilizer_bar") or {}) and (cfg.blade_segments or cfg.blade_modes or cfg.swashplate):
+        raise ValueError("stabilizer_bar: its mixer sets the pitch of rigid blades flown by the pitch inputs; this "
+                         "scene's blades are elastic or pitched by the swashplate's links: fly forward-flight, hover "
+                         "or a drive-train scene, or leave [stabilizer_bar] out for this one")
     if given and (cfg.blade_segments or cfg.blade_modes):
         kind = "segmented elastic" if cfg.blade_segments else "modal"
         what = "a mass distribution" if given[0] != "blade_mass" else "a blade whose mass, first moment and I_flap " \

@@ -9,13 +9,15 @@ from mbs.aero import momentum_inflow
 from mbs.aircraft.derived import flap_frequency
 from mbs.aircraft.performance import profile_drag
 from mbs.models.helicopter.frames import main_sense
+from mbs.models.helicopter.stabilizer_bar import cyclic_gain, has_stabilizer_bar
 
 
 @dataclass
 class TrimEstimate:
     """Controls and attitudes for steady level flight from momentum and blade-element theory.
 
-    Angles in rad: collective (at the root, r = 0), cyclics (Padfield: θ1s > 0 tilts the disc
+    Angles in rad: collective (at the root, r = 0), cyclics (the swashplate's: with a stabilizer
+    bar, the blades' over its hover gain; Padfield: θ1s > 0 tilts the disc
     back, θ1c > 0 towards ψ = 180° + 90°; both in the azimuth ψ counted in the rotor's sense of
     rotation), tail collective, fuselage pitch and roll, coning, flapping relative to the
     shaft; inflow velocities in m/s; tail-rotor thrust in N.
@@ -75,7 +77,8 @@ def estimate_trim(d, speed: float) -> TrimEstimate:
     t_thrust = side if tr["cant"] == 0.0 and tr["toe"] == 0.0 else side / (np.cos(tr["cant"]) * np.cos(tr["toe"]))
     theta_t, v_tail = _tail_collective(d, t_thrust, speed)
     roll = -main_sense(d) * side / weight  # the main rotor leans against the tail rotor's side force
-    return TrimEstimate(speed, theta0, 0.0, hub_moment_tilt - blowback, theta_t,
+    gain = cyclic_gain(d["stabilizer_bar"], omega, rho) if has_stabilizer_bar(d) else 1.0
+    return TrimEstimate(speed, theta0, 0.0, (hub_moment_tilt - blowback) / gain, theta_t,
                         mr["shaft_tilt"] - (tilt + hub_moment_tilt), roll, coning,
                         hub_moment_tilt, lam_i * tip, v_tail, t_thrust, torque * omega)
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 from mbs.aircraft.airframe_data import has_horizontal_tail
 from mbs.models.helicopter import frames as fr
 from mbs.models.helicopter.aero import INFLOW_TEXT, rotor_model
+from mbs.models.helicopter.stabilizer_bar import add_stabilizer_bar_outputs, has_stabilizer_bar
 from mbs.tree import Model
 
 ROTOR_OUTPUTS = (("thrust", "N", "thrust along the shaft"),
@@ -37,6 +38,8 @@ def add_outputs(m: Model, d, cfg) -> None:
     if cfg.drive_train:
         from mbs.drivetrain.train import add_outputs as add_drive_train_outputs
         add_drive_train_outputs(m, d, cfg)
+    if has_stabilizer_bar(d):
+        add_stabilizer_bar_outputs(m, d, cfg)
 
 
 def _add_azimuth(m: Model, cfg, rotor: str, hub: str, ratio: float, sense: int, text: str) -> None:

@@ -27,6 +27,7 @@ from mbs.models.modal_blade import add_modal_blade
 from mbs.models.helicopter import frames as fr
 from mbs.models.helicopter.hinges import main_flap_hinge
 from mbs.models.helicopter.lag_damper import add_lag_damper, has_damper
+from mbs.models.helicopter.stabilizer_bar import add_stabilizer_bar, has_stabilizer_bar
 from mbs.models.helicopter.swashplate import blade_joint
 from mbs.tree import Model
 
@@ -68,11 +69,12 @@ def _pitch_law(psi0: float):
     return angle
 
 
-def _pitch_bearing(cfg, psi0: float, sense: int):
-    """A main blade's pitch bearing: driven by the pitch law, free, or None (no pitch hinges)."""
+def _pitch_bearing(d, cfg, psi0: float, sense: int):
+    """A main blade's pitch bearing: driven by the pitch law, free, or None (no pitch hinges). With
+    a stabilizer bar it is free, its angle the bar's mixer's (a dependent coordinate, :mod:`build`)."""
     if not cfg.pitch_hinge:
         return None
-    if cfg.rotors == "driven" and not cfg.drive_train:
+    if cfg.rotors == "driven" and not cfg.drive_train and not has_stabilizer_bar(d):
         return DrivenHinge((sense, 0, 0), _pitch_law(psi0), name="pitch")
     return Hinge((sense, 0, 0), name="pitch")
 
@@ -82,7 +84,7 @@ def _blade_joint(d, cfg, psi0: float, sense: int):
     parts = [main_flap_hinge(mr, sense),
              Hinge((0, 0, -sense), name="lag", stiffness=mr["lag_stiffness"],
                    damping=mr["lag_damping"] if cfg.dampers else 0.0)]
-    pitch = _pitch_bearing(cfg, psi0, sense)
+    pitch = _pitch_bearing(d, cfg, psi0, sense)
     return Serial(*parts, *([pitch] if pitch else []))
 
 
@@ -100,6 +102,8 @@ def add_main_rotor(m: Model, d, cfg, parent: str) -> None:
     m.add_body("main_hub", parent, _azimuth_joint(cfg, 1.0, sense), mass=hub.mass, inertia=hub.inertia, at=at,
                frame=fr.shaft_frame(tilt), shape={"kind": "cylinder", "radius": mr["hub_radius"], "length": d["geometry"]["hub_height"], "axis": [0, 0, 1],
                       "color": "#50565e"})
+    if has_stabilizer_bar(d):
+        add_stabilizer_bar(m, d, cfg, sense)
     if mr["hub_type"] == "teetering":
         _add_teetering_blades(m, d, cfg, sense)
         return
@@ -144,7 +148,7 @@ def _add_teetering_blades(m: Model, d, cfg, sense: int) -> None:
     blade, e = mass_props.main_blade(d), mr.get("coning_hinge_offset", 0.0)
     for k, psi0 in enumerate(fr.blade_azimuths(2)):
         frame = fr.rz(sense * psi0) @ fr.precone_frame(mr["precone"])
-        pitch = _pitch_bearing(cfg, psi0, sense)
+        pitch = _pitch_bearing(d, cfg, psi0, sense)
         joint = Serial(Hinge((0, -1, 0), name="flap", stiffness=mr.get("coning_stiffness", 0.0)),
                        *([pitch] if pitch else [])) if e else pitch or Fixed()
         m.add_body(f"blade{k + 1}", "main_seesaw", joint, mass=blade.mass, com=blade.com - [e, 0.0, 0.0],
