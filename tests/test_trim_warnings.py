@@ -52,6 +52,14 @@ def test_a_failed_trim_says_what_stays_unbalanced_and_warns_where_it_stopped():
     assert note.startswith("; at the last iterate the pitching moment stays unbalanced (scaled residual of "
                            "fuselage.q 0.05)")
     assert _unbalanced(lay, np.array([1.0, 2e-3, 0.05, 0.01])) == ""  # the rotor's own periodicity dominates
+    # a Bell 206 trial's teetering rotor failed naming the rolling moment, its fuselage's pitching
+    # moment the cause: the note says what the rotor holds per degree of teeter (W h + K)
+    data = {"main_rotor": {"hub_type": "teetering", "hub_z": -1.58, "flap_stiffness": 0.0},
+            "aircraft": {"mass": 1451.0}, "environment": {"g": 9.80665}}
+    note = _unbalanced(lay, np.array([1e-3, 2e-3, 0.05, 0.01]), SimpleNamespace(data=data))
+    assert f"a teetering rotor holds {np.radians(1) * 1451.0 * 9.80665 * 1.58:.4g} N m per degree of teeter" in note
+    data["main_rotor"]["hub_type"] = "flapping"
+    assert "teeter" not in _unbalanced(lay, np.array([1e-3, 2e-3, 0.05, 0.01]), SimpleNamespace(data=data))
     d = {"envelope": {}, "wake": {"width": 0.34}, "horizontal_tail": {"alpha_stall": 0.26}, "vertical_fin": {"alpha_stall": 0.26},
          "fuselage_aero": {"model": "polynomials"}}
     failed = SimpleNamespace(converged=False, pitch=np.radians(-35.0), roll=0.0, sideslip=0.0, x0=np.zeros(0),

@@ -323,9 +323,10 @@ BALANCE = {"fuselage.u": "the forward force (drag against the rotor's forward ti
 """What a fuselage velocity's residual that stays large says is not balanced."""
 
 
-def _unbalanced(lay: TrimLayout, r) -> str:
+def _unbalanced(lay: TrimLayout, r, aircraft=None) -> str:
     """A note naming what the last iterate of a failed trim leaves most unbalanced (the largest
-    scaled residual of the fuselage's motion), or ""."""
+    scaled residual of the fuselage's motion), or ""; for a moment and a teetering main rotor,
+    what the rotor holds per degree of teeter (:func:`_teeter_capacity`)."""
     r = np.abs(np.asarray(r, dtype=float))
     fuselage = [k for k, n in enumerate(lay.residual_names) if n in BALANCE]
     if not fuselage or not np.all(np.isfinite(r)):
@@ -333,9 +334,26 @@ def _unbalanced(lay: TrimLayout, r) -> str:
     k = max(fuselage, key=lambda i: r[i])
     if r[k] < 0.1 * r.max():
         return ""
-    return (f"; at the last iterate {BALANCE[lay.residual_names[k]]} stays unbalanced (scaled residual of "
-            f"{lay.residual_names[k]} {r[k]:.2g}): check what makes it (a surface at its stall or in the wake's edge, "
-            "a fuselage moment the rotor cannot hold; the warnings of the last iterate say more)")
+    name = lay.residual_names[k]
+    teeter = _teeter_capacity(aircraft) if name in ("fuselage.p", "fuselage.q") else ""
+    return (f"; at the last iterate {BALANCE[name]} stays unbalanced (scaled residual of "
+            f"{name} {r[k]:.2g}): check what makes it (a surface at its stall or in the wake's edge, "
+            f"a fuselage moment the rotor cannot hold{teeter}; the warnings of the last iterate say more)")
+
+
+def _teeter_capacity(aircraft) -> str:
+    """For a teetering main rotor (no hub moment but its spring's), the moment it holds per degree
+    of teeter by tilting its thrust: ``W h + K`` per radian, ``h`` the hub above the CG; its pitch
+    and roll move together, so a fuselage pitching moment beyond it can leave either unbalanced."""
+    if aircraft is None or aircraft.data["main_rotor"]["hub_type"] != "teetering":
+        return ""
+    d = aircraft.data
+    mr, weight = d["main_rotor"], d["aircraft"]["mass"] * d["environment"]["g"]
+    per_degree = np.radians(1.0) * (weight * -mr["hub_z"] + mr["flap_stiffness"])
+    return (f": a teetering rotor holds {per_degree:.4g} N m per degree of teeter (the weight's thrust "
+            f"{weight:.4g} N over the hub {-mr['hub_z']:.3g} m above the CG, and its spring), tilting its thrust, "
+            "and its pitch and roll go together, so compare the fuselage's pitching moment at this speed "
+            "(fuselage_aero M) with a few degrees of it")
 
 
 def _scene_speed(system, lay: TrimLayout) -> float:
@@ -386,7 +404,7 @@ def periodic_solution(sc, speed: float | None = None, climb_rate: float = 0.0, m
         res = _continuation(system, stepper, sc, prob, steps_per_rev, tol, max_iterations, res)
     if not res.converged and prob.lay.free:
         res.reason += (_beyond_range(system, prob.speed, sc.aircraft) or _at_stops(system, prob.lay, res.z)
-                       or _unbalanced(prob.lay, res.r))
+                       or _unbalanced(prob.lay, res.r, sc.aircraft))
     mr = sc.aircraft.data["main_rotor"] if getattr(sc, "aircraft", None) is not None else {}
     cone, tilt = mr.get("precone", 0.0), float(np.cos(mr.get("delta3", 0.0)))
     out = _result(sc.name, prob, res, steps_per_rev, setup_s, system.nfev - nfev0, cone, tilt)
