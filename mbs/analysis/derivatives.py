@@ -231,10 +231,11 @@ def static_stability_warning(res: Derivatives) -> list[str]:
     growing = [m for m in res.modes if m.eigenvalue.real > 0 and sum(m.participation[k] for k in LONGITUDINAL) >= 0.5]
     if margin >= 0 or not growing:
         return []
-    modes = ", ".join(f"{m.name} {m.eigenvalue.real:+.3g}" + (f" ± {m.eigenvalue.imag:.3g}i" if m.eigenvalue.imag else "")
-                      + " 1/s" for m in growing)
-    return [f"statically unstable in angle of attack: M_w = {t['M_w']:+.4g} {res.units.get('M_w', '1/(m s)')}, and Z_w M_q - M_w U_e = "
-            f"{margin:+.3g} 1/s^2 < 0 (Padfield's short-period stability condition), which gives the {modes}: the "
+    modes = ", ".join(f"{m.name} {m.eigenvalue.real:+.3g}" + (f" ± {m.eigenvalue.imag:.3g}i" if m.eigenvalue.imag
+                                                               else "") + " 1/s" for m in growing)
+    return [f"statically unstable in angle of attack: M_w = {t['M_w']:+.4g} {res.units.get('M_w', '1/(m s)')}, and "
+            f"Z_w M_q - M_w U_e = {margin:+.3g} 1/s^2 < 0 (Padfield's short-period stability condition), which gives "
+            f"the {modes}: the "
             "pitching moment with angle of attack of the fuselage (fuselage_aero M) and of the rotor outweighs the "
             "horizontal tail's (its area, lift slope and arm); check them before trusting the longitudinal modes"]
 

@@ -125,7 +125,7 @@ def _one_dutch_roll(modes: list[FlightMode]) -> None:
 def _one_of_each_subsidence(modes: list[FlightMode]) -> None:
     """Of two or more real modes of one name, the one with the largest share of its axis keeps it;
     the others are named after their two largest axes (module docstring)."""
-    for name in {m.name for m in modes if m.name.endswith(("subsidence", "divergence")) or m.name == "spiral"}:
+    for name in sorted({m.name for m in modes if m.name.endswith(("subsidence", "divergence")) or m.name == "spiral"}):
         same = [m for m in modes if m.name == name]
         axis = ("phi", "v") if name == "spiral" else AXES.get(name.split()[0])
         if len(same) < 2 or axis is None:

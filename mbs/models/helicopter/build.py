@@ -40,7 +40,9 @@ def build(cfg: Config = Config(), aircraft=None, name: str | None = None) -> Mod
     if cfg.tail_rotor:
         add_tail_rotor(m, d, cfg, parent)
     if cfg.drive_train:
-        _add_drive_train(m, d, cfg, parent)
+        from mbs.drivetrain import train
+
+        train.add_drive_train(m, d, cfg, parent)
     _add_pitch_laws(m, d, cfg)
     if cfg.rotor_aero:
         add_rotor_aero(m, d, cfg, trim, parent)
@@ -62,14 +64,6 @@ def build(cfg: Config = Config(), aircraft=None, name: str | None = None) -> Mod
     if cfg.pitch_link == "elastic":
         add_elastic_links(m, d, cfg)
     return m
-
-
-def _add_drive_train(m: Model, d, cfg: Config, parent: str) -> None:
-    """The drive train, the blades' pitch as dependent coordinates of the hub's azimuth, and the
-    run-time drive torque (:mod:`mbs.drivetrain`)."""
-    from mbs.drivetrain import train
-
-    train.add_drive_train(m, d, cfg, parent)
 
 
 def _add_pitch_laws(m: Model, d, cfg: Config) -> None:
