@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from scipy.interpolate import CubicSpline
 
-from aircraft_files import entries, write
+from aircraft_files import entries, to_toml, write
 from mbs import aircraft, scenes
 from mbs.aero.sections import Airfoil, TableSection, section_force
 from mbs.analysis.trim import periodic_solution
@@ -209,3 +209,36 @@ def test_full_circle_tail_tables_trim_as_the_analytic_sections_and_one_that_does
     problems = aircraft.check(_with_tables(tmp_path, {"horizontal_tail": rows})).problems
     assert any(p.startswith("horizontal_tail.coefficient_table: angles of attack -180 to 180 deg; give them within "
                             "-90..90 deg") and "the same c_L and c_D at both ends" in p for p in problems), problems
+
+
+def test_a_tail_table_printed_as_polynomials_in_degrees_is_taken_as_printed(tmp_path):
+    """A new user's Gazelle report prints the horizontal tail's c_L and c_D as polynomials in the
+    angle in degrees, in per cent; the table was refused as a law. Written as printed, with the
+    breakpoints where they hold, it reads as the same rows tabulated by hand, to round-off; a
+    law that is not finite at a breakpoint, or a value not of that form, is refused naming it."""
+    lift, drag = "5.7*alpha - 0.0021*alpha^3", "1.1 + 0.004*alpha^2 + 1.2e-5*alpha^4"
+    alpha = [-20.0, -15.0, -10.0, -5.0, 0.0, 5.0, 10.0, 15.0, 20.0]
+    cl = [(5.7 * a - 0.0021 * a**3) / 100 for a in alpha]
+    cd = [(1.1 + 0.004 * a**2 + 1.2e-5 * a**4) / 100 for a in alpha]
+    hand, law = entries("bo105"), entries("bo105")
+    for raw in (hand, law):
+        for key in ANALYTIC:
+            raw["horizontal_tail"].pop(key, None)
+    hand["horizontal_tail"]["coefficient_table"] = {
+        "value": [[math.radians(a), l, d] for a, l, d in zip(alpha, cl, cd)], "unit": "rad, -, -", "source": "t"}
+
+    def with_law(value: str, name: str):
+        line = f'coefficient_table = {{ value = {value}, law = "expression", unit = "deg, %, %", source = "eq. 12" }}'
+        text = to_toml(law).replace("[horizontal_tail]\n", "[horizontal_tail]\n" + line + "\n", 1)
+        (tmp_path / name).write_text(text)
+        return tmp_path / name
+
+    printed = f'{{ alpha = {alpha}, lift = "{lift}", drag = "{drag}" }}'
+    by_hand = aircraft.load(write(hand, tmp_path / "hand.toml")).data["horizontal_tail"]["coefficient_table"]
+    as_printed = aircraft.load(with_law(printed, "law.toml")).data["horizontal_tail"]["coefficient_table"]
+    assert np.allclose(np.array(as_printed), np.array(by_hand), rtol=1e-14, atol=1e-15)
+    report = aircraft.check(with_law(printed.replace(drag, "1.1/alpha"), "bad.toml"))
+    assert any("horizontal_tail.coefficient_table: the drag law '1.1/alpha' is not finite at alpha = 0" in p
+               for p in report.problems), report.problems
+    report = aircraft.check(with_law('"5.7*alpha"', "bad2.toml"))
+    assert any("value must be { alpha = [breakpoints], lift =" in p for p in report.problems), report.problems

@@ -205,6 +205,11 @@ def _entry(out: Reading, section: str, key: str, entry, base: Path | None = None
         bases = [None]
         if key == "coefficient_table" and unit is not None:
             unit, spec, bases = _surface_columns(unit, spec)
+        if key == "coefficient_table" and "law" in entry:
+            law = entry["value"]
+            entry = {**entry, "value": _surface_laws(law, unit),
+                     "printed": f"c_L = {law['lift']}, c_D = {law['drag']} at alpha {law['alpha']}"}
+            del entry["law"]
         value = (airfoil_segments(entry["value"], unit, base) if spec.kind == "airfoils"
                  else _polynomial(entry["value"], unit, spec, entry["law"], key) if "law" in entry
                  else convert(entry["value"], unit, replace(spec, columns=("m", *spec.columns[1:])) if radial and
@@ -221,7 +226,7 @@ def _entry(out: Reading, section: str, key: str, entry, base: Path | None = None
     if any(bases):  # over the surface's area once every entry is read
         out.surface.append((section, key, bases))
     meta = {"unit": entry.get("unit", ""), "source": entry["source"], "note": entry.get("note", ""),
-            "origin": "override" if entry.get("override") else "file", "value": entry["value"]}
+            "origin": "override" if entry.get("override") else "file", "value": entry.get("printed", entry["value"])}
     out.put(section, key, _with_gain(value, entry, meta), meta)
 
 
@@ -533,12 +538,43 @@ def _law(entry: dict, key: str, spec) -> str | None:
     if entry["law"] not in LAWS:
         return (f"law {entry['law']!r} is not known; the laws are \"polynomial\" (coefficients of the angle^0, ^1 ...) "
                 "and \"expression\" (the law as printed, e.g. \"12.5 + 30.2*sin(alpha)^2\")")
+    if key == "coefficient_table" and entry["law"] == "expression":
+        return None  # a tail surface's c_L and c_D as printed laws (:func:`_surface_laws`)
     if spec is None or spec.kind != "lookup" or key.endswith("alpha_beta"):
-        return f"law = \"{entry['law']}\" applies to a fuselage_aero table in alpha or in beta only"
+        return (f"law = \"{entry['law']}\" applies to a fuselage_aero table in alpha or in beta only, and law = "
+                "\"expression\" to a surface's coefficient_table too")
     return None
 
 
 LAWS = ("polynomial", "expression")
+
+
+def _surface_laws(value, unit) -> list[list[float]]:
+    """A surface's ``coefficient_table`` printed as laws, ``{ alpha = [...], lift = "...", drag =
+    "..." }``: the rows ``[alpha, c_L, c_D]`` at the breakpoints ``alpha``, in the table's units as
+    printed (the law's ``alpha`` in the breakpoints' unit: a polynomial printed in degrees is
+    valued in degrees), for the table reader to convert."""
+    import numpy as np
+
+    from mbs.aircraft import laws
+
+    if not (isinstance(value, dict) and set(value) == {"alpha", "lift", "drag"}):
+        raise ValueError("law = \"expression\": value must be { alpha = [breakpoints], lift = \"c_L law\", drag = "
+                         "\"c_D law\" }, the laws in alpha as printed (in the breakpoints' unit)")
+    alpha = value["alpha"]
+    if not (isinstance(alpha, list) and len(alpha) >= 2 and all(isinstance(a, (int, float)) for a in alpha)):
+        raise ValueError("law = \"expression\": alpha must be a list of two or more breakpoints")
+    if unit is None or len(str(unit).split(",")) != 3:
+        raise ValueError("law = \"expression\": give the units of alpha, c_L and c_D, e.g. unit = \"deg, %, %\"")
+    x = np.asarray(alpha, dtype=float)
+    columns = []
+    for name in ("lift", "drag"):
+        with np.errstate(all="ignore"):
+            column = laws.value(laws.parse(value[name], "alpha"), "alpha", x)
+        if not np.all(np.isfinite(column)):
+            raise ValueError(f"the {name} law {value[name]!r} is not finite at alpha = {x[~np.isfinite(column)][0]:g}")
+        columns.append(column)
+    return [[float(a), float(cl), float(cd)] for a, cl, cd in zip(x, *columns)]
 
 
 def _polynomial(value, unit, spec: Entry, law: str = "polynomial", key: str = "") -> dict:
