@@ -306,3 +306,67 @@ def test_an_aircraft_without_a_horizontal_tail_leaves_the_section_out(tmp_path):
     refused = aircraft.check(write(raw, tmp_path / "stabilator.toml"))
     assert any("stabilator: schedules a horizontal tail's incidence, and the file has no [horizontal_tail]" in w
                for w in refused.problems), refused.problems
+
+
+RIGGING = "\n".join([
+    "[controls]",
+    'collective_lever = { value = [0.0, 10.0], unit = "in", source = "test" }',
+    'longitudinal_stick = { value = [-5.0, 5.0], unit = "in", source = "test" }',
+    'lateral_stick = { value = [-4.0, 4.0], unit = "in", source = "test" }',
+    'pedals = { value = [-2.7, 2.7], unit = "in", source = "test" }',
+    'collective = { value = [3.0, 1.6, 0.0, 0.0, 0.0], unit = "deg, deg/in, deg/in, deg/in, deg/in", source = "test" }',
+    'longitudinal_cyclic = { value = [0.0, 0.0, -1.6, 0.0, 0.0], unit = "deg, deg/in, deg/in, deg/in, deg/in", '
+    'source = "test" }',
+    'lateral_cyclic = { value = [0.0, 0.0, 0.0, -1.0, 0.0], unit = "deg, deg/in, deg/in, deg/in, deg/in", source = "test" }',
+    'tail_collective = { value = [5.0, 0.0, 0.0, 0.0, 3.0], unit = "deg, deg/in, deg/in, deg/in, deg/in", '
+    'source = "test" }', ""])
+
+
+def _table_file(tmp_path, name: str, rows: list, unit: str, rigging: bool = False) -> str:
+    """The stabilator file with its schedule given as an incidence table in collective x airspeed."""
+    head, _, block = open(_file(tmp_path, 0.0)).read().partition("[stabilator]\n")
+    for key in ("airspeed", "incidence", "collective_gain", "collective_reference"):
+        block = re.sub(rf"(^|\n){key} = .*", "", block)
+    text = head + "[stabilator]\n" + block
+    cells = "[" + ", ".join("[" + ", ".join("nan" if isinstance(c, float) and np.isnan(c) else repr(c) for c in r) + "]"
+                            for r in rows) + "]"
+    text = text.replace("[stabilator]\n", f'[stabilator]\nincidence_table = {{ value = {cells}, unit = "{unit}", '
+                        'source = "TEST" }\n', 1)
+    path = tmp_path / name
+    path.write_text(text + ("\n" + RIGGING if rigging else ""))
+    return str(path)
+
+
+def test_a_stabilator_schedule_in_collective_and_airspeed_is_read_as_printed(tmp_path):
+    """A new user's AH-64 source prints the stabilator's incidence against the collective lever's
+    fraction (rows) and airspeed (columns), nonlinear in collective; it could not be written.
+    Given as printed, a table linear in the blades' collective gives the incidence of the same
+    schedule with a collective gain, to round-off (a natural spline of a line is the line); the
+    lever's fractions go to the blades' collective through the rigging; the check refuses the
+    fractions without a rigging, a collective gain beside the table and incidences past the stops."""
+    from mbs.aircraft.airframe_data import schedule_collective, stabilator_schedule
+
+    gain, ref = 1.5, np.radians(10.0)
+    speeds = [float(v) for v in SCHEDULE_KT]
+    collectives = [8.0, 10.0, 12.0]  # deg
+    rows = [[float("nan"), *speeds]] + [[c, *(i + gain * (c - 10.0) for i in SCHEDULE_DEG)] for c in collectives]
+    table = aircraft.load(_table_file(tmp_path, "table.toml", rows, "deg, kt, deg")).data
+    plain = aircraft.load(_file(tmp_path, gain)).data
+    a, b = stabilator_schedule(table), stabilator_schedule(plain)
+    for v, c in ((12.0, 0.15), (30.0, 0.17), (55.0, 0.19), (80.0, 0.2)):  # within the table's airspeeds and collectives
+        assert float(a(v, c, 0.0)[1]) == pytest.approx(float(b(v, c, 0.0)[1]), abs=1e-12), (v, c)
+    assert float(a(30.0, 0.5, 0.0)[1]) == pytest.approx(float(b(30.0, np.radians(12.0), 0.0)[1]), abs=1e-12)  # held
+    lever = [[float("nan"), *speeds]] + [[f, *SCHEDULE_DEG] for f in (0.0, 0.5, 1.0)]
+    rigged = aircraft.load(_table_file(tmp_path, "lever.toml", lever, "-, kt, deg", rigging=True)).data
+    assert np.degrees(schedule_collective(rigged)) == pytest.approx([3.0, 3.0 + 1.6 * 5.0, 3.0 + 1.6 * 10.0])
+    problems = aircraft.check(_table_file(tmp_path, "bare.toml", lever, "-, kt, deg")).problems
+    assert any("its collective is a fraction of the lever's travel (unit -), which needs the file's [controls]" in p
+               for p in problems), problems
+    text = open(_table_file(tmp_path, "both.toml", rows, "deg, kt, deg")).read().replace(
+        "[stabilator]\n", '[stabilator]\ncollective_gain = { value = 1.0, unit = "-", source = "TEST" }\n')
+    (tmp_path / "both.toml").write_text(text)
+    problems = aircraft.check(tmp_path / "both.toml").problems
+    assert any("stabilator.collective_gain: the incidence_table carries the collective already" in p for p in problems)
+    rows[2][3] = 50.0
+    problems = aircraft.check(_table_file(tmp_path, "stop.toml", rows, "deg, kt, deg")).problems
+    assert any("stabilator.incidence_table: 50 deg lies beyond the stops [-10, 35] deg" in p for p in problems), problems

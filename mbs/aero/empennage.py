@@ -20,7 +20,7 @@ import numpy as np
 
 from mbs.aero.airframe import LiftingSurface, air_velocity
 from mbs.aero.airframe_tables import flow_angles
-from mbs.aero.interpolation import Spline
+from mbs.aero.interpolation import Spline, Spline2
 from mbs.aero.sections import EPS, section_angle, section_force
 
 CLAMP_SMOOTHING = 0.005  # rad: the stops are rounded over about this much (0.3 deg)
@@ -35,6 +35,8 @@ def smooth_clamp(x, low: float, high: float, width: float = CLAMP_SMOOTHING):
 
 HOLD_WIDTH = 0.5
 """m/s: the rounding of a schedule's hold at its first and last airspeed."""
+HOLD_COLLECTIVE = 0.002
+"""rad: the rounding of a two-variable schedule's hold at its least and largest collective."""
 
 
 def held(x, low: float, high: float, width: float):
@@ -61,14 +63,20 @@ class Schedule:
     low: float
     high: float
     cyclic_gain: float = 0.0
+    collective: tuple = ()  # rad: a table's collective breakpoints; incidence then (len(collective), len(airspeed))
 
     def __call__(self, airspeed, collective, pitch_rate, cyclic=0.0):
         """The scheduled incidence (rad) and the incidence before the stops (rad): the spline in
-        airspeed, held at its first and last incidence beyond its airspeeds (a schedule does not
-        run on past its table; the airspeed :func:`held` within its ends)."""
+        airspeed (with ``collective`` breakpoints, the tensor spline in collective and airspeed),
+        held at its ends (a schedule does not run on past its table; the airspeed and collective
+        :func:`held` within their ends)."""
         if len(self.airspeed) > 1:
             airspeed = held(airspeed, self.airspeed[0], self.airspeed[-1], HOLD_WIDTH)
-        raw = Spline(self.airspeed, self.incidence)(airspeed)
+        if self.collective:
+            at = held(collective, self.collective[0], self.collective[-1], HOLD_COLLECTIVE)
+            raw = Spline2(self.collective, self.airspeed, self.incidence)(at, airspeed)
+        else:
+            raw = Spline(self.airspeed, self.incidence)(airspeed)
         if self.collective_gain:
             raw = raw + self.collective_gain * (collective - self.collective_reference)
         if self.cyclic_gain:
@@ -130,7 +138,9 @@ class TailSurface(LiftingSurface):
             return self.incidence
         own = ca.mtimes(m.rotation.T, m.velocity)
         airspeed = ca.sqrt(ca.dot(own, own) + EPS**2)
-        collective = _pilot_input(state, "collective", "collective_gain") if self.schedule.collective_gain else 0.0
+        reads = self.schedule.collective_gain or self.schedule.collective
+        entry = "collective_gain" if self.schedule.collective_gain else "incidence_table"
+        collective = _pilot_input(state, "collective", entry) if reads else 0.0
         cyclic = _pilot_input(state, "longitudinal_cyclic", "cyclic_gain") if self.schedule.cyclic_gain else 0.0
         incidence, raw = self.schedule(airspeed, collective, m.omega[1], cyclic)
         state.signals[f"{self.name}.incidence"], state.signals[f"{self.name}.incidence_raw"] = incidence, raw

@@ -160,7 +160,32 @@ def at_breakpoints(table: dict, breakpoints) -> dict:
     return {**table, "values": np.polynomial.polynomial.polyval(x, table["coefficients"]).tolist()}
 
 
-READERS = {"series": read_series, "curve": read_curve, "lookup": read_lookup}
+def read_schedule(value, unit: str, spec) -> dict:
+    """A schedule in collective and airspeed as printed: a first row ``[nan, airspeeds...]``, then
+    rows ``[collective, values...]``; ``unit`` that of the collective (an angle, or ``-`` for a
+    fraction of the lever's travel), the airspeed and the values. ``{"collective" (rad, or the
+    fraction), "lever" (bool), "airspeed" (m/s), "values" (rad, rows by collective)}``."""
+    texts = [u.strip() for u in str(unit).split(",")]
+    shape = "a first row [nan, airspeeds...] and rows [collective, incidences...]"
+    if len(texts) != 3:
+        raise ValueError(f"give three units: the collective's (deg, or - for a fraction of the lever's travel), the "
+                         f"airspeed's and the incidence's, e.g. unit = \"-, kt, deg\"; value is {shape}")
+    if not (isinstance(value, list) and len(value) >= 3 and all(isinstance(r, list) for r in value)
+            and len({len(r) for r in value}) == 1 and len(value[0]) >= 3):
+        raise ValueError(f"value must be {shape} (at least two of each, rows of one length)")
+    if not (isinstance(value[0][0], float) and np.isnan(value[0][0])):
+        raise ValueError(f"the first row's first cell is {value[0][0]!r}; write nan there (the corner): {shape}")
+    lever = units.parse(texts[0]).dims == (0, 0, 0, 0) and units.parse(texts[0]).factor == 1.0
+    collective = [float(r[0]) for r in value[1:]] if lever else _increasing([r[0] for r in value[1:]], texts[0], "rad")
+    if lever and (np.any(np.diff(collective) <= 0) or min(collective) < 0 or max(collective) > 1):
+        raise ValueError("the collective lever's fractions must increase within 0 to 1")
+    airspeed = _increasing(value[0][1:], texts[1], "m/s")
+    values = np.asarray([r[1:] for r in value[1:]], dtype=float) * units.factor_to(texts[2], "rad")
+    return {"collective": collective, "lever": bool(lever), "airspeed": airspeed, "values": values.tolist(),
+            "unit": str(unit)}
+
+
+READERS = {"series": read_series, "curve": read_curve, "lookup": read_lookup, "schedule": read_schedule}
 
 
 def _is_number(v) -> bool:
@@ -238,7 +263,29 @@ def has_horizontal_tail(values: dict) -> bool:
 
 def has_stabilator(values: dict) -> bool:
     """Whether the file gives a ``[stabilator]`` (its defaults alone do not make one)."""
-    return "airspeed" in (values.get("stabilator") or {})
+    st = values.get("stabilator") or {}
+    return "airspeed" in st or bool(st.get("incidence_table"))
+
+
+def schedule_collective(values: dict) -> list[float]:
+    """A two-variable stabilator schedule's collective breakpoints as the model's blade collective
+    (rad): as given, or the lever's fractions through the rigging (ValueError without one, or when
+    the blades' collective follows another pilot control too)."""
+    from mbs.aircraft import rigging
+
+    table = values["stabilator"]["incidence_table"]
+    if not table["lever"]:
+        return list(table["collective"])
+    rig = rigging.rigging(values)
+    if rig is None:
+        raise ValueError("stabilator.incidence_table: its collective is a fraction of the lever's travel (unit -), "
+                         "which needs the file's [controls] rigging; give the blades' collective (deg) instead")
+    if np.any(rig.matrix()[0, 1:] != 0):
+        raise ValueError("stabilator.incidence_table: the blades' collective follows other pilot controls than the "
+                         "lever in [controls], so a lever fraction does not give it; give the blades' collective (deg)")
+    low, high = rig.travel[0]
+    neutral = dict(zip(rigging.PILOT, (0.0, 0.0, 0.0, 0.0)))
+    return [rig.blade({**neutral, "collective_lever": low + f * (high - low)})["collective"] for f in table["collective"]]
 
 
 def tail_problems(values: dict) -> list[str]:
@@ -258,6 +305,8 @@ def tail_problems(values: dict) -> list[str]:
     if has_stabilator(values) and not has_horizontal_tail(values):
         out.append("stabilator: schedules a horizontal tail's incidence, and the file has no [horizontal_tail]: give "
                    "its area, x, z, lift_slope, alpha_stall, cd0 and chord")
+    if st.get("incidence_table"):
+        return out + _table_schedule_problems(values)
     if has_stabilator(values):
         if len(st["incidence"]) != len(st["airspeed"]):
             out.append(f"stabilator.incidence: {len(st['incidence'])} values for {len(st['airspeed'])} airspeeds")
@@ -267,6 +316,27 @@ def tail_problems(values: dict) -> list[str]:
         if outside:
             out.append(f"stabilator.incidence: {np.degrees(outside[0]):.4g} deg lies beyond the stops "
                        f"[{np.degrees(st['incidence_min']):.4g}, {np.degrees(st['incidence_max']):.4g}] deg")
+    return out
+
+
+def _table_schedule_problems(values: dict) -> list[str]:
+    """A two-variable schedule: its collective read as the blades', no collective gain beside it,
+    its incidences within the stops."""
+    st, out = values["stabilator"], []
+    try:
+        collective = schedule_collective(values)
+    except ValueError as exc:
+        return [str(exc)]
+    if np.any(np.diff(collective) <= 0):
+        out.append("stabilator.incidence_table: the blades' collective of the lever's fractions does not increase "
+                   "(check the rigging's collective gain)")
+    if st["collective_gain"]:
+        out.append("stabilator.collective_gain: the incidence_table carries the collective already; leave the gain out")
+    values_ = np.asarray(st["incidence_table"]["values"])
+    outside = values_[(values_ < st["incidence_min"]) | (values_ > st["incidence_max"])]
+    if outside.size:
+        out.append(f"stabilator.incidence_table: {np.degrees(outside[0]):.4g} deg lies beyond the stops "
+                   f"[{np.degrees(st['incidence_min']):.4g}, {np.degrees(st['incidence_max']):.4g}] deg")
     return out
 
 
@@ -373,6 +443,11 @@ def stabilator_schedule(d):
     if not has_stabilator(d):
         return None
     st = d["stabilator"]
+    if st.get("incidence_table"):
+        table = st["incidence_table"]
+        return Schedule(tuple(table["airspeed"]), tuple(map(tuple, table["values"])), 0.0, 0.0, st["pitch_rate_gain"],
+                        st["incidence_min"], st["incidence_max"], st["cyclic_gain"],
+                        tuple(schedule_collective(d)))
     return Schedule(tuple(st["airspeed"]), tuple(st["incidence"]), st["collective_gain"], st["collective_reference"],
                     st["pitch_rate_gain"], st["incidence_min"], st["incidence_max"], st["cyclic_gain"])
 

@@ -625,7 +625,7 @@ def convert(value, unit: str | None, spec: Entry):
         return _table(value, unit, spec)
     if kind in ("travel", "mixing"):
         return _pilot(value, str(unit), spec)
-    if kind in ("series", "curve", "lookup"):
+    if kind in ("series", "curve", "lookup", "schedule"):
         from mbs.aircraft import airframe_data
         return airframe_data.READERS[kind](value, unit, spec)
     if kind == "number" and (isinstance(value, list) or "," in str(unit) or _in_parts(value)):
@@ -828,8 +828,9 @@ def _missing(out: Reading, raw: dict) -> None:
 
 def _stabilator_sets_it(raw: dict, values: dict):
     """A horizontal tail whose incidence the stabilator's schedule sets: the fixed one unused."""
-    return (0.0, "unused: the stabilator's schedule sets the incidence") if "airspeed" in raw.get("stabilator", {}) \
-        else None
+    stabilator = raw.get("stabilator", {})
+    return (0.0, "unused: the stabilator's schedule sets the incidence") if "airspeed" in stabilator \
+        or "incidence_table" in stabilator else None
 
 
 def _one_engine(raw: dict, values: dict):

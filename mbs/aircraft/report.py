@@ -308,6 +308,11 @@ def lines(report: Report) -> list[str]:
 
 def _brief(v) -> str:
     """A converted table in one line: its range and length (``--json`` gives every value)."""
+    if isinstance(v, dict) and "airspeed" in v:  # a schedule in collective and airspeed
+        what = "lever fraction" if v["lever"] else "collective (rad)"
+        return (f"{what} {min(v['collective']):.6g} .. {max(v['collective']):.6g} ({len(v['collective'])} rows) x "
+                f"airspeed {min(v['airspeed']):.6g} .. {max(v['airspeed']):.6g} m/s ({len(v['airspeed'])} columns), "
+                f"values {np.min(v['values']):.6g} .. {np.max(v['values']):.6g}; --json lists them")
     if isinstance(v, list) and len(v) > 6:
         if isinstance(v[0], list):  # a table: each column's range
             ranges = ", ".join(f"{min(c):.6g} .. {max(c):.6g}" for c in zip(*v))

@@ -201,6 +201,11 @@ def _stabilator() -> dict[str, Entry]:
                            "the disc tilts aft): an elevator linked to the cyclic stick", default=0.0),
         "incidence_min": angle("stop: least incidence (trailing edge up)", 90),
         "incidence_max": angle("stop: largest incidence (trailing edge down)", 90),
+        "incidence_table": Entry("-, m/s, rad", "scheduled incidence against collective and airspeed as a report "
+                                 "prints it: a first row [nan, airspeeds...], then rows [collective, incidences...]; the "
+                                 "collective as the blades' (an angle) or as a fraction of the collective lever's travel "
+                                 "(unit -, with [controls]); a tensor spline held beyond its ends; replaces airspeed and "
+                                 "incidence", "schedule", default=(), replaces="airspeed incidence"),
     }
 
 
