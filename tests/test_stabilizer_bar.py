@@ -24,7 +24,8 @@ BAR = {"mass": (10.0, "kg"), "inertia": (8.0, "kg m^2"), "height": (0.3, "m"), "
 
 def _with_bar(tmp_path, name: str = "bar", **changes) -> str:
     """The two-bladed Bo105 with :data:`BAR` (``changes``: entry -> value, None removes it)."""
-    entries = {**BAR, **{k: (v, BAR.get(k, (0, "-"))[1]) for k, v in changes.items()}}
+    entries = {**BAR, **{k: v if isinstance(v, tuple) else (v, BAR.get(k, (0, "s" if k == "time_constant" else "-"))[1])
+                         for k, v in changes.items()}}
     lines = ["", "[stabilizer_bar]"] + [f'{k} = {{ value = {v}, unit = "{u}", source = "test" }}'
                                         for k, (v, u) in entries.items() if v is not None]
     path = tmp_path / f"{name}.toml"
@@ -127,7 +128,9 @@ def test_the_mixer_pitches_the_blades_from_the_bar(tmp_path):
 
 @pytest.mark.parametrize("changes,words", [
     (dict(paddle_lift_slope=None), "stabilizer_bar.paddle_lift_slope: the paddles (paddle_area 0.08 m^2) need"),
-    (dict(paddle_area=None), "stabilizer_bar: neither paddles (paddle_area) nor dampers (damping)"),
+    (dict(paddle_area=None), "stabilizer_bar: neither paddles (paddle_area) nor dampers (damping, or its time_"),
+    (dict(time_constant=0.8), "stabilizer_bar.time_constant: 0.8 s, while the paddles alone damp the bar in 0.608 s"),
+    (dict(time_constant=0.8, damping=(2.0, "N m s/rad")), "stabilizer_bar.time_constant: the hinge's damping is"),
     (dict(hiller_gain=-1.0), "stabilizer_bar.hiller_gain: the blades get -1 rad of cyclic per rad"),
 ])
 def test_a_bar_that_cannot_work_is_refused_naming_why(tmp_path, changes, words):
@@ -154,3 +157,50 @@ def test_paddles_past_their_own_advance_ratio_are_warned_of(tmp_path):
     fast = [w for w in airframe_warnings({"fuselage.u": 60.0, "fuselage.w": 0.0}, d) if w.startswith("stabilizer")]
     assert len(fast) == 1 and "advance ratio V / (Omega r) = 1.13" in fast[0] and "reverse flow" in fast[0]
     assert not [w for w in airframe_warnings({"fuselage.u": 20.0, "fuselage.w": 0.0}, d) if w.startswith("stabilizer")]
+
+
+def test_the_bars_mass_is_the_aircrafts_and_its_warning_reaches_the_validation(tmp_path):
+    """A new user's UH-1H flew 1.1 % heavier with its bar: the bar's 32 kg came on top of the
+    published whole-aircraft mass. The bar is part of the main rotor: the model's bodies weigh the
+    file's mass with or without it, and the whole aircraft's inertia about the CG is the file's.
+    Its derivatives' warning was missing from 'heli validate', which shows the derivatives'."""
+    from mbs.aircraft import mass
+    from mbs.validate.files import load
+    from mbs.validate.report import lines
+    from mbs.validate.runner import validate
+
+    path = _with_bar(tmp_path)
+    craft = aircraft.load(path)
+    model = scenes.get("hover").with_aircraft(craft).model()
+    assert sum(b.mass for b in model.bodies.values()) == pytest.approx(craft.data["aircraft"]["mass"], rel=1e-12)
+    assert craft.data["aircraft"]["inertia"] == "whole-aircraft"
+    whole = mass.whole_aircraft(craft.data).about(np.zeros(3))
+    assert np.allclose(whole, mass.published_inertia(craft.data), rtol=0, atol=1e-9)
+    plain = aircraft.load(_two_bladed(tmp_path)).data
+    assert mass.airframe(craft.data).mass == pytest.approx(mass.airframe(plain).mass - BAR["mass"][0], abs=1e-9)
+    data = tmp_path / "data.toml"
+    data.write_text(f'[validation]\naircraft = "{path}"\nscene = "hover"\nspeed_unit = "m/s"\n'
+                    '[[derivative]]\nquantity = "Z_w"\nunit = "1/s"\nspeed = [0]\nvalue = [-0.3]\nsource = "T"\n')
+    text = "\n".join(lines(validate(load(data))))
+    assert "stabilizer bar: its time constant 0.608 s is the body's" in text, text
+
+
+def test_a_bars_published_time_constant_gives_its_hinge_damping(tmp_path):
+    """The UH-1H's data give its Bell bar as a time constant, 3.3 s. Given as printed, the hinge's
+    damping is 2 I / τ less the paddles' (none on a Bell bar), and the bar's time constant, the
+    model's hinge damping and its free decay (the decay test's measure) come back to it."""
+    from mbs.models.helicopter.stabilizer_bar import hinge_damping
+
+    bell = aircraft.load(_with_bar(tmp_path, "bell", paddle_area=None, paddle_lift_slope=None, time_constant=3.3,
+                                   inertia=27.2, bell_gain=1.0, hiller_gain=0.5)).data
+    omega, rho = bell["main_rotor"]["omega"], bell["environment"]["rho"]
+    bar = bell["stabilizer_bar"]
+    assert hinge_damping(bar, omega, rho) == pytest.approx(2 * 27.2 / 3.3, rel=1e-12)
+    assert time_constant(bar, omega, rho) == pytest.approx(3.3, rel=1e-12)
+    model = scenes.get("hover").with_aircraft(aircraft.load(_with_bar(tmp_path, "bell2", paddle_area=None,
+                                                                      paddle_lift_slope=None, time_constant=3.3,
+                                                                      inertia=27.2, bell_gain=1.0))).model()
+    assert model.bodies["stabilizer_bar"].joint.damping == pytest.approx(2 * 27.2 / 3.3, rel=1e-12)
+    hiller = aircraft.load(_with_bar(tmp_path, "hiller", time_constant=0.4)).data["stabilizer_bar"]
+    assert time_constant(hiller, omega, rho) == pytest.approx(0.4, rel=1e-12)
+    assert hinge_damping(hiller, omega, rho) == pytest.approx(2 * 8.0 / 0.4 - aero_damping(hiller, omega, rho))

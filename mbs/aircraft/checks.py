@@ -36,7 +36,7 @@ def problems(values: dict) -> list[str]:
 
 def _stabilizer_bar(v: dict) -> list[str]:
     """A stabilizer bar brought round by its paddles or its dampers, whose mixer passes the cyclic on."""
-    from mbs.models.helicopter.stabilizer_bar import cyclic_gain, has_stabilizer_bar
+    from mbs.models.helicopter.stabilizer_bar import aero_damping, cyclic_gain, has_stabilizer_bar
 
     if not has_stabilizer_bar(v):
         return []
@@ -47,10 +47,18 @@ def _stabilizer_bar(v: dict) -> list[str]:
     if bar["paddle_area"] > 0 and bar["paddle_lift_slope"] == 0:
         return ["stabilizer_bar.paddle_lift_slope: the paddles (paddle_area "
                 f"{bar['paddle_area']:g} m^2) need their lift-curve slope"]
-    if bar["paddle_area"] == 0 and bar["damping"] == 0:
-        return ["stabilizer_bar: neither paddles (paddle_area) nor dampers (damping): nothing brings the bar round "
-                "to the shaft; give the one it has"]
-    gain = cyclic_gain(bar, v["main_rotor"]["omega"], v["environment"]["rho"])
+    if bar["time_constant"] and bar["damping"]:
+        return ["stabilizer_bar.time_constant: the hinge's damping is derived from it; leave damping out (or give "
+                "damping and leave the time constant out)"]
+    omega, rho = v["main_rotor"]["omega"], v["environment"]["rho"]
+    if bar["time_constant"] and 2 * bar["inertia"] / bar["time_constant"] < aero_damping(bar, omega, rho):
+        return [f"stabilizer_bar.time_constant: {bar['time_constant']:g} s, while the paddles alone damp the bar in "
+                f"{2 * bar['inertia'] / aero_damping(bar, omega, rho):.4g} s (its hinge would need negative damping): "
+                "check the time constant, the inertia and the paddles"]
+    if bar["paddle_area"] == 0 and bar["damping"] == 0 and not bar["time_constant"]:
+        return ["stabilizer_bar: neither paddles (paddle_area) nor dampers (damping, or its time_constant): nothing "
+                "brings the bar round to the shaft; give the one it has"]
+    gain = cyclic_gain(bar, omega, rho)
     if gain <= 0:
         return [f"stabilizer_bar.hiller_gain: the blades get {gain:.3g} rad of cyclic per rad of the swashplate's in "
                 "hover (bell_gain + hiller_gain x paddle_gain x the paddles' share of the damping): the cyclic must "

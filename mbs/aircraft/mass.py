@@ -126,9 +126,23 @@ def seesaw(d, rotor: str = "tail_rotor") -> Part:
     return Part(sec["seesaw_mass"], np.zeros(3), box_inertia(sec["seesaw_mass"], *sec["seesaw_size"]))
 
 
+BAR_AXIAL = 1e-4
+"""A stabilizer bar's inertia about its own length per its teeter inertia: a slender bar's (its
+teeter frequency sqrt(1 - BAR_AXIAL) = 0.99995/rev)."""
+
+
+def stabilizer_bar(d) -> Part:
+    """A stabilizer bar in its frame (x along the bar, y its teeter axis), its centre of mass on the
+    hinge, or None without one."""
+    bar = d.get("stabilizer_bar") or {}
+    if "hiller_gain" not in bar:
+        return None
+    return Part(bar["mass"], np.zeros(3), np.diag([BAR_AXIAL * bar["inertia"], bar["inertia"], bar["inertia"]]))
+
+
 def main_rotor(d) -> Part:
-    """The main rotor (hub, a teetering hub's yoke, and blades at their precone and undersling) in its
-    hub frame, averaged over a revolution."""
+    """The main rotor (hub, a teetering hub's yoke, a stabilizer bar on its hinge above the hub, and
+    blades at their precone and undersling) in its hub frame, averaged over a revolution."""
     mr = d["main_rotor"]
     sense, e = geo.main_sense(d), mr["flap_hinge_offset"]
     below = np.array([0.0, 0.0, -mr.get("undersling", 0.0)]) if mr.get("hub_type") == "teetering" else np.zeros(3)
@@ -136,7 +150,9 @@ def main_rotor(d) -> Part:
     blades = [main_blade(d).placed(e * geo.rz(sense * psi)[:, 0] + below, geo.rz(sense * psi) @ cone)
               for psi in geo.blade_azimuths(mr["n_blades"])]
     yoke = [seesaw(d, "main_rotor")] if mr.get("hub_type") == "teetering" else []
-    return _averaged(combine([main_hub(d), *yoke, *blades]))
+    bar = stabilizer_bar(d)
+    flybar = [bar.placed(np.array([0.0, 0.0, d["stabilizer_bar"]["height"]]), np.eye(3))] if bar else []
+    return _averaged(combine([main_hub(d), *yoke, *flybar, *blades]))
 
 
 def tail_rotor(d) -> Part:
@@ -171,11 +187,13 @@ def published_inertia(d) -> np.ndarray:
 
 
 def rotor_masses(v: dict) -> tuple[float, float]:
-    """Masses (kg) of the main rotor (hub, yoke, blades) and of the tail rotor (hub, seesaw, blades)."""
+    """Masses (kg) of the main rotor (hub, yoke, stabilizer bar, blades) and of the tail rotor (hub,
+    seesaw, blades)."""
     mr, tr = v["main_rotor"], v["tail_rotor"]
     seesaw = tr.get("seesaw_mass", 0.0) if tr["hub_type"] == "teetering" else 0.0
     yoke = mr.get("seesaw_mass", 0.0) if mr.get("hub_type") == "teetering" else 0.0
-    return (mr["hub_mass"] + yoke + mr["n_blades"] * mr["blade_mass"],
+    bar = stabilizer_bar(v)
+    return (mr["hub_mass"] + yoke + (bar.mass if bar else 0.0) + mr["n_blades"] * mr["blade_mass"],
             tr["hub_mass"] + seesaw + tr["n_blades"] * tr["blade_mass"])
 
 

@@ -243,7 +243,8 @@ def figures(data: Data) -> list[tuple]:
             ("hover tail-rotor thrust, fan and duct together", hov.tail.thrust + hov.tail.duct_thrust, "N"),
             ("hover tail-rotor thrust, the fan's blades", hov.tail.thrust, "N"),
             ("hover tail-rotor duct thrust", hov.tail.duct_thrust, "N")]),
-        ("main-rotor mass (hub and blades)", main_mass, "kg"), ("tail-rotor mass", tail_mass, "kg"),
+        ("main-rotor mass (hub and blades" + (", stabilizer bar)" if "hiller_gain" in data.get("stabilizer_bar", {})
+                                              else ")"), main_mass, "kg"), ("tail-rotor mass", tail_mass, "kg"),
         ("airframe mass", data["aircraft"]["mass"] - main_mass - tail_mass, "kg"),
         *_inertia_figures(data), *_damper_figures(data),
         *periods,

@@ -477,6 +477,9 @@ ENTRIES: dict[str, dict[str, Entry]] = {
                                  0.0, 2 * math.pi + 1e-9, default=0.0),
         "paddle_cd0": num("-", "the paddles' profile drag coefficient", 0.0, 1.0, default=0.01),
         "damping": num("N m s/rad", "damping on its teeter hinge (a Bell bar's dampers)", 0.0, default=0.0),
+        "time_constant": num("s", "the bar's time constant in hover as published, 2 inertia / (the paddles' damping + "
+                             "the hinge's): the hinge's damping is derived from it (0: give damping instead)", 0.0,
+                             default=0.0),
         "paddle_gain": num("-", "paddle pitch per swashplate cyclic at the paddle's azimuth (rad/rad)", default=1.0),
         "hiller_gain": num("-", "the mixer: blade cyclic pitch per rad of the bar's teeter, at the blade 90 deg behind "
                            "the bar's end (rad/rad)"),

@@ -216,10 +216,17 @@ def derivatives(scene: str = "forward-flight", speed: float | None = None, metho
         from mbs.aircraft.checks import inertia_warnings
 
         of_the_file = set(inertia_warnings(sc.aircraft.data))  # said by the check and the trim already
-        res.warnings += [*(w for w in sol.warnings if w not in of_the_file), *teetering_warning(sc.aircraft.data),
-                         *stabilizer_bar_warning(sc.aircraft.data)]
-    res.warnings += static_stability_warning(res)
+        res.warnings += [w for w in sol.warnings if w not in of_the_file]
+    res.warnings += model_warnings(res, sc.aircraft.data if sc.aircraft is not None else None)
     return res
+
+
+def model_warnings(res: Derivatives, d=None) -> list[str]:
+    """What the derivatives of the aircraft data ``d`` (None: no aircraft) carry beyond the trim's
+    warnings: a teetering rotor's and a stabilizer bar's limits of the quasi-static rotor, and a
+    static instability in angle of attack."""
+    return [*(teetering_warning(d) + stabilizer_bar_warning(d) if d is not None else []),
+            *static_stability_warning(res)]
 
 
 def static_stability_warning(res: Derivatives) -> list[str]:

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from mbs.analysis.derivatives import Derivatives, in_pilot_controls, linearise, teetering_warning
+from mbs.analysis.derivatives import Derivatives, in_pilot_controls, linearise, model_warnings
 
 
 @dataclass
@@ -151,5 +151,5 @@ def _point(speed: float, sol, system, held, with_derivatives: bool, aircraft=Non
         return Point(speed, sol, problem=f"no derivatives: {exc}")
     if aircraft is not None:
         in_pilot_controls(res, aircraft.data)
-        res.warnings += teetering_warning(aircraft.data)
+    res.warnings += model_warnings(res, aircraft.data if aircraft is not None else None)
     return Point(speed, sol, res)

@@ -21,13 +21,13 @@ import numpy as np
 
 from mbs.aero.empennage import TailSurface
 from mbs.aero.sections import Airfoil
+from mbs.aircraft import mass
 from mbs.joints import Hinge
 
 BAR = "stabilizer_bar"
 PADDLE_STALL = 0.25  # rad: the paddles' stall angle (a thin flat aerofoil's, about 14 deg)
 CD_STALLED = 1.2  # the paddles' drag coefficient beyond their stall (a flat plate's)
-AXIAL = 1e-4  # the bar's inertia about its own length per its teeter inertia (a slender bar's: its teeter
-# frequency sqrt(1 - AXIAL) = 0.99995/rev)
+AXIAL = mass.BAR_AXIAL
 
 
 def has_stabilizer_bar(d) -> bool:
@@ -41,11 +41,19 @@ def aero_damping(bar: dict, omega: float, rho: float) -> float:
     return rho * bar["paddle_lift_slope"] * bar["paddle_area"] * omega * bar["paddle_radius"] ** 3
 
 
+def hinge_damping(bar: dict, omega: float, rho: float) -> float:
+    """The damping on the bar's hinge (N m s/rad): the file's, or from its published time constant
+    ``τ`` the rest of ``2 I / τ`` after the paddles' (negative when they alone damp it faster)."""
+    if not bar["time_constant"]:
+        return bar["damping"]
+    return 2 * bar["inertia"] / bar["time_constant"] - aero_damping(bar, omega, rho)
+
+
 def time_constant(bar: dict, omega: float, rho: float) -> float:
     """The bar's response time (s) to cyclic or to the hub's tilt in hover: ``2 I / (c_a + c)``,
     the decay of its 1/rev teeter in the rotating frame under the paddles' damping ``c_a``
-    (:func:`aero_damping`) and its hinge's ``c``."""
-    damping = aero_damping(bar, omega, rho) + bar["damping"]
+    (:func:`aero_damping`) and its hinge's ``c`` (:func:`hinge_damping`)."""
+    damping = aero_damping(bar, omega, rho) + hinge_damping(bar, omega, rho)
     return 2 * bar["inertia"] / damping if damping > 0 else np.inf
 
 
@@ -53,8 +61,8 @@ def cyclic_gain(bar: dict, omega: float, rho: float) -> float:
     """Blade cyclic per swashplate cyclic in steady hover (rad/rad): the direct path and the
     bar's, which tilts by ``paddle_gain`` times the cyclic, less the share its hinge's damping takes
     (the 1/rev teeter at resonance: tilt = paddle_gain c_a / (c_a + c) per rad)."""
-    aero = aero_damping(bar, omega, rho)
-    share = aero / (aero + bar["damping"]) if aero + bar["damping"] > 0 else 0.0
+    aero, hinge = aero_damping(bar, omega, rho), hinge_damping(bar, omega, rho)
+    share = aero / (aero + hinge) if aero + hinge > 0 else 0.0
     return bar["bell_gain"] + bar["hiller_gain"] * bar["paddle_gain"] * share
 
 
@@ -77,8 +85,10 @@ def add_stabilizer_bar(m, d, cfg, sense: int) -> None:
     frame = np.array([[np.cos(sense * np.pi / 2), -np.sin(sense * np.pi / 2), 0.0],
                       [np.sin(sense * np.pi / 2), np.cos(sense * np.pi / 2), 0.0], [0.0, 0.0, 1.0]])
     span = 2 * bar["paddle_radius"]
-    m.add_body(BAR, "main_hub", Hinge((0, -1, 0), name="teeter", damping=bar["damping"] if cfg.dampers else 0.0),
-               mass=bar["mass"], inertia=np.diag([AXIAL * bar["inertia"], bar["inertia"], bar["inertia"]]), frame=frame,
+    part = mass.stabilizer_bar(d)
+    damping = hinge_damping(bar, d["main_rotor"]["omega"], d["environment"]["rho"]) if cfg.dampers else 0.0
+    m.add_body(BAR, "main_hub", Hinge((0, -1, 0), name="teeter", damping=damping),
+               mass=part.mass, com=part.com, inertia=part.inertia, frame=frame,
                at=np.array([0.0, 0.0, bar["height"]]),
                shape={"kind": "box", "size": [span, 0.2 * bar["paddle_radius"], 0.02 * span], "color": "#50565e"})
     if cfg.rotor_aero and bar["paddle_area"] > 0:
