@@ -368,7 +368,12 @@ def _trim_lines(res) -> list[str]:
               for k, v in res.output_means.items() if not OTHER_BLADES.match(k)]
     if res.flapping:
         lines.append("  flapping (rad, relative to the shaft, beta = beta0 + beta1c cos psi + beta1s sin psi): "
-                     + ", ".join(f"{k} {v:+.5f} ({np.degrees(v):+.3f} deg)" for k, v in res.flapping.items()))
+                     + ", ".join(f"{k} {v:+.5f} ({np.degrees(v):+.3f} deg)" for k, v in res.flapping.items()
+                                 if k.startswith("beta")))
+    if "bar1c" in res.flapping:
+        lines.append("  stabilizer bar tilt (rad, relative to the shaft, its plane at azimuth psi = bar1c cos psi + "
+                     "bar1s sin psi): " + ", ".join(f"{k} {res.flapping[k]:+.5f} ({np.degrees(res.flapping[k]):+.3f} "
+                                                    "deg)" for k in ("bar1c", "bar1s")))
     if res.rotor:
         lines.append("  main rotor: " + ", ".join(f"{k} {v:.5g}" for k, v in res.rotor.items()))
     verdict = "converged" if res.converged else "NOT CONVERGED"
@@ -545,7 +550,10 @@ def _derivative_lines(res) -> list[str]:
         lines += matrix_lines("B per pilot position (SI: m, rad or fraction of travel)", res.B_pilot, res.states,
                               list(PILOT_LABELS))
         lines += pilot_derivative_lines(res)
-    return lines + mode_lines(res.modes) + [f"  warning: {w}" for w in res.warnings]
+    held_bar = any(w.startswith("stabilizer bar:") for w in res.warnings)
+    note = ["  (NOT the aircraft's modes with its stabilizer bar: these hold the bar in its periodic equilibrium; "
+            "heli floquet gives the modes with the bar as states)"] if held_bar else []
+    return lines + mode_lines(res.modes) + note + [f"  warning: {w}" for w in res.warnings]
 
 
 PILOT_LABELS = ("lever", "lon stick", "lat stick", "pedals")

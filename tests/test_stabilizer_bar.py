@@ -103,12 +103,18 @@ def test_a_hiller_bar_changes_the_stick_not_the_rotor_the_aircraft_needs(tmp_pat
     craft = aircraft.load(_with_bar(tmp_path))
     barred = trim(scenes.get("hover").with_aircraft(craft), 0.0)
     assert plain.converged and barred.converged
+    assert {"bar1c", "bar1s"} <= set(barred.flapping) and "bar1c" not in plain.flapping  # the bar's tilt, reported
     for key in ("beta0", "beta1c", "beta1s"):
         assert np.degrees(abs(barred.flapping[key] - plain.flapping[key])) < 0.01, key
     assert np.degrees(abs(barred.controls["collective"] - plain.controls["collective"])) < 0.05
     assert np.degrees(abs(barred.pitch - plain.pitch)) < 0.05 and np.degrees(abs(barred.roll - plain.roll)) < 0.05
     (words,) = stabilizer_bar_warning(craft.data)
     assert words.startswith("stabilizer bar: its time constant 0.608 s is the body's")
+    from mbs.analysis.derivatives import derivatives
+    from mbs.commands import _derivative_lines
+
+    lines = _derivative_lines(derivatives(scenes.get("hover").with_aircraft(craft), 0.0))
+    assert any(line.startswith("  (NOT the aircraft's modes with its stabilizer bar") for line in lines), lines
 
 
 def test_the_mixer_pitches_the_blades_from_the_bar(tmp_path):
@@ -201,6 +207,26 @@ def test_a_bars_published_time_constant_gives_its_hinge_damping(tmp_path):
                                                                       paddle_lift_slope=None, time_constant=3.3,
                                                                       inertia=27.2, bell_gain=1.0))).model()
     assert model.bodies["stabilizer_bar"].joint.damping == pytest.approx(2 * 27.2 / 3.3, rel=1e-12)
+    figures = {name: value for name, value, _ in aircraft.check(_with_bar(tmp_path, "bell3", paddle_area=None,
+                                                                         paddle_lift_slope=None, time_constant=3.3,
+                                                                         inertia=27.2, bell_gain=1.0)).figures}
+    assert figures["stabilizer bar hinge damping (from its time constant)"] == pytest.approx(2 * 27.2 / 3.3)
     hiller = aircraft.load(_with_bar(tmp_path, "hiller", time_constant=0.4)).data["stabilizer_bar"]
     assert time_constant(hiller, omega, rho) == pytest.approx(0.4, rel=1e-12)
     assert hinge_damping(hiller, omega, rho) == pytest.approx(2 * 8.0 / 0.4 - aero_damping(hiller, omega, rho))
+
+
+def test_floquet_reads_the_bars_mode_as_the_tilt_of_its_plane(apart):
+    """The bar's teeter is in the rotating frame, where a tilt held in space is a 1/rev motion: a
+    new user's X-Cell bar mode read 0.9996/rev in the fixed-frame table. Read as the tilt of its
+    plane (β, β'/Ω turned by its azimuth), the clamped bar's mode is the closed form's subsidence:
+    Re λ = -1/τ to 1e-3, its frequency under 1e-3/rev (the slender bar's detuning)."""
+    from mbs.analysis.floquet import floquet
+
+    scene = apart[0]
+    d = scene.aircraft.data
+    omega, tau = d["main_rotor"]["omega"], apart[-1]
+    res = floquet(scene, speed=0.0)
+    (bar,) = [m for m in res.modes if m.name == "stabilizer bar"]
+    assert bar.exponent.real == pytest.approx(-1 / tau, rel=1e-3)
+    assert abs(bar.exponent.imag) < 1e-3 * omega

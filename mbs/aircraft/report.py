@@ -258,12 +258,18 @@ def figures(data: Data) -> list[tuple]:
 
 
 def _bar_figures(data: Data) -> list[tuple]:
-    from mbs.models.helicopter.stabilizer_bar import cyclic_gain, has_stabilizer_bar, time_constant
+    from mbs.models.helicopter.stabilizer_bar import (aero_damping, cyclic_gain, has_stabilizer_bar, hinge_damping,
+                                                      time_constant)
 
     if not has_stabilizer_bar(data):
         return []
     bar, omega, rho = data["stabilizer_bar"], data["main_rotor"]["omega"], data["environment"]["rho"]
+    paddles = aero_damping(bar, omega, rho)
     return [("stabilizer bar time constant (hover)", time_constant(bar, omega, rho), "s"),
+            *([("stabilizer bar paddles' damping", paddles, "N m s/rad"),
+               ("stabilizer bar time constant, paddles alone", 2 * bar["inertia"] / paddles, "s")] if paddles else []),
+            ("stabilizer bar hinge damping" + (" (from its time constant)" if bar["time_constant"] else ""),
+             hinge_damping(bar, omega, rho), "N m s/rad"),
             ("blade cyclic per swashplate cyclic (hover)", cyclic_gain(bar, omega, rho), "-")]
 
 

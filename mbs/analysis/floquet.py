@@ -20,12 +20,13 @@ periodic part of the mode is as close to constant as possible. For a time-invari
 (the single blade on a vertical shaft) this recovers the natural frequencies in the rotating
 frame. Rotor states are in the rotating frame (per blade), so rotor-mode frequencies read
 in them are rotating-frame frequencies; :func:`floquet` reads them in the fixed frame by
-default (``frame="fixed"``: the periodic part in multi-blade coordinates,
-:mod:`mbs.analysis.multiblade`), which also names the rotor modes (regressing, advancing,
-collective, differential). Multipliers and damping do not depend on the frame.
+default (``frame="fixed"``: the periodic part in multi-blade coordinates, and a teetering body's
+teeter as the tilt of its plane, :mod:`mbs.analysis.multiblade`), which also names the rotor modes
+(regressing, advancing, collective, differential). Multipliers and damping do not depend on the
+frame.
 
 Mode names from participation: the scaled eigenvector's energy by group (body, flap, lag,
-inflow, tail rotor); the name lists the groups above 25 %.
+inflow, tail rotor, stabilizer bar); the name lists the groups above 25 %.
 """
 from __future__ import annotations
 

@@ -63,16 +63,30 @@ def coleman_matrix(n_blades: int, psi1: float) -> np.ndarray:
     return np.array(rows)
 
 
+TEETERING = {"main_seesaw.teeter": 0.0, "stabilizer_bar.teeter": np.pi / 2}
+"""Two-ended bodies teetering on the main hub, with the azimuth (rad, from blade 1 in the sense of
+rotation) of the end their positive teeter lifts: a teetering main rotor's yoke, a stabilizer bar."""
+
+
 def transform(names: list[str], omega: float) -> Callable[[np.ndarray], np.ndarray]:
     """``frame(t) -> (m, ny, ny)``: the identity on every coordinate except the per-blade ones,
-    which become multi-blade components in the same slots (collective in blade 1's, ...)."""
+    which become multi-blade components in the same slots (collective in blade 1's, ...), and a
+    teetering body's teeter ``β`` and rate, which become the tilt of its plane in the fixed frame,
+    ``a = β cos ψ - β'/Ω sin ψ`` and ``b = β sin ψ + β'/Ω cos ψ`` (exact for a tilt ``β = a cos ψ +
+    b sin ψ`` held in space, ``ψ`` its lifted end's azimuth) in the teeter's and the rate's slots."""
     groups = blade_groups(names)
+    rate = abs(omega)
+    bodies = [(names.index(k), names.index(f"{k}_rate"), phase) for k, phase in TEETERING.items()
+              if k in names and f"{k}_rate" in names]
 
     def frame(t) -> np.ndarray:
         t = np.atleast_1d(np.asarray(t, dtype=float))
         out = np.tile(np.eye(len(names)), (len(t), 1, 1))
         for idx in groups.values():
             out[:, np.array(idx)[:, None], idx] = [coleman_matrix(len(idx), omega * tk) for tk in t]
+        for i, j, phase in bodies:
+            c, s = np.cos(rate * t + phase), np.sin(rate * t + phase)
+            out[:, i, i], out[:, i, j], out[:, j, i], out[:, j, j] = c, -s / rate, s, c / rate
         return out
     return frame
 

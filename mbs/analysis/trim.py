@@ -71,7 +71,7 @@ class Trim:
     output_means: dict[str, float] = field(default_factory=dict)
     radius: float = 1.0  # m: the length scaling position residuals (the main-rotor radius)
     aircraft: str | None = None  # the aircraft's name, for a helicopter scene
-    flapping: dict[str, float] = field(default_factory=dict)  # rad: beta0, beta1c, beta1s
+    flapping: dict[str, float] = field(default_factory=dict)  # rad: beta0, beta1c, beta1s (a bar's bar1c, bar1s)
     rotor: dict[str, float] = field(default_factory=dict)  # mu, C_T, C_T/sigma of the main rotor
     output_units: dict[str, str] = field(default_factory=dict)
     flight: FlightPath = field(default_factory=FlightPath)
@@ -594,7 +594,11 @@ def _period_figures(prob: ShootingProblem, z, cone: float = 0.0,
     psi = y[:, info.output_names.index("main_rotor.azimuth")]
     rows = [azimuth_harmonics(psi + 2 * np.pi * k / len(flaps), flap) for k, flap in enumerate(flaps)]
     beta0, beta1c, beta1s = np.mean(rows, axis=0)
-    return means, {"beta0": float(beta0), "beta1c": float(beta1c), "beta1s": float(beta1s)}
+    out = {"beta0": float(beta0), "beta1c": float(beta1c), "beta1s": float(beta1s)}
+    if "stabilizer_bar.teeter" in info.state_names:  # its lifted end 90 deg ahead of blade 1: the plane's tilt
+        bar = traj.x[1:, info.state_names.index("stabilizer_bar.teeter")]
+        out.update(zip(("bar1c", "bar1s"), map(float, azimuth_harmonics(psi + np.pi / 2, bar)[1:])))
+    return means, out
 
 
 def write_trim(result: Trim, path: Path, key: str | None = None) -> Path:
