@@ -21,6 +21,7 @@ import numpy as np
 
 from mbs.aero.empennage import TailSurface
 from mbs.aero.sections import Airfoil
+from mbs.aircraft import geometry as geo
 from mbs.aircraft import mass
 from mbs.joints import Hinge
 
@@ -82,8 +83,7 @@ def add_stabilizer_bar(m, d, cfg, sense: int) -> None:
     """The bar on ``main_hub`` 90 deg ahead of blade 1, and its paddles when the scene has rotor
     aerodynamics."""
     bar = d["stabilizer_bar"]
-    frame = np.array([[np.cos(sense * np.pi / 2), -np.sin(sense * np.pi / 2), 0.0],
-                      [np.sin(sense * np.pi / 2), np.cos(sense * np.pi / 2), 0.0], [0.0, 0.0, 1.0]])
+    frame = geo.rz(sense * np.pi / 2)
     span = 2 * bar["paddle_radius"]
     part = mass.stabilizer_bar(d)
     damping = hinge_damping(bar, d["main_rotor"]["omega"], d["environment"]["rho"]) if cfg.dampers else 0.0
