@@ -342,7 +342,7 @@ def _trim_lines(res) -> list[str]:
     import numpy as np
 
     per = res.period
-    flip = f", teeter reversed; period {per.full_revs} revolutions" if per.flip else ""
+    flip = f", the tail rotor's teeter reversed; period {per.full_revs} revolutions" if per.flip else ""
     flip += f", tail blades exchanged; period {per.full_revs} revolutions" if per.source else ""
     lines = [f"{res.scene}{_of(res)} at {res.speed:g} m/s, climb {res.climb_rate:g} m/s: periodic shooting over {per.revs} "
              f"main-rotor revolution(s){flip}; {res.method}, {res.steps_per_rev} steps/rev",

@@ -370,3 +370,27 @@ def test_a_stabilator_schedule_in_collective_and_airspeed_is_read_as_printed(tmp
     rows[2][3] = 50.0
     problems = aircraft.check(_table_file(tmp_path, "stop.toml", rows, "deg, kt, deg")).problems
     assert any("stabilator.incidence_table: 50 deg lies beyond the stops [-10, 35] deg" in p for p in problems), problems
+    rows[2][3] = float("nan")  # an acceptance test's: it passed the check, and the trim failed without naming it
+    problems = aircraft.check(_table_file(tmp_path, "nan.toml", rows, "deg, kt, deg")).problems
+    assert any("row 3, column 4 (an incidence) is nan: every cell but the corner must be a finite number" in p
+               for p in problems), problems
+
+
+def test_a_trim_beyond_a_two_variable_schedule_and_rows_beyond_the_collectives_range_are_warned_of(tmp_path):
+    """An acceptance test flew a table of 14 to 18 deg at 12.2 deg of collective (the end row held)
+    and a table whose collectives were written in rad (8 to 16 rad) without a word."""
+    from mbs.models.helicopter.airframe_warnings import airframe_warnings
+
+    speeds = [float(v) for v in SCHEDULE_KT]
+    rows = [[float("nan"), *speeds]] + [[c, *SCHEDULE_DEG] for c in (14.0, 16.0, 18.0)]
+    d = aircraft.load(_table_file(tmp_path, "high.toml", rows, "deg, kt, deg")).data
+    words = airframe_warnings({"fuselage.u": 30.0, "fuselage.w": 0.0, "collective": np.radians(12.19)}, d)
+    assert any(w.startswith("stabilator: collective 12.19 deg beyond its incidence_table's 14 to 18 deg") for w in words)
+    assert not [w for w in airframe_warnings({"fuselage.u": 30.0, "fuselage.w": 0.0, "collective": np.radians(15.0)}, d)
+                if w.startswith("stabilator")]
+    words = airframe_warnings({"fuselage.u": 70.0, "fuselage.w": 0.0, "collective": np.radians(15.0)}, d)
+    assert any(w.startswith("stabilator: airspeed 70 m/s beyond its schedule's 0 to 61.73 m/s") for w in words), words
+    rad = [[float("nan"), *speeds]] + [[c, *SCHEDULE_DEG] for c in (8.0, 12.0, 16.0)]
+    report = aircraft.check(_table_file(tmp_path, "rad.toml", rad, "rad, kt, deg"))
+    assert any(w.startswith("stabilator.incidence_table: its collectives 458.4 to 916.7 deg reach beyond the "
+                            "collective's range") for w in report.warnings), report.warnings

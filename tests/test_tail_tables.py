@@ -242,3 +242,11 @@ def test_a_tail_table_printed_as_polynomials_in_degrees_is_taken_as_printed(tmp_
                for p in report.problems), report.problems
     report = aircraft.check(with_law('"5.7*alpha"', "bad2.toml"))
     assert any("value must be { alpha = [breakpoints], lift =" in p for p in report.problems), report.problems
+    # the per-cent laws read as numbers (unit "deg, -, -"): c_L up to 97 passed without a word
+    text = with_law(printed, "dash.toml").read_text().replace('unit = "deg, %, %"', 'unit = "deg, -, -"')
+    (tmp_path / "dash.toml").write_text(text)
+    report = aircraft.check(tmp_path / "dash.toml")
+    assert report.ok and any(w.startswith("horizontal_tail.coefficient_table: c_L up to 97.2") and "(% or -)" in w
+                             for w in report.warnings), report.warnings
+    report = aircraft.check(with_law(printed.replace("alpha - 0.0021", "alpah - 0.0021"), "typo.toml"))
+    assert any("the law may use alpha (in deg, the breakpoints' unit)" in p for p in report.problems), report.problems

@@ -85,6 +85,7 @@ def test_speeds_as_advance_ratios_are_the_aircraft_files_tip_speed_times_mu(tmp_
         p.trim.warnings = ["a warning"]
     lines = report.lines(Result(v, model, [(s, compare.rows(s, model)) for s in v.series]))
     assert "  warning at 0.1, 0.25 mu: a warning" in lines, lines
+    assert f"  speeds: advance ratios mu = V / (Omega R) of the aircraft file's tip speed Omega R = {tip:.5g} m/s" in lines
 
 
 def test_a_source_no_series_cites_is_said(tmp_path):

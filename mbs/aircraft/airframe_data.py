@@ -175,7 +175,17 @@ def read_schedule(value, unit: str, spec) -> dict:
         raise ValueError(f"value must be {shape} (at least two of each, rows of one length)")
     if not (isinstance(value[0][0], float) and np.isnan(value[0][0])):
         raise ValueError(f"the first row's first cell is {value[0][0]!r}; write nan there (the corner): {shape}")
-    lever = units.parse(texts[0]).dims == (0, 0, 0, 0) and units.parse(texts[0]).factor == 1.0
+    cells = [(i, j, c) for i, r in enumerate(value) for j, c in enumerate(r) if (i, j) != (0, 0)]
+    bad = next(((i, j, c) for i, j, c in cells if not _is_number(c)), None)
+    if bad is not None:
+        where = "the airspeed row" if bad[0] == 0 else "a collective" if bad[1] == 0 else "an incidence"
+        raise ValueError(f"row {bad[0] + 1}, column {bad[1] + 1} ({where}) is {bad[2]!r}: every cell but the corner "
+                         "must be a finite number")
+    collective_unit = units.parse(texts[0])
+    if collective_unit.dims == (0, 0, 0, 0) and collective_unit.factor != 1.0:
+        raise ValueError(f"the collective's unit {texts[0]!r}: give - for a fraction of the lever's travel (0 to 1), "
+                         "or an angle (deg) for the blades' collective")
+    lever = collective_unit.dims == (0, 0, 0, 0)
     collective = [float(r[0]) for r in value[1:]] if lever else _increasing([r[0] for r in value[1:]], texts[0], "rad")
     if lever and (np.any(np.diff(collective) <= 0) or min(collective) < 0 or max(collective) > 1):
         raise ValueError("the collective lever's fractions must increase within 0 to 1")

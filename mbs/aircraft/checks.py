@@ -60,9 +60,10 @@ def _stabilizer_bar(v: dict) -> list[str]:
                 "brings the bar round to the shaft; give the one it has"]
     gain = cyclic_gain(bar, omega, rho)
     if gain <= 0:
-        return [f"stabilizer_bar.hiller_gain: the blades get {gain:.3g} rad of cyclic per rad of the swashplate's in "
-                "hover (bell_gain + hiller_gain x paddle_gain x the paddles' share of the damping): the cyclic must "
-                "reach them with a positive gain"]
+        entry = "hiller_gain" if bar["paddle_area"] else "bell_gain"  # without paddles the direct path alone
+        return [f"stabilizer_bar.{entry}: the blades get {gain:.3g} rad of cyclic per rad of the swashplate's in "
+                "hover (bell_gain + hiller_gain x paddle_gain x the paddles' share of the damping; without paddles "
+                "bell_gain alone): the cyclic must reach them with a positive gain"]
     return []
 
 
@@ -362,6 +363,29 @@ def control_range_notes(d) -> list[str]:
     return out
 
 
+COEFFICIENT_SIZE = 3.0
+"""A tail surface's lift or drag coefficient beyond which the check warns (a flat plate's c_D at
+90 deg is about 2; a table in per cent read as numbers is a hundred times too large)."""
+
+
+def surface_coefficient_notes(d) -> list[str]:
+    """A surface's coefficient table with a lift or drag coefficient no surface has, or a
+    negative drag: a per-cent table read as numbers, or a sign."""
+    out = []
+    for section in SURFACES:
+        rows = np.asarray((d.get(section) or {}).get("coefficient_table") or np.zeros((0, 3)), float)
+        if not len(rows):
+            continue
+        cl, cd = np.abs(rows[:, 1]).max(), rows[:, 2]
+        if cl > COEFFICIENT_SIZE or cd.max() > COEFFICIENT_SIZE:
+            out.append(f"{section}.coefficient_table: c_L up to {cl:.4g} and c_D up to {cd.max():.4g}, beyond what "
+                       f"surfaces have (about {COEFFICIENT_SIZE:g} at most): check the columns' unit (% or -)")
+        if cd.min() < 0:
+            out.append(f"{section}.coefficient_table: c_D {cd.min():.4g} at {np.degrees(rows[np.argmin(cd), 0]):.4g} "
+                       "deg is negative: a drag that pushes forward; check the table (or the law's fit)")
+    return out
+
+
 def no_horizontal_tail_note(d) -> list[str]:
     """A file without ``[horizontal_tail]``: the aircraft flies without one (said, since a section
     left out by mistake would fly the same)."""
@@ -383,6 +407,19 @@ def stabilator_notes(d) -> list[str]:
     if has_stabilator(d) and origin in ("file", "override"):
         out.append(f"horizontal_tail.incidence: {math.degrees(d['horizontal_tail']['incidence']):.4g} deg is not used: "
                    "the [stabilator] schedule sets the tail's incidence; leave it out")
+    table = (d.get("stabilator") or {}).get("incidence_table")
+    if table and has_stabilator(d):
+        from mbs.aircraft.airframe_data import schedule_collective
+
+        try:
+            rows = schedule_collective(d)
+        except ValueError:
+            rows = []  # a problem of the file's already
+        low, high = d["main_rotor"]["collective_min"], d["main_rotor"]["collective_max"]
+        if rows and (rows[0] < low or rows[-1] > high):
+            out.append(f"stabilator.incidence_table: its collectives {np.degrees(rows[0]):.4g} to "
+                       f"{np.degrees(rows[-1]):.4g} deg reach beyond the collective's range {np.degrees(low):.4g} to "
+                       f"{np.degrees(high):.4g} deg (main_rotor.collective_min, _max): check the rows' unit")
     if not has_stabilator(d) and d.get("conventions", {}).get("stabilator_positive", "leading edge up") != \
             "leading edge up":
         out.append("conventions.stabilator_positive: the file has no [stabilator], so it changes nothing; leave it out")

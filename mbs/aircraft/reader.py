@@ -568,9 +568,14 @@ def _surface_laws(value, unit) -> list[list[float]]:
         raise ValueError("law = \"expression\": give the units of alpha, c_L and c_D, e.g. unit = \"deg, %, %\"")
     x = np.asarray(alpha, dtype=float)
     columns = []
+    angle_unit = str(unit).split(",")[0].strip()
     for name in ("lift", "drag"):
+        try:
+            tree = laws.parse(value[name], "alpha")
+        except ValueError as exc:  # the law's angle is in the breakpoints' unit here
+            raise ValueError(str(exc).replace("alpha (rad)", f"alpha (in {angle_unit}, the breakpoints' unit)")) from None
         with np.errstate(all="ignore"):
-            column = laws.value(laws.parse(value[name], "alpha"), "alpha", x)
+            column = laws.value(tree, "alpha", x)
         if not np.all(np.isfinite(column)):
             raise ValueError(f"the {name} law {value[name]!r} is not finite at alpha = {x[~np.isfinite(column)][0]:g}")
         columns.append(column)

@@ -154,7 +154,7 @@ def _warnings(data: Data, rows: list[tuple]) -> list[str]:
     out += checks.tail_clearance_note(data) + checks.surface_slope_notes(data) + _drag_area_note(data)
     out += _hub_drag_note(data) + _accessory_note(data)
     out += checks.station_convention_notes(data) + checks.stabilator_notes(data) + checks.control_range_notes(data)
-    out += checks.no_horizontal_tail_note(data)
+    out += checks.no_horizontal_tail_note(data) + checks.surface_coefficient_notes(data)
     gear = checks.periodic_gear(tr["gear_ratio"], checks.tail_blade_symmetry(tr))
     if not gear.exact:
         out.append(f"tail_rotor.gear_ratio: {gear.text()}; simulations keep {gear.ratio:.8g}")

@@ -114,12 +114,13 @@ def _rank(part: str) -> tuple[int, str]:
 
 
 def _energies(vector, names, frequency, omega, groups) -> dict[str, float]:
-    """Energy of the eigenvector by named part (coordinates only, not rates)."""
+    """Energy of the eigenvector by named part (coordinates only, not rates; a teetering body's rate
+    slot holds the second component of its tilt, :func:`transform`)."""
     out: dict[str, float] = {}
     blades = blade_groups(names)
     in_blades = {i for idx in blades.values() for i in idx}
     for i, name in enumerate(names):
-        if i not in in_blades and not name.endswith("_rate"):
+        if i not in in_blades and (not name.endswith("_rate") or name.removesuffix("_rate") in TEETERING):
             out[groups[name]] = out.get(groups[name], 0.0) + abs(vector[i]) ** 2
     for key, idx in blades.items():
         if not dof_of(key).endswith("_rate"):

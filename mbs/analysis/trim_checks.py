@@ -32,9 +32,11 @@ def warnings(res, d, pilot: dict | None = None, air: dict | None = None) -> list
     from mbs.aircraft.checks import default_inertia_warnings, inertia_warnings
     from mbs.models.helicopter.airframe_warnings import trim_warnings
 
+    from mbs.aircraft.checks import no_horizontal_tail_note
+
     return [*control_stops(res.controls, d), *pilot_stops(pilot or {}, d), *attitude(res, d), *flapping(res),
             *trim_warnings(res, d),
-            *power(res, d, air), *inertia_warnings(d), *default_inertia_warnings(d)]
+            *power(res, d, air), *inertia_warnings(d), *default_inertia_warnings(d), *no_horizontal_tail_note(d)]
 
 
 def last_iterate(res, d) -> list[str]:

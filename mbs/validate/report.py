@@ -7,7 +7,7 @@ import re
 
 import numpy as np
 
-from mbs.validate.data import EigenTolerance
+from mbs.validate.data import ADVANCE_RATIO, EigenTolerance
 
 MARK = {True: "ok", False: "OUT", None: ""}
 
@@ -20,6 +20,8 @@ def lines(res) -> list[str]:
            f"{_count(len(res.model.points), 'flight condition')} in {res.model.wall_s:.1f} s",
            *[f"  convention, {k}: {t}" for k, t in v.conventions.items()],
            *([f"  model's controls: {res.model.controls}"] if res.model.controls else []),
+           *([f"  speeds: advance ratios mu = V / (Omega R) of the aircraft file's tip speed Omega R = "
+              f"{v.per_unit:.5g} m/s"] if v.speed_unit in ADVANCE_RATIO else []),
            *[f"  source {k}: {t}" + ("" if k in cited else " (cited by no series)") for k, t in v.sources.items()]]
     out += problem_lines(res)
     out += warning_lines(res)

@@ -29,7 +29,31 @@ def airframe_warnings(values: dict, d) -> list[str]:
     """Warnings (one line each) about the airframe at a trim: ``values`` the period means of its
     outputs and states by name (SI), ``d`` the aircraft data."""
     return (_wake(values) + _edge(values, d) + _stall(values, d) + _stops(values, d) + _table_range(values, d)
-            + _fin_against_the_tail_rotor(values, d) + _duct_in_cross_flow(values, d) + _paddles_reversed(values, d))
+            + _fin_against_the_tail_rotor(values, d) + _duct_in_cross_flow(values, d) + _paddles_reversed(values, d)
+            + _beyond_schedule(values, d))
+
+
+def _beyond_schedule(values: dict, d) -> list[str]:
+    """A trim flown beyond a stabilator schedule's airspeeds or collectives, where it is held."""
+    from mbs.aircraft.airframe_data import has_stabilator, schedule_collective
+
+    if not has_stabilator(d):
+        return []
+    st, out = d["stabilator"], []
+    table = st.get("incidence_table")
+    airspeeds = table["airspeed"] if table else st["airspeed"]
+    speed = _speed(values)
+    if speed is not None and len(airspeeds) > 1 and not airspeeds[0] <= speed <= airspeeds[-1]:
+        out.append(f"stabilator: airspeed {speed:.4g} m/s beyond its schedule's {airspeeds[0]:.4g} to "
+                   f"{airspeeds[-1]:.4g} m/s, where the schedule is held at its end: give it over the speeds flown")
+    collective = values.get("collective")
+    if table and collective is not None:
+        rows = schedule_collective(d)
+        if not rows[0] <= collective <= rows[-1]:
+            out.append(f"stabilator: collective {np.degrees(collective):.4g} deg beyond its incidence_table's "
+                       f"{np.degrees(rows[0]):.4g} to {np.degrees(rows[-1]):.4g} deg, where the table is held at its "
+                       "end row: give it over the collectives flown (check its unit)")
+    return out
 
 
 PADDLE_ADVANCE = 0.5
@@ -110,8 +134,8 @@ def _edge(values: dict, d) -> list[str]:
 
 
 def trim_warnings(trim, d) -> list[str]:
-    """:func:`airframe_warnings` of a :class:`mbs.analysis.trim.Trim`."""
-    return airframe_warnings({**dict(trim.state), **dict(trim.output_means)}, d)
+    """:func:`airframe_warnings` of a :class:`mbs.analysis.trim.Trim` (its controls by name too)."""
+    return airframe_warnings({**dict(trim.state), **dict(trim.output_means), **dict(trim.controls)}, d)
 
 
 def _wake(values: dict) -> list[str]:
