@@ -70,3 +70,24 @@ def test_a_failed_trim_says_what_stays_unbalanced_and_warns_where_it_stopped():
     assert lines[1].startswith("at the last iterate (no trim): horizontal tail: at the edge of the main rotor's "
                                "wake (immersion 0.88"), lines
     assert trim_checks.warnings(SimpleNamespace(converged=False, last_iterate_means={}), d) == []
+
+
+def test_a_trim_with_its_blades_past_their_stall_angle_says_so(tmp_path):
+    """The analytic section only bounds its lift beyond alpha_stall (no stall): a trim whose blades
+    carry more than 1 % of their dynamic pressure there is past the model, and says so. The Bo105
+    at 60 m/s has 0.016 % there; with its stall angle at 7 deg, 60 m/s puts a large share past it."""
+    from aircraft_files import entries, write
+
+    from mbs import aircraft, scenes
+    from mbs.analysis.trim import trim
+
+    plain = trim("forward-flight", 60.0)
+    assert plain.output_means["main_rotor.stalled_share"] < 1e-3
+    assert not any(w.startswith("main rotor:") for w in plain.warnings)
+    raw = entries("bo105")
+    raw["main_rotor"]["alpha_stall"].update(value=0.12)
+    low = trim(scenes.get("forward-flight").with_aircraft(aircraft.load(write(raw, tmp_path / "low.toml"))), 60.0)
+    share = low.output_means["main_rotor.stalled_share"]
+    assert share > 0.05, share
+    assert any(w.startswith(f"main rotor: {100 * share:.1f} % of its blades' dynamic pressure over the revolution is "
+                            "beyond the stall angle 6.9 deg") for w in low.warnings), low.warnings

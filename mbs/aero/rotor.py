@@ -13,7 +13,7 @@ import numpy as np
 
 from mbs.aero import inflow as inf
 from mbs.aero.compressibility import Compressibility
-from mbs.aero.sections import Airfoil, section_force, turn
+from mbs.aero.sections import EPS, Airfoil, ZeroLiftShift, section_angle, section_force, turn
 from mbs.aero.tables.airfoil import BladeAirfoils, table_section_loads
 from mbs.aero.tiploss import lift_factors
 from mbs.aero.wake import Wake, WakeGeometry
@@ -144,10 +144,30 @@ class DiscLoads:
     torque: object = 0
     moment_s: object = 0
     moment_c: object = 0
+    stalled: object = 0  # m³/s²: Σ U² dr over the elements beyond the analytic section's stall (smoothed)
+    pressure: object = 0  # m³/s²: Σ U² dr over every analytic element (U their air speed)
 
     def __add__(self, other: DiscLoads) -> DiscLoads:
         return DiscLoads(self.thrust + other.thrust, self.torque + other.torque,
-                         self.moment_s + other.moment_s, self.moment_c + other.moment_c)
+                         self.moment_s + other.moment_s, self.moment_c + other.moment_c, self.stalled + other.stalled,
+                         self.pressure + other.pressure)
+
+
+STALL_EDGE = 0.01
+"""rad: the width over which an element counts as beyond its stall angle (a smooth step, so the
+stall share is differentiable)."""
+
+
+def stalled_share(airfoil, w_c, w_n):
+    """0 to 1: whether an analytic section at the air ``(w_c, w_n)`` is beyond its stall angle and
+    short of 45 deg (smooth steps over :data:`STALL_EDGE`): where its lift is only bounded. Beyond
+    45 deg (the reverse-flow region's edge) it is a flat plate's, as modelled; 0 for a table
+    section, whose tables hold the stall."""
+    section, shift = (airfoil.section, airfoil.alpha_0) if isinstance(airfoil, ZeroLiftShift) else (airfoil, 0.0)
+    if not isinstance(section, Airfoil):
+        return 0
+    size = ca.sqrt((section_angle(airfoil, w_c, w_n)[0] - shift) ** 2 + EPS**2)
+    return 0.5 * (ca.tanh((size - section.alpha_stall) / STALL_EDGE) - ca.tanh((size - np.pi / 4) / STALL_EDGE))
 
 
 @dataclass
@@ -305,6 +325,9 @@ class RotorAero(ForceElement):
             if self.tables is None:
                 f = self._element_force(w, r, dr, lift, air)
                 torque = torque + arm * ca.vertcat(0, -f[2], f[1])  # + (arm, 0, 0) × f
+                pressure = dr * (w[1] ** 2 + w[2] ** 2)
+                out = out + DiscLoads(stalled=pressure * stalled_share(self.airfoil, *turn(
+                    self.rotor.sense * w[1], w[2], self.rotor.twist_at(r))), pressure=pressure)
             else:
                 f, pitching = self._table_element(w, r, dr, lift, air)
                 torque = torque + ca.vertcat(pitching, -arm * f[2], arm * f[1])
@@ -391,4 +414,5 @@ class RotorAero(ForceElement):
             speed = self.rotor.sense * hub.omega[2]
         name = self.rotor.name
         state.signals.update({f"{name}.thrust": disc.thrust, f"{name}.torque": disc.torque,
-                              f"{name}.power": disc.torque * speed})
+                              f"{name}.power": disc.torque * speed,
+                              f"{name}.stalled_share": disc.stalled / (disc.pressure + EPS)})

@@ -30,7 +30,28 @@ def airframe_warnings(values: dict, d) -> list[str]:
     outputs and states by name (SI), ``d`` the aircraft data."""
     return (_wake(values) + _edge(values, d) + _stall(values, d) + _stops(values, d) + _table_range(values, d)
             + _fin_against_the_tail_rotor(values, d) + _duct_in_cross_flow(values, d) + _paddles_reversed(values, d)
-            + _beyond_schedule(values, d))
+            + _beyond_schedule(values, d) + _blade_stall(values, d))
+
+
+STALLED = 0.01
+"""Share of a rotor's blade dynamic pressure (over the period) beyond the stall angle from which
+a trim warns (the Bo105 at 80 m/s: 0.12 %)."""
+
+
+def _blade_stall(values: dict, d) -> list[str]:
+    """Rotor blades beyond their analytic section's stall angle over more than :data:`STALLED` of
+    their dynamic pressure over the period: the lift there is only bounded, so the trim is past the
+    model."""
+    out = []
+    for name in ("main_rotor", "tail_rotor"):
+        share = values.get(f"{name}.stalled_share")
+        if share is not None and share > STALLED:
+            out.append(f"{name.replace('_', ' ')}: {100 * share:.1f} % of its blades' dynamic pressure over the "
+                       f"revolution is beyond the stall angle {np.degrees(d[name]['alpha_stall']):.1f} deg "
+                       f"({name}.alpha_stall; the retreating blade at speed, or a high collective): the analytic "
+                       "section bounds the lift there and models no stall, so this trim is past the model's validity; "
+                       "give airfoil tables to model it")
+    return out
 
 
 def _beyond_schedule(values: dict, d) -> list[str]:

@@ -111,6 +111,11 @@ def _add_rotor_outputs(m: Model, d, cfg, name: str, speed_ratio: float) -> None:
     what, tip = name.replace("_", "-"), speed_ratio * d[name]["radius"]
     for key, unit, text in ROTOR_OUTPUTS:
         m.add_output(f"{name}.{key}", lambda s, k=f"{name}.{key}": s.signals[k], unit, f"{what} {text}")
+    if not d[name].get("airfoils"):  # tables hold their own stall
+        m.add_output(f"{name}.stalled_share", lambda s, k=f"{name}.stalled_share": s.signals[k], "1",
+                     f"{what}: share of the blades' dynamic pressure (the sum of U^2 dr over the elements) at angles "
+                     "of attack between the analytic section's stall angle (alpha_stall) and 45 deg, where its lift "
+                     "is only bounded (the retreating blade at speed)")
     if rotor_model(d, cfg, name).duct_exit_ratio:
         m.add_output(f"{name}.duct_thrust", lambda s, k=f"{name}.duct_thrust": s.signals[k], "N",
                      f"{what} duct thrust along the fan's thrust axis (the blades' is {name}.thrust)")
