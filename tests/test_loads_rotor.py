@@ -250,3 +250,19 @@ def test_heli_loads_of_the_modal_rotor_without_a_tail_rotor_is_strict_json(tmp_p
     assert all(a["radius"] < b["radius"] for a, b in zip(span, span[1:]))
     assert span[0]["flap_mean"] > span[1]["flap_mean"] > span[2]["flap_mean"] > span[3]["flap_mean"] > 0
     assert "blade 1 along the span" in captured.err
+
+
+def test_the_loads_benchmarks_model_without_its_loads_outputs_evaluates():
+    """'heli bench loads' stopped at KeyError 'main_rotor.shaft_torque': its model without the loads
+    outputs kept engine.torque, which reads them. Every output that reads a loads output is one."""
+    from mbs import scenes
+    from mbs.backends import build
+    from mbs.loads.bench import LOADS
+
+    bare = scenes.get("forward-flight").model()
+    removed = [n for n in bare.outputs if LOADS.search(n)]
+    for name in removed:
+        del bare.outputs[name]
+    assert {"engine.power", "engine.torque", "main_rotor.shaft_torque"} <= set(removed)
+    system = build(bare, "vm")
+    assert np.all(np.isfinite(system.outputs(system.x0(), 0.0, system.params())))

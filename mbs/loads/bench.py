@@ -13,7 +13,7 @@ import numpy as np
 
 from mbs.bench.timing import machine, median_time
 
-LOADS = re.compile(r"\.(hub|root|station\d+)\.|\.shaft_(torque|power)$|^engine\.power$")
+LOADS = re.compile(r"\.(hub|root|station\d+)\.|\.shaft_(torque|power)$|^engine\.")
 """The outputs :func:`mbs.loads.rotorcraft.add_load_outputs` declares."""
 
 
