@@ -268,6 +268,8 @@ def test_a_new_aircraft_from_the_template_loads_and_warns_until_filled_in(tmp_pa
     # Bell 206 trial read the engine's commented ratings as defaults
     line = next(x for x in text.splitlines() if x.startswith("# takeoff_power = "))
     assert line.endswith('# required with model = "turboshaft" or "piston"'), line
+    line = next(x for x in text.splitlines() if x.startswith("# oei_power = "))
+    assert line.endswith('# required with model = "turboshaft" or "piston", unless one engine'), line
     line = next(x for x in text.splitlines() if x.startswith("# flap_stiffness = "))
     assert line.endswith('# only with hub_type = "flapping"'), line
 

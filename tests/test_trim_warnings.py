@@ -4,6 +4,7 @@ import json
 from types import SimpleNamespace
 
 import numpy as np
+import pytest
 
 from mbs.analysis import trim_checks
 from mbs.cli import main
@@ -58,8 +59,13 @@ def test_a_failed_trim_says_what_stays_unbalanced_and_warns_where_it_stopped():
             "aircraft": {"mass": 1451.0}, "environment": {"g": 9.80665}}
     note = _unbalanced(lay, np.array([1e-3, 2e-3, 0.05, 0.01]), SimpleNamespace(data=data))
     assert f"a teetering rotor holds {np.radians(1) * 1451.0 * 9.80665 * 1.58:.4g} N m per degree of teeter" in note
+    from mbs.analysis.trim import _teeter_note  # a failure with no other reason found says it too
+
+    assert _teeter_note(SimpleNamespace(data=data)).startswith("; a teetering rotor cannot hold every fuselage "
+                                                               "moment: a teetering rotor holds")
     data["main_rotor"]["hub_type"] = "flapping"
     assert "teeter" not in _unbalanced(lay, np.array([1e-3, 2e-3, 0.05, 0.01]), SimpleNamespace(data=data))
+    assert _teeter_note(SimpleNamespace(data=data)) == ""
     d = {"envelope": {}, "wake": {"width": 0.34}, "horizontal_tail": {"alpha_stall": 0.26}, "vertical_fin": {"alpha_stall": 0.26},
          "fuselage_aero": {"model": "polynomials"}}
     failed = SimpleNamespace(converged=False, pitch=np.radians(-35.0), roll=0.0, sideslip=0.0, x0=np.zeros(0),
@@ -91,3 +97,32 @@ def test_a_trim_with_its_blades_past_their_stall_angle_says_so(tmp_path):
     assert share > 0.05, share
     assert any(w.startswith(f"main rotor: {100 * share:.1f} % of its blades' dynamic pressure over the revolution is "
                             "beyond the stall angle 6.9 deg") for w in low.warnings), low.warnings
+
+
+def test_the_trims_thrust_coefficient_is_of_the_air_it_flew_in():
+    """An acceptance test's trim at 3000 m printed the sea-level C_T and C_T/sigma (26 % low): the
+    coefficients use the ISA's density when the trim flew in it."""
+    from mbs import aircraft
+    from mbs.analysis.trim import rotor_coefficients
+    from mbs.environment import atmosphere
+
+    d = aircraft.load().data
+    sea, high = (rotor_coefficients(d, 21800.0, 30.0, air) for air in ({}, {"altitude": 3000.0}))
+    assert high["C_T"] / sea["C_T"] == pytest.approx(d["environment"]["rho"] / atmosphere.density(3000.0), rel=1e-12)
+    assert high["C_T/sigma"] / high["C_T"] == pytest.approx(sea["C_T/sigma"] / sea["C_T"], rel=1e-12)
+
+
+def test_the_stall_share_is_a_share_whatever_the_stall_angle():
+    """An acceptance test's stall angle of 50 deg gave a stall share of -4.6e-5: between 0 and 1 at
+    every angle, and 0 beyond 45 deg and short of the stall angle."""
+    import casadi as ca
+
+    from mbs.aero.rotor import stalled_share
+    from mbs.aero.sections import Airfoil
+
+    for stall in (0.26, 0.87):
+        share = [float(ca.evalf(stalled_share(Airfoil(5.7, 0.01, 0.0, stall), -np.cos(a), np.sin(a))))
+                 for a in np.radians(np.linspace(-89, 89, 357))]
+        assert min(share) >= 0 and max(share) <= 1
+    inside = float(ca.evalf(stalled_share(Airfoil(5.7, 0.01, 0.0, 0.26), -np.cos(0.35), np.sin(0.35))))
+    assert inside == pytest.approx(1.0, abs=1e-6)  # 20 deg: past a 15 deg stall, short of 45

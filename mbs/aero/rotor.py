@@ -167,7 +167,8 @@ def stalled_share(airfoil, w_c, w_n):
     if not isinstance(section, Airfoil):
         return 0
     size = ca.sqrt((section_angle(airfoil, w_c, w_n)[0] - shift) ** 2 + EPS**2)
-    return 0.5 * (ca.tanh((size - section.alpha_stall) / STALL_EDGE) - ca.tanh((size - np.pi / 4) / STALL_EDGE))
+    beyond = 0.5 * (1 + ca.tanh((size - section.alpha_stall) / STALL_EDGE))
+    return beyond * 0.5 * (1 - ca.tanh((size - np.pi / 4) / STALL_EDGE))  # never negative (a stall angle past 45 deg)
 
 
 @dataclass

@@ -72,6 +72,7 @@ def template(name: str, source: str = "TEMPLATE") -> str:
                 wanted = spec.only_if[1] if isinstance(spec.only_if[1], tuple) else (spec.only_if[1],)
                 need = "only" if spec.default is not None else "required"
                 line += f"  # {need} with {spec.only_if[0]} = " + " or ".join(f'"{w}"' for w in wanted)
+                line += f", unless {spec.optional_when}" if spec.optional_when else ""
             shown = {"airfoils": "none: the analytic section", "table": "none"}.get(spec.kind, spec.default)
             lines += [f"# {spec.text} ({spec.unit}" + (f"; default {shown})" if spec.default is not None else ")"),
                       ("# " if _commented(spec, values, entries) and (section, key) not in AS_WRITTEN else "")

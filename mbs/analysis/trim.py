@@ -341,6 +341,12 @@ def _unbalanced(lay: TrimLayout, r, aircraft=None) -> str:
             f"a fuselage moment the rotor cannot hold{teeter}; the warnings of the last iterate say more)")
 
 
+def _teeter_note(aircraft) -> str:
+    """A failed trim of a teetering rotor with no other reason found: what the rotor holds."""
+    text = _teeter_capacity(aircraft)
+    return f"; a teetering rotor cannot hold every fuselage moment{text}" if text else ""
+
+
 def _teeter_capacity(aircraft) -> str:
     """For a teetering main rotor (no hub moment but its spring's), the moment it holds per degree
     of teeter by tilting its thrust: ``W h + K`` per radian, ``h`` the hub above the CG; its pitch
@@ -404,13 +410,13 @@ def periodic_solution(sc, speed: float | None = None, climb_rate: float = 0.0, m
         res = _continuation(system, stepper, sc, prob, steps_per_rev, tol, max_iterations, res)
     if not res.converged and prob.lay.free:
         res.reason += (_beyond_range(system, prob.speed, sc.aircraft) or _at_stops(system, prob.lay, res.z)
-                       or _unbalanced(prob.lay, res.r, sc.aircraft))
+                       or _unbalanced(prob.lay, res.r, sc.aircraft) or _teeter_note(sc.aircraft))
     mr = sc.aircraft.data["main_rotor"] if getattr(sc, "aircraft", None) is not None else {}
     cone, tilt = mr.get("precone", 0.0), float(np.cos(mr.get("delta3", 0.0)))
     out = _result(sc.name, prob, res, steps_per_rev, setup_s, system.nfev - nfev0, cone, tilt)
     if sc.aircraft is not None:
         out.aircraft = sc.aircraft.name
-        out.rotor = rotor_coefficients(sc.aircraft.data, out.thrust, out.speed, system.params(out.params))
+        out.rotor = rotor_coefficients(sc.aircraft.data, out.thrust, out.speed, _air(system, out.params))
         out.tail_thrust_coefficient = _tail_coefficients(sc.aircraft.data, out.output_means)
         _pilot_figures(out, sc.aircraft.data, _air(system, out.params))
     return out
@@ -450,10 +456,15 @@ def _tail_coefficients(d, means: dict) -> tuple[float, float, float] | None:
     return ct, sigma * tr["lift_slope"], means.get("tail_rotor.inflow_ratio", 0.0)
 
 
-def rotor_coefficients(d, thrust: float | None, speed: float, p: np.ndarray | None = None) -> dict[str, float]:
+def rotor_coefficients(d, thrust: float | None, speed: float, air: dict | None = None) -> dict[str, float]:
     """Advance ratio ``μ = V / (Ω R)``, thrust coefficient ``C_T = T / (ρ π R² (Ω R)²)`` and blade
-    loading ``C_T/σ`` of the main rotor of the aircraft data ``d`` at its nominal speed."""
-    mr, rho = d["main_rotor"], d["environment"]["rho"]
+    loading ``C_T/σ`` of the main rotor of the aircraft data ``d`` at its nominal speed, in the
+    ISA at ``air``'s ``altitude`` and ``temperature_offset`` (:func:`_air`; none: the file's density)."""
+    from mbs.environment import atmosphere
+
+    mr = d["main_rotor"]
+    rho = atmosphere.density(air["altitude"], air.get("temperature_offset", 0.0)) if air and "altitude" in air \
+        else d["environment"]["rho"]
     tip = mr["omega"] * mr["radius"]
     sigma = mr["n_blades"] * mr["chord"] / (np.pi * mr["radius"])
     out = {"mu": speed / tip}
