@@ -178,7 +178,7 @@ def _rigging(v: dict) -> list[str]:
     if "collective_lever" not in c or not meta:
         return []
     from mbs.aircraft import rigging, units
-    from mbs.aircraft.reader import position_kind
+    from mbs.aircraft.units import position_kind
 
     out = []
     kinds = [position_kind(meta[k]["unit"]) for k in rigging.PILOT]

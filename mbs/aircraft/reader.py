@@ -743,19 +743,6 @@ def _table(value, unit: str, spec: Entry) -> list:
     return [[_number(v) * f for v, f in zip(row, factors)] for row in value]
 
 
-POSITION_KINDS = {(1, 0, 0, 0): "m", (0, 0, 0, 1): "rad", (0, 0, 0, 0): "-"}
-"""What a pilot control's position may be, and its SI unit."""
-
-
-def position_kind(unit: str) -> str:
-    """The SI unit (m, rad, -) of a pilot control's position in ``unit``; ValueError otherwise."""
-    u = units.parse(unit)
-    if u.per_rev or u.dims not in POSITION_KINDS:
-        raise ValueError(f"unit {unit!r} is {u.describe()}: a control's position is a length (in), an angle (deg) "
-                         "or a fraction (%)")
-    return POSITION_KINDS[u.dims]
-
-
 def _pilot(value, unit: str, spec: Entry) -> list:
     """A pilot control's travel (two positions, ascending) or a mixing row (an angle, then four
     angles per control position), in SI (m, rad or fraction of travel)."""
@@ -763,7 +750,7 @@ def _pilot(value, unit: str, spec: Entry) -> list:
         raise ValueError(f"must be a list of {spec.length} numbers")
     numbers = [_number(v) for v in value]
     if spec.kind == "travel":
-        factor = units.parse(unit).factor if position_kind(unit) else 1.0
+        factor = units.parse(unit).factor if units.position_kind(unit) else 1.0
         low, high = (x * factor for x in numbers)
         if not low < high:
             raise ValueError(f"the least position {numbers[0]:g} must be below the largest {numbers[1]:g} {unit}")

@@ -140,7 +140,7 @@ def rigging(d) -> Rigging | None:
         return None
     rows = np.array([c[k] for k in BLADE])
     units = tuple(d.meta["controls"][k]["unit"] for k in PILOT) if hasattr(d, "meta") else ("-",) * 4
-    from mbs.aircraft.reader import position_kind
+    from mbs.aircraft.units import position_kind
 
     return Rigging(rows[:, 0], rows[:, 1:], c.get("phase", 0.0), np.array([c[k] for k in PILOT]),
                    tuple(position_kind(u) for u in units), conventions(d))

@@ -282,3 +282,16 @@ def _scale(value, f: float):
     if isinstance(value, list):
         return [_scale(v, f) for v in value]
     return value * f
+
+
+POSITION_KINDS = {(1, 0, 0, 0): "m", (0, 0, 0, 1): "rad", (0, 0, 0, 0): "-"}
+"""What a pilot control's position may be, and its SI unit."""
+
+
+def position_kind(unit: str) -> str:
+    """The SI unit (m, rad, -) of a pilot control's position in ``unit``; ValueError otherwise."""
+    u = parse(unit)
+    if u.per_rev or u.dims not in POSITION_KINDS:
+        raise ValueError(f"unit {unit!r} is {u.describe()}: a control's position is a length (in), an angle (deg) "
+                         "or a fraction (%)")
+    return POSITION_KINDS[u.dims]
